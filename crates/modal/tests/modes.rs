@@ -1,0 +1,159 @@
+//! Eigenvalues, mode shapes and static identities against REFERENCES.md 1 and high-precision values.
+
+use modal::*;
+use std::f64::consts::PI;
+
+/// REFERENCES.md 1.1, b_n L of the cantilever, 15 significant digits (mpmath, 40 digits).
+const CANTILEVER: [f64; 10] = [
+    1.87510406871196, 4.69409113297417, 7.85475743823761, 10.9955407348755, 14.1371683910465,
+    17.2787595320882, 20.4203522510413, 23.5619449018064, 26.7035375555183, 29.8451302091028,
+];
+
+#[test]
+fn cantilever_eigenvalues_match_table() {
+    // 15 printed digits: 1e-14 relative is one unit in the last digit.
+    for (n, r) in CANTILEVER.iter().enumerate() {
+        let x = Support::ClampedFree.eigenvalue(n + 1).unwrap();
+        assert!((x - r).abs() / r < 1e-14, "mode {}: {x} vs {r}", n + 1);
+    }
+}
+
+#[test]
+fn other_supports_first_roots() {
+    // mpmath at 60 digits (findroot on the same bounded equations), printed to 16 digits.
+    let cases = [
+        (Support::ClampedClamped, [4.730040744862704, 7.853204624095838, 10.99560783800167]),
+        (Support::FreeFree, [4.730040744862704, 7.853204624095838, 10.99560783800167]),
+        (Support::ClampedPinned, [3.926602312047919, 7.068582745628732, 10.21017612281303]),
+        (Support::PinnedPinned, [PI, 2.0 * PI, 3.0 * PI]),
+    ];
+    for (s, roots) in cases {
+        for (n, r) in roots.iter().enumerate() {
+            let x = s.eigenvalue(n + 1).unwrap();
+            assert!((x - r).abs() / r < 1e-14, "{s} mode {}: {x} vs {r}", n + 1);
+        }
+    }
+}
+
+#[test]
+fn thousand_modes_to_round_off() {
+    // Past mode ~10 the roots equal their asymptotes up to 2 exp(-x) (REFERENCES.md 1.1), which
+    // is below 1e-16 relative from mode 15 on; so the asymptote is an independent reference
+    // to round-off there. Tolerance 1e-13 relative: ~100 ulps, far inside the 1e-10 asked.
+    for s in Support::ALL {
+        for n in (15..=1000).step_by(7) {
+            let x = s.eigenvalue(n).unwrap();
+            let asym = match s {
+                Support::ClampedFree => (2 * n - 1) as f64 * PI / 2.0,
+                Support::PinnedPinned => n as f64 * PI,
+                Support::ClampedClamped | Support::FreeFree => (2 * n + 1) as f64 * PI / 2.0,
+                Support::ClampedPinned => (4 * n + 1) as f64 * PI / 4.0,
+            };
+            assert!((x - asym).abs() / asym < 1e-13, "{s} mode {n}: {x} vs {asym}");
+        }
+    }
+}
+
+#[test]
+fn cantilever_tip_value_is_two_for_every_mode() {
+    // REFERENCES.md 1.2: phi_n(L) = 2 (-1)^(n+1) exactly in the textbook scaling.
+    let beam = Beam::new(1.0, 1.0, 1.0, Support::ClampedFree).unwrap();
+    for (i, m) in beam.modes(1000).unwrap().iter().enumerate() {
+        let expected = if i % 2 == 0 { 2.0 } else { -2.0 };
+        assert!((m.shape.value(1.0) - expected).abs() < 1e-12, "mode {}: {}", i + 1, m.shape.value(1.0));
+        // Clamp: phi(0) = phi'(0) = 0; free end: phi''(L) = phi'''(L) = 0 (relative to beta^k).
+        let b = m.shape.beta();
+        assert!(m.shape.value(0.0).abs() < 1e-12);
+        assert!((m.shape.slope(0.0) / b).abs() < 1e-12);
+        assert!((m.shape.curvature(1.0) / (b * b)).abs() < 1e-12);
+        assert!((m.shape.derivative(3, 1.0) / b.powi(3)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn mode_500_matches_high_precision_reference() {
+    // validation/reference/cantilever_mode500.csv: mpmath at 800 digits. Values are O(1), so
+    // 1e-12 absolute allows ~1e-13 for the argument beta x ~ 1569 (its ulp is 2e-13).
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../validation/reference/cantilever_mode500.csv")).unwrap();
+    let beam = Beam::new(1.0, 1.0, 1.0, Support::ClampedFree).unwrap();
+    let beta_l = Support::ClampedFree.eigenvalue(500).unwrap();
+    assert!((beta_l - 1569.22553046810172261209).abs() < 1e-12);
+    let mode = beam.modes(500).unwrap()[499];
+    let mut rows = 0;
+    for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let b = mode.shape.beta();
+        assert!((mode.shape.value(v[0]) - v[1]).abs() < 2e-12, "phi at {}", v[0]);
+        assert!((mode.shape.slope(v[0]) / b - v[2]).abs() < 2e-12, "slope at {}", v[0]);
+        assert!((mode.shape.curvature(v[0]) / (b * b) - v[3]).abs() < 2e-12, "curvature at {}", v[0]);
+        rows += 1;
+    }
+    assert_eq!(rows, 9);
+}
+
+/// Composite 5-point Gauss-Legendre on [0, L] with `panels` panels.
+fn integrate(f: impl Fn(f64) -> f64, length: f64, panels: usize) -> f64 {
+    let nodes = [0.0, 0.538469310105683, -0.538469310105683, 0.906179845938664, -0.906179845938664];
+    let weights = [0.568888888888889, 0.478628670499366, 0.478628670499366, 0.236926885056189, 0.236926885056189];
+    let h = length / panels as f64;
+    (0..panels)
+        .map(|p| {
+            let mid = (p as f64 + 0.5) * h;
+            nodes.iter().zip(&weights).map(|(x, w)| w * f(mid + 0.5 * h * x)).sum::<f64>() * 0.5 * h
+        })
+        .sum()
+}
+
+#[test]
+fn modes_are_orthonormal() {
+    // 5-point Gauss-Legendre on 600 panels: mode 40 has beta L ~ 127, i.e. ~40 half-waves, so
+    // each panel spans under a tenth of a half-wave and the rule's error (h^10 f^(10)) is ~1e-14;
+    // the nodes and weights are given to 15 digits, so 1e-10 is the justified bound.
+    for s in Support::ALL {
+        let beam = Beam::new(1.0, 1.0, 2.0, s).unwrap();
+        let modes = beam.modes(40).unwrap();
+        for i in (0..40).step_by(3) {
+            for j in (i..40).step_by(5) {
+                let v = integrate(|x| modes[i].shape.value(x) * modes[j].shape.value(x), 2.0, 600);
+                let expected = if i == j { 2.0 } else { 0.0 };
+                assert!((v - expected).abs() < 1e-10, "{s}: <{i}, {j}> = {v}");
+            }
+        }
+    }
+}
+
+#[test]
+fn static_compliance_identity() {
+    // sum phi_n(c)^2 / omega_n^2 / (rho A L) = static flexibility at c (REFERENCES.md 6.3 and
+    // beam tables). With 3000 modes the neglected tail is below sum_{n>3000} 4/((n-1/2) pi)^4 ~
+    // 2e-13 of L^3/EI, i.e. < 1e-10 relative to any flexibility tested; tolerance 1e-9.
+    for s in [Support::ClampedFree, Support::PinnedPinned, Support::ClampedClamped, Support::ClampedPinned] {
+        let beam = Beam::new(3.0, 2.0, 1.5, s).unwrap();
+        let modes = beam.modes(3000).unwrap();
+        let points: &[f64] = if s == Support::ClampedFree { &[1.5, 0.45] } else { &[0.45, 0.75] };
+        for &c in points {
+            let pm = PointModes::new(&beam, &modes, c, 0.0).unwrap();
+            let exact = beam.static_flexibility(c).unwrap();
+            let sum = pm.static_flexibility();
+            assert!((sum - exact).abs() / exact < 1e-9, "{s} at {c}: {sum} vs {exact}");
+        }
+    }
+    // REFERENCES.md 1.2: sum 4/(b_n L)^4 = 1/3 for the cantilever tip.
+    let s: f64 = (1..=3000).map(|n| 4.0 / Support::ClampedFree.eigenvalue(n).unwrap().powi(4)).sum();
+    assert!((s - 1.0 / 3.0).abs() < 1e-10);
+}
+
+#[test]
+fn bad_beams_are_rejected() {
+    let e = Beam::new(1.0, 1.0, -1.0, Support::ClampedFree).unwrap_err();
+    assert!(e.to_string().contains("length = -1"), "{e}");
+    assert!(Beam::new(f64::NAN, 1.0, 1.0, Support::ClampedFree).is_err());
+    assert!(Beam::rectangular(2e11, 7850.0, 0.0, 0.005, 1.0, Support::ClampedFree).is_err());
+    let beam = Beam::new(1.0, 1.0, 1.0, Support::ClampedFree).unwrap();
+    assert!(beam.modes(0).is_err());
+    let modes = beam.modes(4).unwrap();
+    assert!(PointModes::new(&beam, &modes, 1.5, 0.0).is_err());
+    assert!(PointModes::new(&beam, &modes, 0.5, 1.0).is_err());
+    assert!(Support::from_name("clamped-floppy").unwrap_err().to_string().contains("clamped-floppy"));
+    assert_eq!(Support::from_name("free-free").unwrap(), Support::FreeFree);
+}
