@@ -172,6 +172,8 @@ pub struct Transition {
     g0v: Vec<f64>,
     g1q: Vec<f64>,
     g1v: Vec<f64>,
+    /// Participations g, to sum the displacement while advancing.
+    gain: Vec<f64>,
     /// g E11 and g E12: the end displacement at the point from the start state.
     wq: Vec<f64>,
     wv: Vec<f64>,
@@ -240,6 +242,7 @@ impl Transition {
             g0v: Vec::with_capacity(n),
             g1q: Vec::with_capacity(n),
             g1v: Vec::with_capacity(n),
+            gain: modes.gain.clone(),
             wq: Vec::with_capacity(n),
             wv: Vec::with_capacity(n),
             w0: 0.0,
@@ -295,14 +298,19 @@ impl Transition {
     }
 
     /// Advances `state` over the step with the force going from `f0` to `f1` (N)
-    /// (`f1` is ignored for a zero-order hold).
-    pub fn advance(&self, state: &mut ModalState, f0: f64, f1: f64) {
+    /// (`f1` is ignored for a zero-order hold), and returns the new displacement at the point,
+    /// sum g q (m), summed in the same pass.
+    pub fn advance(&self, state: &mut ModalState, f0: f64, f1: f64) -> f64 {
         let f1 = if self.hold == Hold::Zero { 0.0 } else { f1 };
+        let mut w = 0.0;
         for i in 0..self.e11.len() {
             let (q, v) = (state.q[i], state.v[i]);
-            state.q[i] = self.e11[i] * q + self.e12[i] * v + self.g0q[i] * f0 + self.g1q[i] * f1;
+            let q1 = self.e11[i] * q + self.e12[i] * v + self.g0q[i] * f0 + self.g1q[i] * f1;
             state.v[i] = self.e21[i] * q + self.e22[i] * v + self.g0v[i] * f0 + self.g1v[i] * f1;
+            state.q[i] = q1;
+            w += self.gain[i] * q1;
         }
+        w
     }
 
     /// Displacement at the point at the end of the step if the end force were zero (m):

@@ -1,0 +1,53 @@
+//! Errors of the impact crate.
+
+/// What can go wrong when reading, planning or running a scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ImpactError {
+    /// The scene file is not valid TOML or does not match the scene's keys (unknown key,
+    /// missing field, wrong type); the message names the key and the line.
+    #[error("scene file: {0}")]
+    Parse(String),
+    /// A field has a value outside what is allowed.
+    #[error("{field} = {value}: {allowed}")]
+    InvalidField {
+        /// Dotted path of the field, e.g. `beam.length`.
+        field: String,
+        /// The value as written.
+        value: String,
+        /// What would be accepted, with the unit.
+        allowed: String,
+    },
+    /// A combination of fields that does not make a scene.
+    #[error("{0}")]
+    Inconsistent(String),
+    /// A method the scene asks for is not available.
+    #[error("{0}")]
+    Unsupported(String),
+    /// A numerical failure in a run; carries the simulated time.
+    #[error("the solver failed at t = {t} s: {reason}")]
+    SolverFailed {
+        /// Simulated time (s).
+        t: f64,
+        /// What went wrong.
+        reason: String,
+    },
+    /// An error from the contact crate.
+    #[error(transparent)]
+    Contact(#[from] hertz::HertzError),
+    /// An error from the modal crate.
+    #[error(transparent)]
+    Modal(#[from] modal::ModalError),
+}
+
+/// `field` must be finite and strictly positive.
+pub(crate) fn positive(field: &str, value: f64, unit: &str) -> Result<f64, ImpactError> {
+    if !(value.is_finite() && value > 0.0) {
+        return Err(ImpactError::InvalidField {
+            field: field.to_owned(),
+            value: value.to_string(),
+            allowed: format!("must be a finite number greater than 0 ({unit})"),
+        });
+    }
+    Ok(value)
+}

@@ -1,0 +1,81 @@
+//! The per-run report.
+
+use crate::plan::PlanSummary;
+use serde::Serialize;
+
+/// One contact between the ball and the beam.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Contact {
+    /// Onset time (s), located by root finding on the approach.
+    pub start: f64,
+    /// Duration (s), to the located separation (or to the end of the run if still in contact).
+    pub duration: f64,
+    /// False if the run ended during this contact.
+    pub complete: bool,
+    /// Largest contact force (N).
+    pub peak_force: f64,
+    /// Largest approach (m).
+    pub max_approach: f64,
+    /// Impulse, integral of F dt (N s).
+    pub impulse: f64,
+    /// Ball velocity toward the beam at onset (m/s).
+    pub ball_velocity_before: f64,
+    /// Ball velocity toward the beam at separation (m/s); negative when it rebounds.
+    pub ball_velocity_after: f64,
+    /// Rim radius of the permanent print after this contact (m); 0 if elastic so far.
+    pub print_radius: f64,
+    /// Steps taken in contact.
+    pub steps: usize,
+}
+
+/// Where the energy is at the end of the run (J). Each term is computed from the state it
+/// describes; `balance_error` is what is left over.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Energy {
+    /// Ball kinetic energy at first touch plus its potential energy there (0).
+    pub initial: f64,
+    /// Ball kinetic energy, m v^2 / 2.
+    pub ball_kinetic: f64,
+    /// Ball potential energy relative to first touch, -m g u.
+    pub ball_potential: f64,
+    /// Beam energy, sum over modes of (v^2 + omega^2 q^2)/2.
+    pub beam: f64,
+    /// Elastic energy stored in the contact (the law's).
+    pub contact_stored: f64,
+    /// Plastic and damping work of the contact plus modal damping work.
+    pub dissipated: f64,
+    /// initial - (all the above).
+    pub balance_error: f64,
+}
+
+/// Everything a run reports (SI units; ball velocities positive toward the beam).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Report {
+    /// Scene name.
+    pub name: String,
+    /// What was modelled and why.
+    pub plan: PlanSummary,
+    /// Things the user should look at.
+    pub warnings: Vec<String>,
+    /// Impact speed (m/s).
+    pub impact_speed: f64,
+    /// Every contact in order.
+    pub contacts: Vec<Contact>,
+    /// Number of contacts.
+    pub contact_count: usize,
+    /// -(velocity after)/(velocity before) of the first contact; null if it did not end.
+    pub restitution: Option<f64>,
+    /// Largest beam displacement at the impact point over the run (m).
+    pub max_displacement: f64,
+    /// When it happened (s).
+    pub max_displacement_time: f64,
+    /// Static stiffness of the beam at the impact point (N/m); null for a half-space or a
+    /// free-free beam.
+    pub static_stiffness: Option<f64>,
+    /// Static stiffness x max displacement (N); null where the stiffness is.
+    pub equivalent_static_force: Option<f64>,
+    /// Energy ledger at the end of the run.
+    pub energy: Energy,
+    /// Wall-clock time of the run (s).
+    pub wall_time: f64,
+}

@@ -1,0 +1,196 @@
+//! The scene file: what a user writes (TOML, SI units).
+
+use crate::error::ImpactError;
+use serde::{Deserialize, Serialize};
+
+/// A ball striking a beam (or a massive half-space). Every unknown key is an error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Name used in reports and file names.
+    pub name: String,
+    /// The struck beam; exactly one of `beam` and `half_space`.
+    pub beam: Option<BeamSpec>,
+    /// A massive elastic block (no beam); exactly one of `beam` and `half_space`.
+    pub half_space: Option<HalfSpaceSpec>,
+    /// The striking ball.
+    pub ball: BallSpec,
+    /// Where and how fast it strikes.
+    pub impact: ImpactSpec,
+    /// The contact law.
+    #[serde(default)]
+    pub contact: ContactSpec,
+    /// Method and resolution.
+    #[serde(default)]
+    pub solver: SolverSpec,
+}
+
+/// End conditions of a beam, as written in a scene file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SupportName {
+    /// Clamped at x = 0, free at x = L.
+    ClampedFree,
+    /// Pinned at both ends.
+    PinnedPinned,
+    /// Clamped at both ends.
+    ClampedClamped,
+    /// Clamped at x = 0, pinned at x = L.
+    ClampedPinned,
+    /// Free at both ends.
+    FreeFree,
+}
+
+impl From<SupportName> for modal::Support {
+    fn from(s: SupportName) -> Self {
+        match s {
+            SupportName::ClampedFree => modal::Support::ClampedFree,
+            SupportName::PinnedPinned => modal::Support::PinnedPinned,
+            SupportName::ClampedClamped => modal::Support::ClampedClamped,
+            SupportName::ClampedPinned => modal::Support::ClampedPinned,
+            SupportName::FreeFree => modal::Support::FreeFree,
+        }
+    }
+}
+
+/// A uniform beam of rectangular section, struck on its `thickness` face.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeamSpec {
+    /// Length L (m).
+    pub length: f64,
+    /// Section width b (m).
+    pub width: f64,
+    /// Section thickness h (m), in the direction of impact.
+    pub thickness: f64,
+    /// End conditions.
+    pub support: SupportName,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio (-).
+    pub poisson_ratio: f64,
+    /// Density (kg/m^3).
+    pub density: f64,
+    /// Yield stress (Pa); needed by plastic contact laws.
+    pub yield_stress: Option<f64>,
+    /// Modal damping ratio of every elastic mode (-), default 0.
+    pub modal_damping: Option<f64>,
+}
+
+/// A massive elastic block: the ball's counterface does not move.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HalfSpaceSpec {
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio (-).
+    pub poisson_ratio: f64,
+    /// Yield stress (Pa); needed by plastic contact laws.
+    pub yield_stress: Option<f64>,
+}
+
+/// A solid elastic sphere.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BallSpec {
+    /// Radius (m).
+    pub radius: f64,
+    /// Mass (kg); default density x volume.
+    pub mass: Option<f64>,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio (-).
+    pub poisson_ratio: f64,
+    /// Density (kg/m^3).
+    pub density: f64,
+    /// Yield stress (Pa), if the ball can yield.
+    pub yield_stress: Option<f64>,
+}
+
+/// Where and how fast the ball strikes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImpactSpec {
+    /// Impact point (m) from x = 0 (the first support); required with a beam.
+    pub position: Option<f64>,
+    /// Drop height h (m): speed sqrt(2 g h). Exactly one of `drop_height` and `speed`.
+    pub drop_height: Option<f64>,
+    /// Impact speed (m/s), toward the beam.
+    pub speed: Option<f64>,
+    /// Whether gravity (9.81 m/s^2, toward the beam) acts on the ball during the run.
+    #[serde(default = "default_gravity")]
+    pub gravity: bool,
+}
+
+fn default_gravity() -> bool {
+    true
+}
+
+/// Contact laws a scene can ask for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LawName {
+    /// Elastic Hertz.
+    #[default]
+    Hertz,
+    /// Hertz with Hunt-Crossley damping (`damping` or `restitution`).
+    HuntCrossley,
+    /// Thornton elastic-perfectly-plastic (a yield stress or `limiting_pressure`).
+    Thornton,
+}
+
+/// The contact law and its parameters.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Which law.
+    #[serde(default)]
+    pub law: LawName,
+    /// Hunt-Crossley damping factor chi (s/m).
+    pub damping: Option<f64>,
+    /// Hunt-Crossley: target restitution at the impact speed, instead of `damping`.
+    pub restitution: Option<f64>,
+    /// Thornton: limiting contact pressure (Pa); default 1.6 x the softer yield stress.
+    pub limiting_pressure: Option<f64>,
+}
+
+/// Solution methods.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MethodName {
+    /// Let the plan choose.
+    #[default]
+    Auto,
+    /// Goldsmith's modal method.
+    Modal,
+    /// The nonlinear finite-element beam (not available yet).
+    Fe,
+}
+
+/// Method and resolution; every field has a default.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// Method.
+    #[serde(default)]
+    pub method: MethodName,
+    /// Number of modes (modal method); default chosen by the plan.
+    pub modes: Option<usize>,
+    /// Simulated time (s) from first touch.
+    pub end_time: Option<f64>,
+    /// Time steps per estimated contact duration.
+    pub samples_per_pulse: Option<usize>,
+    /// Interval of the recorded history in free flight (s).
+    pub output_interval: Option<f64>,
+}
+
+impl Scene {
+    /// Parses a scene from TOML text.
+    ///
+    /// # Errors
+    /// `Parse` with the key and line for invalid TOML, unknown keys, missing fields and wrong
+    /// types.
+    pub fn from_toml(text: &str) -> Result<Self, ImpactError> {
+        toml::from_str(text).map_err(|e| ImpactError::Parse(e.to_string()))
+    }
+}
