@@ -1,1 +1,69 @@
-fn main(){}
+//! The toolkit's command line: `cargo xtask reproduce | simulate | validate`.
+
+mod plot;
+mod reproduce;
+mod simulate;
+mod validate;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Impact of a hard ball on a flexible beam: reproduce the paper, simulate a scene, validate.
+#[derive(Parser)]
+#[command(name = "cargo xtask", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Regenerate every figure of Barrientos et al. as CSV + SVG with an index page.
+    Reproduce {
+        /// Output folder.
+        #[arg(long, default_value = "target/reproduce")]
+        out: PathBuf,
+        /// A reduced version (fewer modes and sweep points) for CI.
+        #[arg(long)]
+        quick: bool,
+    },
+    /// Run one scene file and print its report.
+    Simulate {
+        /// Scene file (TOML, SI units).
+        scene: PathBuf,
+        /// Print the report as JSON on stdout instead of a summary.
+        #[arg(long)]
+        json: bool,
+        /// Write the time history to this CSV file.
+        #[arg(long)]
+        history: Option<PathBuf>,
+    },
+    /// Run every case under validation/ against its reference; non-zero exit on a failure.
+    Validate {
+        /// Print the results as a JSON list.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Reproduce { out, quick } => reproduce::run(&out, quick),
+        Command::Simulate { scene, json, history } => {
+            simulate::run(&scene, json, history.as_deref())
+        }
+        Command::Validate { json } => validate::run(json),
+    };
+    match result {
+        Ok(true) => std::process::ExitCode::SUCCESS,
+        Ok(false) => std::process::ExitCode::FAILURE,
+        Err(e) => {
+            #[allow(clippy::print_stderr)]
+            {
+                eprintln!("error: {e:#}");
+            }
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

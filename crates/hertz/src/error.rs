@@ -19,7 +19,11 @@ pub enum HertzError {
 }
 
 /// Checks that `value` is finite and strictly positive.
-pub(crate) fn positive(name: &'static str, value: f64, unit: &'static str) -> Result<f64, HertzError> {
+pub(crate) fn positive(
+    name: &'static str,
+    value: f64,
+    unit: &'static str,
+) -> Result<f64, HertzError> {
     if !(value.is_finite() && value > 0.0) {
         return Err(HertzError::InvalidParameter {
             name,

@@ -46,7 +46,11 @@ impl HuntCrossley {
     ///
     /// # Errors
     /// `InvalidParameter` if e is outside (0, 1] or V is not finite and positive.
-    pub fn from_restitution(hertz: Hertz, restitution: f64, speed: f64) -> Result<Self, HertzError> {
+    pub fn from_restitution(
+        hertz: Hertz,
+        restitution: f64,
+        speed: f64,
+    ) -> Result<Self, HertzError> {
         if !(restitution.is_finite() && restitution > 0.0 && restitution <= 1.0) {
             return Err(HertzError::InvalidParameter {
                 name: "restitution",

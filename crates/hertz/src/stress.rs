@@ -50,6 +50,11 @@ impl Hertz {
         let a = self.contact_radius(delta);
         let p0 = self.max_pressure(delta);
         let (tau, depth) = max_subsurface_shear(poisson_ratio);
-        ContactStress { contact_radius: a, max_pressure: p0, max_shear: tau * p0, max_shear_depth: depth * a }
+        ContactStress {
+            contact_radius: a,
+            max_pressure: p0,
+            max_shear: tau * p0,
+            max_shear_depth: depth * a,
+        }
     }
 }

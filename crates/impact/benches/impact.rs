@@ -1,1 +1,27 @@
-fn main(){}
+//! Whole simulations: the paper's tip scene (h = 0.2 m, 5 ms) with 4, 64 and 256 modes, and the
+#![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
+//! half-space closed-form case.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use impact::{simulate, Scene};
+
+const PAPER: &str = include_str!("../../../validation/scenes/paper-tip.toml");
+const HALF_SPACE: &str = include_str!("../../../validation/scenes/half-space-r10.toml");
+
+fn scenes(c: &mut Criterion) {
+    let mut group = c.benchmark_group("impact");
+    group.sample_size(10);
+    for modes in [4usize, 64, 256] {
+        let mut scene = Scene::from_toml(PAPER).expect("valid scene");
+        scene.solver.modes = Some(modes);
+        group.bench_with_input(BenchmarkId::new("paper tip 5 ms", modes), &scene, |b, s| {
+            b.iter(|| simulate(s))
+        });
+    }
+    let hs = Scene::from_toml(HALF_SPACE).expect("valid scene");
+    group.bench_function("half-space", |b| b.iter(|| simulate(&hs)));
+    group.finish();
+}
+
+criterion_group!(benches, scenes);
+criterion_main!(benches);

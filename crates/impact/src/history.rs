@@ -22,7 +22,15 @@ pub struct History {
 
 impl History {
     /// Appends one row.
-    pub fn push(&mut self, t: f64, force: f64, approach: f64, ball_position: f64, ball_velocity: f64, beam: f64) {
+    pub fn push(
+        &mut self,
+        t: f64,
+        force: f64,
+        approach: f64,
+        ball_position: f64,
+        ball_velocity: f64,
+        beam: f64,
+    ) {
         self.time.push(t);
         self.force.push(force);
         self.approach.push(approach);
@@ -46,12 +54,20 @@ impl History {
     /// # Errors
     /// Any I/O error of the writer.
     pub fn write_csv(&self, mut w: impl Write) -> std::io::Result<()> {
-        writeln!(w, "time_s,force_n,approach_m,ball_position_m,ball_velocity_m_s,beam_displacement_m")?;
+        writeln!(
+            w,
+            "time_s,force_n,approach_m,ball_position_m,ball_velocity_m_s,beam_displacement_m"
+        )?;
         for i in 0..self.len() {
             writeln!(
                 w,
                 "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
-                self.time[i], self.force[i], self.approach[i], self.ball_position[i], self.ball_velocity[i], self.beam_displacement[i]
+                self.time[i],
+                self.force[i],
+                self.approach[i],
+                self.ball_position[i],
+                self.ball_velocity[i],
+                self.beam_displacement[i]
             )?;
         }
         Ok(())

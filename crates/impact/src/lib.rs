@@ -51,8 +51,8 @@ pub use modal_solver::{run, Outcome};
 pub use plan::{Law, Plan, PlanSummary, Target, DEFAULT_SAMPLES_PER_PULSE, GRAVITY, MODE_CUTOFF};
 pub use report::{Contact, Energy, Report};
 pub use scene::{
-    BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene, SolverSpec,
-    SupportName,
+    BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,
+    SolverSpec, SupportName,
 };
 
 /// Plans and runs a scene.

@@ -95,10 +95,19 @@ pub struct Plan {
 }
 
 fn invalid(field: &str, value: impl ToString, allowed: &str) -> ImpactError {
-    ImpactError::InvalidField { field: field.to_owned(), value: value.to_string(), allowed: allowed.to_owned() }
+    ImpactError::InvalidField {
+        field: field.to_owned(),
+        value: value.to_string(),
+        allowed: allowed.to_owned(),
+    }
 }
 
-fn material(prefix: &str, e: f64, nu: f64, yield_stress: Option<f64>) -> Result<Material, ImpactError> {
+fn material(
+    prefix: &str,
+    e: f64,
+    nu: f64,
+    yield_stress: Option<f64>,
+) -> Result<Material, ImpactError> {
     positive(&format!("{prefix}.youngs_modulus"), e, "Pa")?;
     if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
         return Err(invalid(&format!("{prefix}.poisson_ratio"), nu, "must be in (-1, 0.5)"));
@@ -161,12 +170,27 @@ impl Plan {
         let gravity = if scene.impact.gravity { GRAVITY } else { 0.0 };
 
         let (counterface, beam_spec) = match (&scene.beam, &scene.half_space) {
-            (Some(beam), None) => (material("beam", beam.youngs_modulus, beam.poisson_ratio, beam.yield_stress)?, Some(beam)),
-            (None, Some(hs)) => (material("half_space", hs.youngs_modulus, hs.poisson_ratio, hs.yield_stress)?, None),
-            (Some(_), Some(_)) => return Err(ImpactError::Inconsistent("give [beam] or [half_space], not both".into())),
-            (None, None) => return Err(ImpactError::Inconsistent("the scene needs a [beam] or a [half_space] to strike".into())),
+            (Some(beam), None) => (
+                material("beam", beam.youngs_modulus, beam.poisson_ratio, beam.yield_stress)?,
+                Some(beam),
+            ),
+            (None, Some(hs)) => (
+                material("half_space", hs.youngs_modulus, hs.poisson_ratio, hs.yield_stress)?,
+                None,
+            ),
+            (Some(_), Some(_)) => {
+                return Err(ImpactError::Inconsistent(
+                    "give [beam] or [half_space], not both".into(),
+                ))
+            }
+            (None, None) => {
+                return Err(ImpactError::Inconsistent(
+                    "the scene needs a [beam] or a [half_space] to strike".into(),
+                ))
+            }
         };
-        let hertz = Hertz::between(&ball_material, &counterface, hertz::geometry::sphere_on_flat(radius)?)?;
+        let hertz =
+            Hertz::between(&ball_material, &counterface, hertz::geometry::sphere_on_flat(radius)?)?;
         let rigid = HalfSpaceImpact::elastic(&hertz, ball_mass, speed)?;
         let estimated_duration = rigid.duration;
         let yield_stress = hertz::softer_yield_stress(&ball_material, &counterface);
@@ -210,7 +234,11 @@ impl Plan {
             }
         };
         if let (Law::Hertz(_) | Law::HuntCrossley(_), Some(y)) = (law, yield_stress) {
-            let vy = hertz::elastic_limit_velocity(&hertz, ball_mass, hertz::FIRST_YIELD_PRESSURE_RATIO * y)?;
+            let vy = hertz::elastic_limit_velocity(
+                &hertz,
+                ball_mass,
+                hertz::FIRST_YIELD_PRESSURE_RATIO * y,
+            )?;
             if speed > vy {
                 warnings.push(format!(
                     "the impact speed {speed:.3} m/s exceeds the first-yield speed {vy:.3} m/s (p0 = 1.6 Y): the contact yields; contact.law = \"thornton\" models it"
@@ -248,21 +276,46 @@ impl Plan {
                 positive("beam.width", beam.width, "m")?;
                 positive("beam.thickness", beam.thickness, "m")?;
                 positive("beam.density", beam.density, "kg/m^3")?;
-                let m = modal::Beam::rectangular(beam.youngs_modulus, beam.density, beam.width, beam.thickness, length, beam.support.into())?;
-                let position = scene.impact.position.ok_or_else(|| ImpactError::Inconsistent("impact.position (m) is required with a [beam]".into()))?;
+                let m = modal::Beam::rectangular(
+                    beam.youngs_modulus,
+                    beam.density,
+                    beam.width,
+                    beam.thickness,
+                    length,
+                    beam.support.into(),
+                )?;
+                let position = scene.impact.position.ok_or_else(|| {
+                    ImpactError::Inconsistent(
+                        "impact.position (m) is required with a [beam]".into(),
+                    )
+                })?;
                 if !(position.is_finite() && (0.0..=length).contains(&position)) {
-                    return Err(invalid("impact.position", position, &format!("must be on the beam, 0 <= position <= beam.length = {length} (m)")));
+                    return Err(invalid(
+                        "impact.position",
+                        position,
+                        &format!(
+                            "must be on the beam, 0 <= position <= beam.length = {length} (m)"
+                        ),
+                    ));
                 }
                 let damping = beam.modal_damping.unwrap_or(0.0);
                 if !(damping.is_finite() && (0.0..1.0).contains(&damping)) {
-                    return Err(invalid("beam.modal_damping", damping, "must be a damping ratio in [0, 1)"));
+                    return Err(invalid(
+                        "beam.modal_damping",
+                        damping,
+                        "must be a damping ratio in [0, 1)",
+                    ));
                 }
                 let needed = modes_needed(&m, estimated_duration)?;
                 let modes = match s.modes {
                     Some(0) => return Err(invalid("solver.modes", 0, "must be at least 1")),
-                    Some(n) if n > 20_000 => return Err(invalid("solver.modes", n, "must be at most 20000")),
+                    Some(n) if n > 20_000 => {
+                        return Err(invalid("solver.modes", n, "must be at most 20000"))
+                    }
                     Some(n) => {
-                        reasons.push(format!("{n} modes, as asked (omega t_c <= {MODE_CUTOFF} would need {needed})"));
+                        reasons.push(format!(
+                            "{n} modes, as asked (omega t_c <= {MODE_CUTOFF} would need {needed})"
+                        ));
                         n
                     }
                     None => {
@@ -301,7 +354,13 @@ impl Plan {
         };
         Ok(Self {
             name: scene.name.clone(),
-            summary: PlanSummary { method: method.into(), modes, time_step, contact_law: contact_law.into(), reasons },
+            summary: PlanSummary {
+                method: method.into(),
+                modes,
+                time_step,
+                contact_law: contact_law.into(),
+                reasons,
+            },
             target,
             law,
             ball_mass,

@@ -1,1 +1,31 @@
-fn main(){}
+//! Cost of building modes and transitions and of one exact step, for 64 and 256 modes.
+#![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use modal::{Beam, Hold, ModalState, PointModes, Support, Transition};
+use std::hint::black_box;
+
+fn propagation(c: &mut Criterion) {
+    let beam = Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, Support::ClampedFree)
+        .expect("valid beam");
+    let mut group = c.benchmark_group("modal");
+    for n in [64usize, 256] {
+        group.bench_with_input(BenchmarkId::new("modes", n), &n, |b, &n| {
+            b.iter(|| beam.modes(black_box(n)))
+        });
+        let modes = beam.modes(n).expect("modes");
+        let tip = PointModes::new(&beam, &modes, 1.15, 0.0).expect("tip");
+        group.bench_with_input(BenchmarkId::new("transition", n), &n, |b, _| {
+            b.iter(|| Transition::new(&tip, black_box(1e-7), Hold::FirstOrder))
+        });
+        let t = Transition::new(&tip, 1e-7, Hold::FirstOrder).expect("transition");
+        let mut s = ModalState::at_rest(n);
+        group.bench_with_input(BenchmarkId::new("step", n), &n, |b, _| {
+            b.iter(|| t.advance(&mut s, black_box(10.0), 11.0))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, propagation);
+criterion_main!(benches);

@@ -136,7 +136,9 @@ impl Beam {
             Support::ClampedFree => Some(c.powi(3) / (3.0 * ei)),
             Support::PinnedPinned => Some(c * c * b * b / (3.0 * ei * l)),
             Support::ClampedClamped => Some(c.powi(3) * b.powi(3) / (3.0 * ei * l.powi(3))),
-            Support::ClampedPinned => Some(c.powi(3) * b * b * (3.0 * l + b) / (12.0 * ei * l.powi(3))),
+            Support::ClampedPinned => {
+                Some(c.powi(3) * b * b * (3.0 * l + b) / (12.0 * ei * l.powi(3)))
+            }
             Support::FreeFree => None,
         }
     }

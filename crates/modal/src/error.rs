@@ -32,7 +32,11 @@ pub enum ModalError {
 }
 
 /// Checks that `value` is finite and strictly positive.
-pub(crate) fn positive(name: &'static str, value: f64, unit: &'static str) -> Result<f64, ModalError> {
+pub(crate) fn positive(
+    name: &'static str,
+    value: f64,
+    unit: &'static str,
+) -> Result<f64, ModalError> {
     if !(value.is_finite() && value > 0.0) {
         return Err(ModalError::InvalidParameter {
             name,

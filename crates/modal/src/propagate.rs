@@ -44,7 +44,12 @@ impl PointModes {
     /// # Errors
     /// `InvalidParameter` if the position is outside [0, L] or the damping ratio is outside
     /// [0, 1) (critical and over-damping are not supported).
-    pub fn new(beam: &Beam, modes: &[Mode], position: f64, damping_ratio: f64) -> Result<Self, ModalError> {
+    pub fn new(
+        beam: &Beam,
+        modes: &[Mode],
+        position: f64,
+        damping_ratio: f64,
+    ) -> Result<Self, ModalError> {
         if !(position.is_finite() && (0.0..=beam.length()).contains(&position)) {
             return Err(ModalError::InvalidParameter {
                 name: "position",
@@ -66,7 +71,11 @@ impl PointModes {
     /// # Errors
     /// `InvalidParameter` for lengths that differ, negative or non-finite frequencies,
     /// damping ratios outside [0, 1) or non-finite participations.
-    pub fn from_parts(omega: Vec<f64>, damping_ratio: Vec<f64>, gain: Vec<f64>) -> Result<Self, ModalError> {
+    pub fn from_parts(
+        omega: Vec<f64>,
+        damping_ratio: Vec<f64>,
+        gain: Vec<f64>,
+    ) -> Result<Self, ModalError> {
         if omega.len() != gain.len() || omega.len() != damping_ratio.len() {
             return Err(ModalError::InvalidParameter {
                 name: "modes",
@@ -77,17 +86,32 @@ impl PointModes {
         }
         for &w in &omega {
             if !(w.is_finite() && w >= 0.0) {
-                return Err(ModalError::InvalidParameter { name: "omega", value: w, unit: "rad/s", allowed: "a finite number >= 0" });
+                return Err(ModalError::InvalidParameter {
+                    name: "omega",
+                    value: w,
+                    unit: "rad/s",
+                    allowed: "a finite number >= 0",
+                });
             }
         }
         for &z in &damping_ratio {
             if !(z.is_finite() && (0.0..1.0).contains(&z)) {
-                return Err(ModalError::InvalidParameter { name: "modal_damping", value: z, unit: "-", allowed: "a damping ratio in [0, 1)" });
+                return Err(ModalError::InvalidParameter {
+                    name: "modal_damping",
+                    value: z,
+                    unit: "-",
+                    allowed: "a damping ratio in [0, 1)",
+                });
             }
         }
         for &g in &gain {
             if !g.is_finite() {
-                return Err(ModalError::InvalidParameter { name: "participation", value: g, unit: "1/sqrt(kg)", allowed: "a finite number" });
+                return Err(ModalError::InvalidParameter {
+                    name: "participation",
+                    value: g,
+                    unit: "1/sqrt(kg)",
+                    allowed: "a finite number",
+                });
             }
         }
         Ok(Self { omega, damping_ratio, gain })
@@ -131,18 +155,32 @@ impl PointModes {
 
     /// Kinetic plus strain energy of the beam, sum (v^2 + omega^2 q^2)/2 (J).
     pub fn energy(&self, s: &ModalState) -> f64 {
-        self.omega.iter().zip(s.q.iter().zip(&s.v)).map(|(w, (q, v))| 0.5 * (v * v + w * w * q * q)).sum()
+        self.omega
+            .iter()
+            .zip(s.q.iter().zip(&s.v))
+            .map(|(w, (q, v))| 0.5 * (v * v + w * w * q * q))
+            .sum()
     }
 
     /// Static flexibility of the truncated model at the point, sum over elastic modes of
     /// g^2 / omega^2 (m/N); it converges to the beam's as modes are added.
     pub fn static_flexibility(&self) -> f64 {
-        self.omega.iter().zip(&self.gain).filter(|(w, _)| **w > 0.0).map(|(w, g)| g * g / (w * w)).sum()
+        self.omega
+            .iter()
+            .zip(&self.gain)
+            .filter(|(w, _)| **w > 0.0)
+            .map(|(w, g)| g * g / (w * w))
+            .sum()
     }
 
     /// Power dissipated by the modal damping, sum 2 zeta omega v^2 (W).
     pub fn damping_power(&self, s: &ModalState) -> f64 {
-        self.omega.iter().zip(&self.damping_ratio).zip(&s.v).map(|((w, z), v)| 2.0 * z * w * v * v).sum()
+        self.omega
+            .iter()
+            .zip(&self.damping_ratio)
+            .zip(&s.v)
+            .map(|((w, z), v)| 2.0 * z * w * v * v)
+            .sum()
     }
 }
 
@@ -267,7 +305,12 @@ impl Transition {
                 let col2 = [Complex64::new(h, 0.0), Complex64::new(-2.0 * z * w * h, 0.0) - mub];
                 let m = |f: Complex64, a: Complex64| 2.0 * (f * a * inv).re;
                 (
-                    [m(f0, -mub), m(f0, col2[0]), m(f0, Complex64::new(-w * w * h, 0.0)), m(f0, col2[1])],
+                    [
+                        m(f0, -mub),
+                        m(f0, col2[0]),
+                        m(f0, Complex64::new(-w * w * h, 0.0)),
+                        m(f0, col2[1]),
+                    ],
                     [h * m(f1, col2[0]), h * m(f1, col2[1])],
                     [h * m(f2, col2[0]), h * m(f2, col2[1])],
                 )

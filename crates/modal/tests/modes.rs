@@ -1,12 +1,21 @@
 //! Eigenvalues, mode shapes and static identities against REFERENCES.md 1 and high-precision values.
+#![allow(clippy::unwrap_used, clippy::float_cmp)] // helpers stop on bad fixtures; exact zeros are part of the contract
 
 use modal::*;
 use std::f64::consts::PI;
 
 /// REFERENCES.md 1.1, b_n L of the cantilever, 15 significant digits (mpmath, 40 digits).
 const CANTILEVER: [f64; 10] = [
-    1.87510406871196, 4.69409113297417, 7.85475743823761, 10.9955407348755, 14.1371683910465,
-    17.2787595320882, 20.4203522510413, 23.5619449018064, 26.7035375555183, 29.8451302091028,
+    1.87510406871196,
+    4.69409113297417,
+    7.85475743823761,
+    10.9955407348755,
+    14.1371683910465,
+    17.2787595320882,
+    20.4203522510413,
+    23.5619449018064,
+    26.7035375555183,
+    29.8451302091028,
 ];
 
 #[test]
@@ -60,7 +69,12 @@ fn cantilever_tip_value_is_two_for_every_mode() {
     let beam = Beam::new(1.0, 1.0, 1.0, Support::ClampedFree).unwrap();
     for (i, m) in beam.modes(1000).unwrap().iter().enumerate() {
         let expected = if i % 2 == 0 { 2.0 } else { -2.0 };
-        assert!((m.shape.value(1.0) - expected).abs() < 1e-12, "mode {}: {}", i + 1, m.shape.value(1.0));
+        assert!(
+            (m.shape.value(1.0) - expected).abs() < 1e-12,
+            "mode {}: {}",
+            i + 1,
+            m.shape.value(1.0)
+        );
         // Clamp: phi(0) = phi'(0) = 0; free end: phi''(L) = phi'''(L) = 0 (relative to beta^k).
         let b = m.shape.beta();
         assert!(m.shape.value(0.0).abs() < 1e-12);
@@ -74,10 +88,14 @@ fn cantilever_tip_value_is_two_for_every_mode() {
 fn mode_500_matches_high_precision_reference() {
     // validation/reference/cantilever_mode500.csv: mpmath at 800 digits. Values are O(1), so
     // 1e-12 absolute allows ~1e-13 for the argument beta x ~ 1569 (its ulp is 2e-13).
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../validation/reference/cantilever_mode500.csv")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../validation/reference/cantilever_mode500.csv"
+    ))
+    .unwrap();
     let beam = Beam::new(1.0, 1.0, 1.0, Support::ClampedFree).unwrap();
     let beta_l = Support::ClampedFree.eigenvalue(500).unwrap();
-    assert!((beta_l - 1569.22553046810172261209).abs() < 1e-12);
+    assert!((beta_l - 1_569.225_530_468_101_7).abs() < 1e-12);
     let mode = beam.modes(500).unwrap()[499];
     let mut rows = 0;
     for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
@@ -85,7 +103,11 @@ fn mode_500_matches_high_precision_reference() {
         let b = mode.shape.beta();
         assert!((mode.shape.value(v[0]) - v[1]).abs() < 2e-12, "phi at {}", v[0]);
         assert!((mode.shape.slope(v[0]) / b - v[2]).abs() < 2e-12, "slope at {}", v[0]);
-        assert!((mode.shape.curvature(v[0]) / (b * b) - v[3]).abs() < 2e-12, "curvature at {}", v[0]);
+        assert!(
+            (mode.shape.curvature(v[0]) / (b * b) - v[3]).abs() < 2e-12,
+            "curvature at {}",
+            v[0]
+        );
         rows += 1;
     }
     assert_eq!(rows, 9);
@@ -94,7 +116,13 @@ fn mode_500_matches_high_precision_reference() {
 /// Composite 5-point Gauss-Legendre on [0, L] with `panels` panels.
 fn integrate(f: impl Fn(f64) -> f64, length: f64, panels: usize) -> f64 {
     let nodes = [0.0, 0.538469310105683, -0.538469310105683, 0.906179845938664, -0.906179845938664];
-    let weights = [0.568888888888889, 0.478628670499366, 0.478628670499366, 0.236926885056189, 0.236926885056189];
+    let weights = [
+        0.568888888888889,
+        0.478628670499366,
+        0.478628670499366,
+        0.236926885056189,
+        0.236926885056189,
+    ];
     let h = length / panels as f64;
     (0..panels)
         .map(|p| {
@@ -127,7 +155,12 @@ fn static_compliance_identity() {
     // sum phi_n(c)^2 / omega_n^2 / (rho A L) = static flexibility at c (REFERENCES.md 6.3 and
     // beam tables). With 3000 modes the neglected tail is below sum_{n>3000} 4/((n-1/2) pi)^4 ~
     // 2e-13 of L^3/EI, i.e. < 1e-10 relative to any flexibility tested; tolerance 1e-9.
-    for s in [Support::ClampedFree, Support::PinnedPinned, Support::ClampedClamped, Support::ClampedPinned] {
+    for s in [
+        Support::ClampedFree,
+        Support::PinnedPinned,
+        Support::ClampedClamped,
+        Support::ClampedPinned,
+    ] {
         let beam = Beam::new(3.0, 2.0, 1.5, s).unwrap();
         let modes = beam.modes(3000).unwrap();
         let points: &[f64] = if s == Support::ClampedFree { &[1.5, 0.45] } else { &[0.45, 0.75] };
@@ -139,7 +172,8 @@ fn static_compliance_identity() {
         }
     }
     // REFERENCES.md 1.2: sum 4/(b_n L)^4 = 1/3 for the cantilever tip.
-    let s: f64 = (1..=3000).map(|n| 4.0 / Support::ClampedFree.eigenvalue(n).unwrap().powi(4)).sum();
+    let s: f64 =
+        (1..=3000).map(|n| 4.0 / Support::ClampedFree.eigenvalue(n).unwrap().powi(4)).sum();
     assert!((s - 1.0 / 3.0).abs() < 1e-10);
 }
 
@@ -154,6 +188,9 @@ fn bad_beams_are_rejected() {
     let modes = beam.modes(4).unwrap();
     assert!(PointModes::new(&beam, &modes, 1.5, 0.0).is_err());
     assert!(PointModes::new(&beam, &modes, 0.5, 1.0).is_err());
-    assert!(Support::from_name("clamped-floppy").unwrap_err().to_string().contains("clamped-floppy"));
+    assert!(Support::from_name("clamped-floppy")
+        .unwrap_err()
+        .to_string()
+        .contains("clamped-floppy"));
     assert_eq!(Support::from_name("free-free").unwrap(), Support::FreeFree);
 }

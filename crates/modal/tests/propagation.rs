@@ -1,4 +1,5 @@
 //! Exact modal propagation against the paper's eq. (1), closed-form responses and convergence.
+#![allow(clippy::unwrap_used, clippy::float_cmp)] // helpers stop on bad fixtures; exact zeros are part of the contract
 
 use modal::*;
 
@@ -15,7 +16,8 @@ fn zero_order_hold_equals_the_papers_duhamel_series() {
     // largest displacement (~2000 steps of O(modes) sums).
     let tip = paper_tip(64, 0.0);
     let dt = 2e-6;
-    let forces: Vec<f64> = (0..2000).map(|k| 100.0 * ((k as f64 * 0.013).sin() + (k % 7) as f64 * 0.1)).collect();
+    let forces: Vec<f64> =
+        (0..2000).map(|k| 100.0 * ((k as f64 * 0.013).sin() + (k % 7) as f64 * 0.1)).collect();
     let series = duhamel_series(&tip, &forces, dt).unwrap();
     let step = Transition::new(&tip, dt, Hold::Zero).unwrap();
     let mut s = ModalState::at_rest(tip.len());
@@ -40,7 +42,9 @@ fn free_free_rigid_modes_in_the_series() {
     let mut s = ModalState::at_rest(pm.len());
     for (k, f) in forces.iter().enumerate() {
         t.advance(&mut s, *f, 0.0);
-        assert!((pm.displacement(&s) - series[k + 1]).abs() < 1e-12 * series[k + 1].abs().max(1e-9));
+        assert!(
+            (pm.displacement(&s) - series[k + 1]).abs() < 1e-12 * series[k + 1].abs().max(1e-9)
+        );
     }
 }
 
@@ -72,7 +76,10 @@ fn first_order_hold_converges_at_second_order() {
     let tip = paper_tip(32, 0.0);
     let end = 2e-4;
     let reference = run_foh(&tip, 1e-4 / 1280.0, end);
-    let errors: Vec<f64> = [20.0, 40.0, 80.0].iter().map(|n| (run_foh(&tip, 1e-4 / n, end) - reference).abs()).collect();
+    let errors: Vec<f64> = [20.0, 40.0, 80.0]
+        .iter()
+        .map(|n| (run_foh(&tip, 1e-4 / n, end) - reference).abs())
+        .collect();
     for w in errors.windows(2) {
         let ratio = w[0] / w[1];
         assert!((3.6..4.4).contains(&ratio), "ratio {ratio}, errors {errors:?}");
@@ -95,12 +102,14 @@ fn damped_step_response_is_exact() {
             let (q, v) = if omega * t < 1e-3 {
                 let (a, w2) = (zeta * omega, omega * omega);
                 (
-                    0.7 * (t * t / 2.0 - a * t.powi(3) / 3.0 + (4.0 * zeta * zeta - 1.0) * w2 * t.powi(4) / 24.0),
+                    0.7 * (t * t / 2.0 - a * t.powi(3) / 3.0
+                        + (4.0 * zeta * zeta - 1.0) * w2 * t.powi(4) / 24.0),
                     0.7 * (t - a * t * t + (4.0 * zeta * zeta - 1.0) * w2 * t.powi(3) / 6.0),
                 )
             } else {
                 (
-                    0.7 / (omega * omega) * (1.0 - decay * ((wd * t).cos() + zeta * omega / wd * (wd * t).sin())),
+                    0.7 / (omega * omega)
+                        * (1.0 - decay * ((wd * t).cos() + zeta * omega / wd * (wd * t).sin())),
                     0.7 / wd * decay * (wd * t).sin(),
                 )
             };
@@ -111,9 +120,21 @@ fn damped_step_response_is_exact() {
                 // Round-off is relative to the response's natural scale (g/omega^2 and g/omega_d
                 // at omega t >= 1; the response itself where it is still growing), not to a value
                 // that has decayed by e^-15.
-                let (q_scale, v_scale) = if omega * t >= 1.0 { (0.7 / (omega * omega), 0.7 / wd) } else { (q.abs(), v.abs()) };
-                assert!((s.q[0] - q).abs() <= 1e-13 * q_scale, "{omega} {zeta} {t}: {} vs {q}", s.q[0]);
-                assert!((s.v[0] - v).abs() <= 1e-12 * v_scale, "{omega} {zeta} {t}: {} vs {v}", s.v[0]);
+                let (q_scale, v_scale) = if omega * t >= 1.0 {
+                    (0.7 / (omega * omega), 0.7 / wd)
+                } else {
+                    (q.abs(), v.abs())
+                };
+                assert!(
+                    (s.q[0] - q).abs() <= 1e-13 * q_scale,
+                    "{omega} {zeta} {t}: {} vs {q}",
+                    s.q[0]
+                );
+                assert!(
+                    (s.v[0] - v).abs() <= 1e-12 * v_scale,
+                    "{omega} {zeta} {t}: {} vs {v}",
+                    s.v[0]
+                );
             }
         }
     }
@@ -130,12 +151,24 @@ fn damped_free_decay_and_vanishing_damping() {
     let mut s = ModalState { q: vec![1e-3], v: vec![0.2] };
     tr.advance(&mut s, 0.0, 0.0);
     let wd = omega * (1.0 - zeta * zeta).sqrt();
-    let q = (-zeta * omega * t).exp() * (1e-3 * (wd * t).cos() + (0.2 + zeta * omega * 1e-3) / wd * (wd * t).sin());
+    let q = (-zeta * omega * t).exp()
+        * (1e-3 * (wd * t).cos() + (0.2 + zeta * omega * 1e-3) / wd * (wd * t).sin());
     assert!((s.q[0] - q).abs() < 1e-13 * 1e-3);
     // A tiny damping ratio must give the undamped transition (continuity of the two branches).
-    let a = Transition::new(&PointModes::from_parts(vec![omega], vec![1e-12], vec![1.0]).unwrap(), 1e-3, Hold::FirstOrder).unwrap();
-    let b = Transition::new(&PointModes::from_parts(vec![omega], vec![0.0], vec![1.0]).unwrap(), 1e-3, Hold::FirstOrder).unwrap();
-    let (mut sa, mut sb) = (ModalState { q: vec![1e-3], v: vec![0.1] }, ModalState { q: vec![1e-3], v: vec![0.1] });
+    let a = Transition::new(
+        &PointModes::from_parts(vec![omega], vec![1e-12], vec![1.0]).unwrap(),
+        1e-3,
+        Hold::FirstOrder,
+    )
+    .unwrap();
+    let b = Transition::new(
+        &PointModes::from_parts(vec![omega], vec![0.0], vec![1.0]).unwrap(),
+        1e-3,
+        Hold::FirstOrder,
+    )
+    .unwrap();
+    let (mut sa, mut sb) =
+        (ModalState { q: vec![1e-3], v: vec![0.1] }, ModalState { q: vec![1e-3], v: vec![0.1] });
     a.advance(&mut sa, 2.0, 3.0);
     b.advance(&mut sb, 2.0, 3.0);
     assert!((sa.q[0] - sb.q[0]).abs() < 1e-11 * sb.q[0].abs());
@@ -163,7 +196,10 @@ fn end_displacement_is_affine_in_end_force() {
     // the scalar implicit contact step), to round-off.
     let tip = paper_tip(128, 0.01);
     let t = Transition::new(&tip, 1e-6, Hold::FirstOrder).unwrap();
-    let mut s = ModalState { q: (0..128).map(|i| 1e-6 / (1.0 + i as f64)).collect(), v: (0..128).map(|i| 1e-3 * (i as f64).cos()).collect() };
+    let mut s = ModalState {
+        q: (0..128).map(|i| 1e-6 / (1.0 + i as f64)).collect(),
+        v: (0..128).map(|i| 1e-3 * (i as f64).cos()).collect(),
+    };
     let predicted = t.free_displacement(&s, 40.0) + t.compliance() * 55.0;
     t.advance(&mut s, 40.0, 55.0);
     let w = tip.displacement(&s);

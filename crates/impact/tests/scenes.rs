@@ -1,0 +1,171 @@
+//! End-to-end runs against closed forms, energy conservation and convergence, and bad input.
+#![allow(clippy::unwrap_used, clippy::float_cmp)] // helpers stop on bad fixtures; exact zeros are part of the contract
+
+use impact::*;
+
+fn scene(path: &str) -> Scene {
+    let text = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/{path}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    Scene::from_toml(&text).unwrap()
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+#[test]
+fn half_space_matches_the_hertz_closed_form() {
+    // REFERENCES.md 2.2 via the hertz crate's closed form; the issue asks for 1e-4 relative.
+    // Onset and separation are located by root finding and the peak is refined by a parabola,
+    // so the remaining error is the O(h^2) of the force interpolation (~4e-6 at 1000 steps).
+    let s = scene("half-space-r10.toml");
+    let out = simulate(&s).unwrap();
+    let steel = hertz::Material::new(2.1e11, 0.3).unwrap();
+    let contact = hertz::Hertz::between(&steel, &steel, 0.01).unwrap();
+    let mass = 7850.0 * 4.0 / 3.0 * std::f64::consts::PI * 1e-6;
+    let exact = hertz::HalfSpaceImpact::elastic(&contact, mass, 1.0).unwrap();
+    let c = &out.report.contacts[0];
+    assert_eq!(out.report.contact_count, 1);
+    assert!(rel(c.duration, exact.duration) < 1e-4, "{} vs {}", c.duration, exact.duration);
+    assert!(rel(c.peak_force, exact.peak_force) < 1e-4, "{} vs {}", c.peak_force, exact.peak_force);
+    assert!(rel(c.max_approach, exact.max_approach) < 1e-4);
+    // Elastic on a rigid block: the ball comes back at the speed it came (restitution 1) and
+    // the impulse is 2 m V.
+    assert!((out.report.restitution.unwrap() - 1.0).abs() < 1e-6);
+    assert!(rel(c.impulse, 2.0 * mass) < 1e-6);
+}
+
+fn paper_scene(modes: usize, samples: usize, gravity: bool) -> Scene {
+    let mut s = scene("paper-tip.toml");
+    s.solver.modes = Some(modes);
+    s.solver.samples_per_pulse = Some(samples);
+    s.impact.gravity = gravity;
+    s
+}
+
+#[test]
+fn energy_balance_with_many_recontacts() {
+    // Issue criterion: elastic Hertz, undamped beam, gravity off, paper's tip scene, 64 modes,
+    // 5 ms, default settings: balance error below 1e-6 of the initial energy.
+    let mut s = paper_scene(64, DEFAULT_SAMPLES_PER_PULSE, false);
+    s.solver.samples_per_pulse = None;
+    let out = simulate(&s).unwrap();
+    let e = &out.report.energy;
+    assert!(out.report.contact_count >= 10, "only {} contacts", out.report.contact_count);
+    assert!(e.balance_error.abs() < 1e-6 * e.initial, "{e:?}");
+    assert!(e.dissipated == 0.0 && e.ball_potential == 0.0);
+    // Second order: the error falls by ~4 per halving of the step (measured 3.86, 3.89).
+    let err = |n| {
+        let e = simulate(&paper_scene(64, n, false)).unwrap().report.energy;
+        e.balance_error.abs()
+    };
+    let (a, b, c) = (err(200), err(400), err(800));
+    for ratio in [a / b, b / c] {
+        assert!((3.4..4.6).contains(&ratio), "ratios {} {}", a / b, b / c);
+    }
+}
+
+#[test]
+fn first_contact_converges_with_the_step() {
+    // The paper's tip scene with 4 and with 128 modes: first-contact duration and peak force
+    // converge at second order as the step is halved (differences fall by ~4).
+    for modes in [4, 128] {
+        let first = |n| simulate(&paper_scene(modes, n, true)).unwrap().report.contacts[0].clone();
+        let (c1, c2, c3) = (first(100), first(200), first(400));
+        let d = |f: fn(&Contact) -> f64| ((f(&c1) - f(&c2)).abs(), (f(&c2) - f(&c3)).abs());
+        let (p1, p2) = d(|c| c.peak_force);
+        let (t1, t2) = d(|c| c.duration);
+        assert!(p1 / p2 > 3.0, "{modes} modes: peak differences {p1} {p2}");
+        assert!(t1 / t2 > 2.0 || t2 < 1e-12, "{modes} modes: duration differences {t1} {t2}");
+        assert!(c3.peak_force > 100.0 && c3.duration > 1e-5 && c3.duration < 1e-4);
+    }
+}
+
+#[test]
+fn thornton_contact_on_a_block_matches_thornton_restitution() {
+    // REFERENCES.md 2.4: for this law Thornton's formula is exact, so the solver's restitution
+    // must match it to the scheme's accuracy (O(h^2), ~1e-5 at 1000 steps; 1e-4 allowed).
+    let mut s = scene("half-space-r10.toml");
+    s.half_space.as_mut().unwrap().yield_stress = Some(3.4e8);
+    s.contact.law = LawName::Thornton;
+    let out = simulate(&s).unwrap();
+    let steel = hertz::Material::new(2.1e11, 0.3).unwrap();
+    let contact = hertz::Hertz::between(&steel, &steel, 0.01).unwrap();
+    let mass = 7850.0 * 4.0 / 3.0 * std::f64::consts::PI * 1e-6;
+    let vy = hertz::elastic_limit_velocity(&contact, mass, 1.6 * 3.4e8).unwrap();
+    let expected = hertz::thornton_restitution(vy, 1.0).unwrap();
+    let e = out.report.restitution.unwrap();
+    assert!((e - expected).abs() < 1e-4, "{e} vs {expected}");
+    let c = &out.report.contacts[0];
+    assert!(c.print_radius > 0.0 && c.print_radius < 0.01);
+    // The lost kinetic energy is the plastic work in the ledger.
+    let r = &out.report.energy;
+    assert!(r.balance_error.abs() < 1e-4 * r.initial, "{r:?}");
+    assert!(rel(r.dissipated, r.initial - r.ball_kinetic) < 1e-3);
+}
+
+fn error_of(text: &str) -> String {
+    match Scene::from_toml(text) {
+        Err(e) => e.to_string(),
+        Ok(s) => Plan::new(&s).map(|_| String::from("accepted")).unwrap_or_else(|e| e.to_string()),
+    }
+}
+
+#[test]
+fn bad_inputs_name_the_field() {
+    let good = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/paper-tip.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    assert_eq!(error_of(&good), "accepted");
+    let cases = [
+        ("length = 1.15", "length = -1.0", "beam.length = -1"),
+        ("length = 1.15", "length = nan", "beam.length = NaN"),
+        ("drop_height = 0.2", "drop_height = 0.2\nspeed = 2.0", "exactly one of drop_height"),
+        ("gravity = true", "gravity = true\ngravty = false", "unknown field `gravty`"),
+        ("law = \"hertz\"", "law = \"thornton\"", "accepted"),
+        ("yield_stress = 3.4e8\n", "", "accepted"),
+        ("position = 1.15", "position = 1.5", "impact.position = 1.5"),
+        ("support = \"clamped-free\"", "support = \"clamped\"", "unknown variant `clamped`"),
+        ("method = \"modal\"", "method = \"fe\"", "not available yet"),
+        ("radius = 0.005", "radius = 0.0", "ball.radius = 0"),
+        (
+            "youngs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\nyield_stress",
+            "poisson_ratio = 0.3\ndensity = 7850.0\nyield_stress",
+            "missing field `youngs_modulus`",
+        ),
+    ];
+    for (from, to, expected) in cases {
+        assert!(good.contains(from), "{from}");
+        let text = good.replacen(from, to, 1);
+        let err = error_of(&text);
+        assert!(err.contains(expected), "{to:?}: {err}");
+    }
+    // Thornton without any yield stress.
+    let text = good.replacen("law = \"hertz\"", "law = \"thornton\"", 1).replacen(
+        "yield_stress = 3.4e8\n",
+        "",
+        1,
+    );
+    assert!(error_of(&text).contains("needs a yield stress"), "{}", error_of(&text));
+}
+
+#[test]
+fn paper_scene_reports_are_complete_and_finite() {
+    let out = simulate(&scene("paper-tip.toml")).unwrap();
+    let r = &out.report;
+    let json = serde_json::to_string(r).unwrap();
+    assert!(!json.contains("NaN") && !json.contains("null,\"equivalent"));
+    // The paper's 9 g, 5 mm ball implies ~17 000 kg/m^3: accepted with a warning.
+    assert!(r.warnings.iter().any(|w| w.contains("implies a density")));
+    assert!(r.contact_count > 5, "the ball chases the tip: {} contacts", r.contact_count);
+    assert!(r.equivalent_static_force.unwrap() > 0.0);
+    // Static stiffness of the tip, 3EI/L^3.
+    let ei = 2.1e11 * 0.025 * 0.005f64.powi(3) / 12.0;
+    assert!(rel(r.static_stiffness.unwrap(), 3.0 * ei / 1.15f64.powi(3)) < 1e-12);
+    assert!(out.history.len() > 100);
+}

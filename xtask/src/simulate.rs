@@ -1,0 +1,88 @@
+//! `cargo xtask simulate SCENE.toml`: one scene, a readable summary or JSON.
+
+use anyhow::Context;
+use std::path::Path;
+
+/// Reads and runs a scene file.
+pub fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read the scene file {}", path.display()))?;
+    let scene =
+        impact::Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    impact::simulate(&scene).with_context(|| format!("in {}", path.display()))
+}
+
+#[allow(clippy::print_stdout)]
+pub fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bool> {
+    let outcome = load_and_run(path)?;
+    if let Some(h) = history {
+        let file =
+            std::fs::File::create(h).with_context(|| format!("cannot write {}", h.display()))?;
+        outcome.history.write_csv(std::io::BufWriter::new(file))?;
+    }
+    let r = &outcome.report;
+    if json {
+        println!("{}", serde_json::to_string_pretty(r)?);
+        return Ok(true);
+    }
+    println!(
+        "{}: {} model, {} modes, contact law {}, step in contact {:.3e} s",
+        r.name, r.plan.method, r.plan.modes, r.plan.contact_law, r.plan.time_step
+    );
+    for reason in &r.plan.reasons {
+        println!("  - {reason}");
+    }
+    for w in &r.warnings {
+        println!("  warning: {w}");
+    }
+    println!("impact speed {:.4} m/s; {} contact(s)", r.impact_speed, r.contact_count);
+    println!(
+        "  {:>3} {:>12} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10}",
+        "#",
+        "start (us)",
+        "length (us)",
+        "peak F (N)",
+        "approach (um)",
+        "v in",
+        "v out",
+        "print (mm)"
+    );
+    for (i, c) in r.contacts.iter().enumerate().take(40) {
+        println!(
+            "  {:>3} {:>12.3} {:>12.3}{} {:>12.3} {:>12.4} {:>10.4} {:>10.4} {:>10.4}",
+            i + 1,
+            c.start * 1e6,
+            c.duration * 1e6,
+            if c.complete { " " } else { "+" },
+            c.peak_force,
+            c.max_approach * 1e6,
+            c.ball_velocity_before,
+            c.ball_velocity_after,
+            c.print_radius * 1e3
+        );
+    }
+    if r.contact_count > 40 {
+        println!("  ... {} more", r.contact_count - 40);
+    }
+    match r.restitution {
+        Some(e) => println!("restitution (first contact) {e:.5}"),
+        None => println!("restitution: the first contact had not ended"),
+    }
+    println!(
+        "max displacement at the impact point {:.4e} m at t = {:.4e} s",
+        r.max_displacement, r.max_displacement_time
+    );
+    if let Some(f) = r.equivalent_static_force {
+        println!(
+            "equivalent static force {f:.4} N (static stiffness {:.4e} N/m)",
+            r.static_stiffness.unwrap_or(f64::NAN)
+        );
+    }
+    let e = &r.energy;
+    println!(
+        "energy (J): initial {:.6e}; ball kinetic {:.6e}, potential {:.6e}; beam {:.6e}; contact {:.6e}; dissipated {:.6e}; balance error {:.2e} ({:.1e} of initial)",
+        e.initial, e.ball_kinetic, e.ball_potential, e.beam, e.contact_stored, e.dissipated, e.balance_error, e.balance_error / e.initial
+    );
+    println!("wall time {:.4} s", r.wall_time);
+    Ok(true)
+}
