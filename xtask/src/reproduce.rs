@@ -106,8 +106,8 @@ fn fig3a(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         title: "Fig. 3a: displacement at the impact point for increasing numbers of modes".into(),
         caption: format!(
             "The paper's tip scene (9 g ball, R = 5 mm, dropped 0.2 m on the free end of the 1.15 m, 25 x 5 mm steel cantilever; elastic Hertz contact; gravity on) solved with Goldsmith's modal method for {counts:?} modes over 5 ms. \
-             Largest displacement in the window per mode count: {}. As in the paper's Fig. 3a, the curves converge as modes are added; the lowest modes carry the gross motion and the \
-             curves for 16 modes and more lie on top of each other, while 1 to 4 modes (the paper used 4) miss the local response of the first milliseconds.",
+             Largest displacement in the window per mode count: {}. As in the paper's Fig. 3a, the curves converge as modes are added, but slowly: in this 5 ms window (the first \
+             milliseconds after impact, before the first mode has swung) the curves only gather from about 32 modes on, and 1 to 8 modes (the paper used 4) misstate the local response.",
             summary.join(", ")
         ),
     }])
@@ -125,6 +125,8 @@ fn fig3c(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let runs = run_all("3c: contact force", scenes)?;
+    let peak = |o: &impact::Outcome| o.report.contacts[0].peak_force;
+    let ratio = peak(&runs[0]) / peak(&runs[runs.len() - 1]);
     let mut lines = Vec::new();
     let series = runs
         .iter()
@@ -162,9 +164,11 @@ fn fig3c(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         stem: "fig3c_contact_force",
         title: "Fig. 3c: contact force vs time, first impact".into(),
         caption: format!(
-            "Contact force of the first impact of the paper's tip scene (h = 0.2 m, elastic Hertz), modal method: {}. The paper notes that the force is insensitive to the beam model; \
-             here too the pulse changes little between the paper's 4 modes and a converged mode count. The finite-element curve of the paper's Fig. 3c arrives with the finite-element solver.",
-            lines.join("; ")
+            "Contact force of the first impact of the paper's tip scene (h = 0.2 m, elastic Hertz), modal method: {}. The paper states that the contact force is not affected by the beam \
+             model; with a truncated modal model it is: 4 modes make the tip locally too stiff and the peak force is {ratio:.2} times the one with {} modes. \
+             The finite-element curve of the paper's Fig. 3c arrives with the finite-element solver.",
+            lines.join("; "),
+            counts[counts.len() - 1]
         ),
     }])
 }
