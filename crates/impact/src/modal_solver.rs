@@ -433,36 +433,50 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         let end = self.plan.end_time;
         let dt_out = self.plan.output_interval;
         let min_step = 0.25 * self.contact_step.step_size();
-        // Most free-flight steps are whole output intervals: their transition is built once.
-        let output_step = Transition::new(&self.modes, dt_out, Hold::FirstOrder)?;
+        // Jumps are dt_out / 2^k, the largest that the safe horizon allows (at least about a
+        // quarter contact step), so their transitions are built once per level and reused.
+        let levels = ((dt_out / min_step).log2().ceil().max(0.0) as usize).min(60);
+        let mut cache: Vec<Option<Transition>> = vec![None; levels + 1];
+        let mut next_output = ((self.t / dt_out).floor() + 1.0) * dt_out;
         while self.t < end {
             let release = self.law.release_approach(&self.law_state);
-            // The next output instant strictly ahead (a time that sits on an output instant up
-            // to round-off counts as on it).
-            let next_output = ((self.t / dt_out + 1e-9).floor() + 1.0) * dt_out;
-            let tau = self
-                .safe_horizon(release)
-                .max(min_step)
-                .min(next_output - self.t)
-                .min(end - self.t);
-            let built;
-            let tr = if (tau - dt_out).abs() <= 1e-12 * dt_out {
-                &output_step
+            let horizon = self.safe_horizon(release).max(min_step);
+            let level = if horizon >= dt_out {
+                0
             } else {
-                built = Transition::new(&self.modes, tau, Hold::FirstOrder)?;
-                &built
+                ((dt_out / horizon).log2().ceil() as usize).min(levels)
             };
+            let built;
+            let tr = if end - self.t < dt_out / f64::powi(2.0, level as i32) {
+                built = Transition::new(&self.modes, end - self.t, Hold::FirstOrder)?;
+                &built
+            } else {
+                if cache[level].is_none() {
+                    cache[level] = Some(Transition::new(
+                        &self.modes,
+                        dt_out / f64::powi(2.0, level as i32),
+                        Hold::FirstOrder,
+                    )?);
+                }
+                cache[level].as_ref().ok_or_else(|| ImpactError::SolverFailed {
+                    t: self.t,
+                    reason: "transition cache".into(),
+                })?
+            };
+            let tau = tr.step_size();
             let delta0 = self.approach();
             let delta_tau =
-                self.ball_after(tr.step_size(), 0.0, 0.0).0 - tr.free_displacement(&self.beam, 0.0);
+                self.ball_after(tau, 0.0, 0.0).0 - tr.free_displacement(&self.beam, 0.0);
             if delta_tau > release {
                 let onset = self.locate(tau, 0.0, release, delta0, delta_tau)?;
                 self.free_advance(onset, None)?;
                 return Ok(());
             }
             self.free_advance(tau, Some(tr))?;
-            if self.t >= next_output * (1.0 - 1e-12) || self.t >= end {
+            // Record at the first step end at or after each output instant.
+            if self.t >= next_output || self.t >= end {
                 self.record();
+                next_output = ((self.t / dt_out).floor() + 1.0) * dt_out;
             }
         }
         Ok(())
