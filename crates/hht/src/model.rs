@@ -1,0 +1,144 @@
+//! What a mechanical model supplies to the integrator.
+
+use faer::{ColMut, ColRef};
+
+/// Scalar weights of the Newton matrix. A model assembles
+///
+/// `J = inertia (da dI/da + dv dI/dv + dq dI/dq) + force (dv dg/dv + dq dg/dq)`
+///
+/// where `I(q, v, a)` is its inertial force, `g(t, q, v)` its net force, and `dq` differentiates
+/// along the configuration update `q (+) dq` (so for rotations it is the derivative with respect
+/// to the incremental rotation vector the model's [`Model::update`] uses).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonWeights {
+    /// Weight of the inertial force's derivatives (`1 - alpha_m` in a step; 1 for a mass matrix).
+    pub inertia: f64,
+    /// Weight of the net force's derivatives (`1 - alpha_f` in a step; 1 in statics).
+    pub force: f64,
+    /// `d a / d q` along the iteration: `1 / (beta h^2)` (1/s^2).
+    pub da: f64,
+    /// `d v / d q` along the iteration: `gamma / (beta h)` (1/s).
+    pub dv: f64,
+    /// `d q / d q`: 1 in a step or in statics, 0 for a pure mass matrix.
+    pub dq: f64,
+}
+
+impl NewtonWeights {
+    /// The weights that make `J` the mass matrix `dI/da`.
+    pub fn mass() -> Self {
+        Self { inertia: 1.0, force: 0.0, da: 1.0, dv: 0.0, dq: 0.0 }
+    }
+
+    /// The weights that make `J` the static tangent stiffness `dg/dq`.
+    pub fn stiffness() -> Self {
+        Self { inertia: 0.0, force: 1.0, da: 0.0, dv: 0.0, dq: 1.0 }
+    }
+}
+
+/// Entries of a sparse matrix in coordinate form. Duplicates are summed. A model must push the
+/// same (row, column) sequence at every call (only the values change): the integrator keeps the
+/// symbolic factorisation of the first pattern and rebuilds it only if the pattern changes.
+#[derive(Debug, Clone, Default)]
+pub struct Triplets {
+    pub(crate) rows: Vec<usize>,
+    pub(crate) cols: Vec<usize>,
+    pub(crate) vals: Vec<f64>,
+}
+
+impl Triplets {
+    /// An empty list.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Removes every entry, keeping the allocation.
+    pub fn clear(&mut self) {
+        self.rows.clear();
+        self.cols.clear();
+        self.vals.clear();
+    }
+
+    /// Adds `value` at (`row`, `col`).
+    #[inline]
+    pub fn push(&mut self, row: usize, col: usize, value: f64) {
+        self.rows.push(row);
+        self.cols.push(col);
+        self.vals.push(value);
+    }
+
+    /// Number of entries pushed (duplicates counted).
+    pub fn len(&self) -> usize {
+        self.vals.len()
+    }
+
+    /// True when nothing has been pushed.
+    pub fn is_empty(&self) -> bool {
+        self.vals.is_empty()
+    }
+
+    /// The values in push order.
+    pub fn values(&self) -> &[f64] {
+        &self.vals
+    }
+
+    /// The entries as (row, column, value), in push order.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        self.rows.iter().zip(&self.cols).zip(&self.vals).map(|((&r, &c), &v)| (r, c, v))
+    }
+
+    /// The matrix-vector product `y = A x` (duplicates summed).
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|yi| *yi = 0.0);
+        for (r, c, v) in self.iter() {
+            y[r] += v * x[c];
+        }
+    }
+}
+
+/// A mechanical model `I(q, v, a) + g(t, q, v) = 0` for the integrator (ARCHITECTURE.md, HHT).
+///
+/// The configuration `q` may live on a manifold (positions and rotations): the model owns the
+/// update `q <- q (+) dq`, and velocities and accelerations are plain vectors in the tangent
+/// space that update uses (for rotations: angular velocities in the same frame as `dq`).
+pub trait Model {
+    /// The configuration (positions, rotations, ...).
+    type Config: Clone;
+
+    /// Number of unknowns (the length of `v`, `a` and of every force vector).
+    fn ndof(&self) -> usize;
+
+    /// `q <- q (+) dq`.
+    fn update(&self, q: &mut Self::Config, dq: ColRef<'_, f64>);
+
+    /// The inertial force `I(q, v, a)` (for a rigid rotation: `J a + w x J w`), written to `out`.
+    fn inertial_force(
+        &self,
+        q: &Self::Config,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        out: ColMut<'_, f64>,
+    );
+
+    /// The net force `g(t, q, v)`: internal plus damping minus external, written to `out`.
+    fn net_force(&self, t: f64, q: &Self::Config, v: ColRef<'_, f64>, out: ColMut<'_, f64>);
+
+    /// The Newton matrix for the weights `w` (see [`NewtonWeights`]), pushed into `out` (which
+    /// the caller has cleared), always with the same sparsity sequence.
+    fn tangent(
+        &self,
+        t: f64,
+        q: &Self::Config,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        w: NewtonWeights,
+        out: &mut Triplets,
+    );
+
+    /// Magnitude of the largest internal force term at `q` (model units). It sets the round-off
+    /// floor of the residual test: a stiff beam in equilibrium has a net force of zero made of
+    /// axial forces of order EA, whose round-off a purely relative test would chase forever.
+    /// The default, 0, means the model gives no hint.
+    fn force_scale(&self, _q: &Self::Config) -> f64 {
+        0.0
+    }
+}
