@@ -1,9 +1,12 @@
-//! # simo-beam: geometrically exact 3D beam (placeholder)
+//! # simo-beam: geometrically exact 3D beam
 //!
-//! This crate is reserved for Simo's (1985) finite-strain beam: centre line r(s) and rotation
-//! Lambda(s), strains Gamma = Lambda^T r' - E1 and K = axial(Lambda^T Lambda'), two-node elements
-//! with reduced integration and rotations interpolated relative to a reference rotation
-//! (Crisfield & Jelenic 1999), implementing `hht::Model`.
-//!
-//! It is filled by the issue "The second method: HHT-alpha time integration and the Simo
-//! geometrically exact beam". Nothing here is usable yet; see `../shared/ARCHITECTURE.md`.
+//! (manual written below)
+
+mod element;
+mod error;
+pub mod rotation;
+mod section;
+
+pub use element::{Element, Strains};
+pub use error::BeamError;
+pub use section::{Material, Section, SHEAR_FACTOR_CIRCLE, SHEAR_FACTOR_RECTANGLE};

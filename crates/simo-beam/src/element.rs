@@ -1,0 +1,187 @@
+//! The two-node element with one-point integration and objective rotation interpolation.
+//!
+//! Crisfield & Jelenic (1999): interpolate local rotations relative to the reference
+//! `Lambda_r = Lambda_1 exp(phi^/2)`, `phi = log(Lambda_1^T Lambda_2)`. At the single Gauss point
+//! (the element middle) the local rotation is zero, so with `d = x_2 - x_1`:
+//!
+//! - midpoint rotation `Lambda_m = Lambda_1 exp(phi^/2)` (the SLERP midpoint),
+//! - force strain `Gamma = Lambda_m^T d / l0 - gamma0`, curvature `K = (phi - phi0) / l0`,
+//!
+//! with `gamma0`, `phi0` the same quantities in the reference configuration (stress-free, so
+//! a curved mesh of straight chords is unstressed). Both strains are unchanged by a superposed
+//! rigid rotation (objective) and depend only on the current nodal rotations (path
+//! independent). Energy `l0 (Gamma . C_N Gamma + K . C_M K) / 2`.
+//!
+//! Internal force for material rotation variations `delta Lambda_i = Lambda_i Theta_i^`, with
+//! `N = C_N Gamma`, `M = C_M K`, `gamma = Lambda_m^T d / l0`, `c = l0 N x gamma`,
+//! `m = M + J_r(phi/2)^T c / 2` (derived from the variations
+//! `delta phi = J_r(phi)^-1 (Theta_2 - R^T Theta_1)`, `R = exp(phi^)`, and
+//! `Theta_m = exp(-phi^/2) Theta_1 + J_r(phi/2) delta phi / 2`):
+//!
+//! `f_x1 = -Lambda_m N`, `f_x2 = Lambda_m N`, `f_th2 = J_r(phi)^-T m`,
+//! `f_th1 = exp(phi^/2) c - R f_th2`.
+//!
+//! The tangent is the exact derivative of this force along the multiplicative update (forward
+//! mode automatic differentiation with 12 dual directions), so it carries the material and
+//! geometric parts and the non-symmetric part away from equilibrium.
+
+use crate::rotation::{log_and_half, matrix, right_jacobian, right_jacobian_inverse};
+use crate::section::Section;
+use nalgebra::{Quaternion, RealField, SMatrix, SVector, UnitQuaternion, Vector3};
+use num_dual::{DualSVec64, DualVec};
+
+/// Reference data of one element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Element {
+    /// Node indices (start, end).
+    pub nodes: [usize; 2],
+    /// Reference length l0 (m).
+    pub length: f64,
+    /// Section properties.
+    pub section: Section,
+    /// Reference `Lambda_m^T d / l0` (dimensionless).
+    pub gamma0: Vector3<f64>,
+    /// Reference relative rotation vector `log(Lambda_1^T Lambda_2)` (rad).
+    pub phi0: Vector3<f64>,
+}
+
+/// Element strains at the Gauss point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Strains<T> {
+    /// Force strain Gamma (axial, shear 2, shear 3), dimensionless.
+    pub gamma: Vector3<T>,
+    /// Curvature K (torsion, bending 2, bending 3) (1/m).
+    pub kappa: Vector3<T>,
+}
+
+fn cst<T: RealField + Copy>(x: f64) -> T {
+    nalgebra::convert(x)
+}
+
+fn quaternion_to<T: RealField + Copy>(q: &UnitQuaternion<f64>) -> Quaternion<T> {
+    Quaternion::new(cst(q.w), cst(q.i), cst(q.j), cst(q.k))
+}
+
+impl Element {
+    /// Builds the element between reference nodes (positions `x`, rotations `r`).
+    pub fn new(
+        nodes: [usize; 2],
+        section: Section,
+        x: [&Vector3<f64>; 2],
+        r: [&UnitQuaternion<f64>; 2],
+    ) -> Self {
+        let d = x[1] - x[0];
+        let length = d.norm();
+        let relative = r[0].conjugate() * r[1];
+        let (phi0, half) = log_and_half(relative.quaternion());
+        let lambda_m = matrix(&(r[0].quaternion() * half));
+        Self { nodes, length, section, gamma0: lambda_m.transpose() * d / length, phi0 }
+    }
+
+    /// Strains and the quantities the force needs, generic in the scalar.
+    #[allow(clippy::type_complexity)]
+    fn kinematics<T: RealField + Copy>(
+        &self,
+        x1: &Vector3<T>,
+        x2: &Vector3<T>,
+        q1: &Quaternion<T>,
+        q2: &Quaternion<T>,
+    ) -> (Strains<T>, Vector3<T>, Vector3<T>, Quaternion<T>) {
+        let l0: T = cst(self.length);
+        let relative = q1.conjugate() * q2;
+        let (phi, half) = log_and_half(&relative);
+        let lambda_m = matrix(&(q1 * half));
+        let gamma_full = lambda_m.transpose() * (x2 - x1) / l0;
+        let gamma = gamma_full - self.gamma0.map(cst::<T>);
+        let kappa = (phi - self.phi0.map(cst::<T>)) / l0;
+        (Strains { gamma, kappa }, gamma_full, phi, half)
+    }
+
+    /// Strains at the current configuration.
+    pub fn strains(
+        &self,
+        x: [&Vector3<f64>; 2],
+        r: [&UnitQuaternion<f64>; 2],
+    ) -> Strains<f64> {
+        self.kinematics(x[0], x[1], r[0].quaternion(), r[1].quaternion()).0
+    }
+
+    /// Strain energy (J).
+    pub fn energy(&self, x: [&Vector3<f64>; 2], r: [&UnitQuaternion<f64>; 2]) -> f64 {
+        let s = self.strains(x, r);
+        let cn = self.section.force_stiffness();
+        let cm = self.section.moment_stiffness();
+        0.5 * self.length
+            * (0..3).map(|i| cn[i] * s.gamma[i].powi(2) + cm[i] * s.kappa[i].powi(2)).sum::<f64>()
+    }
+
+    /// Internal force `[f_x1, f_th1, f_x2, f_th2]` (N, N m; moments in the nodal material
+    /// frames), generic in the scalar.
+    fn force_generic<T: RealField + Copy>(
+        &self,
+        x1: &Vector3<T>,
+        x2: &Vector3<T>,
+        q1: &Quaternion<T>,
+        q2: &Quaternion<T>,
+    ) -> SVector<T, 12> {
+        let l0: T = cst(self.length);
+        let (s, gamma_full, phi, half) = self.kinematics(x1, x2, q1, q2);
+        let cn = self.section.force_stiffness();
+        let cm = self.section.moment_stiffness();
+        let n = Vector3::new(s.gamma.x * cst(cn[0]), s.gamma.y * cst(cn[1]), s.gamma.z * cst(cn[2]));
+        let m = Vector3::new(s.kappa.x * cst(cm[0]), s.kappa.y * cst(cm[1]), s.kappa.z * cst(cm[2]));
+        let lambda_m = matrix(&(q1 * half));
+        let n_spatial = lambda_m * n;
+        let c = n.cross(&gamma_full) * l0;
+        let half_phi = phi * cst::<T>(0.5);
+        let m_tilde = m + right_jacobian(&half_phi).transpose() * c * cst::<T>(0.5);
+        let f_th2 = right_jacobian_inverse(&phi).transpose() * m_tilde;
+        let f_th1 = matrix(&half) * c - matrix(&(half * half)) * f_th2;
+        let mut f = SVector::<T, 12>::zeros();
+        f.fixed_rows_mut::<3>(0).copy_from(&(-n_spatial));
+        f.fixed_rows_mut::<3>(3).copy_from(&f_th1);
+        f.fixed_rows_mut::<3>(6).copy_from(&n_spatial);
+        f.fixed_rows_mut::<3>(9).copy_from(&f_th2);
+        f
+    }
+
+    /// Internal force (N, N m).
+    pub fn force(&self, x: [&Vector3<f64>; 2], r: [&UnitQuaternion<f64>; 2]) -> SVector<f64, 12> {
+        self.force_generic(x[0], x[1], r[0].quaternion(), r[1].quaternion())
+    }
+
+    /// Internal force and its exact derivative with respect to `[dx1, th1, dx2, th2]`, where
+    /// the rotations are updated as `Lambda_i exp(th_i^)`.
+    pub fn force_and_tangent(
+        &self,
+        x: [&Vector3<f64>; 2],
+        r: [&UnitQuaternion<f64>; 2],
+    ) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
+        type D = DualSVec64<12>;
+        let seed = |i: usize| -> D {
+            let mut e = SVector::<f64, 12>::zeros();
+            e[i] = 1.0;
+            DualVec::new(0.0, num_dual::Derivative::some(e))
+        };
+        let p: [D; 12] = std::array::from_fn(seed);
+        let x1 = x[0].map(D::from) + Vector3::new(p[0], p[1], p[2]);
+        let x2 = x[1].map(D::from) + Vector3::new(p[6], p[7], p[8]);
+        let half: D = cst(0.5);
+        // Lambda exp(th^) to first order: q (1, th/2). Unit only to first order, which is all a
+        // first derivative sees.
+        let q1 = quaternion_to::<D>(r[0]) * Quaternion::new(D::from(1.0), p[3] * half, p[4] * half, p[5] * half);
+        let q2 = quaternion_to::<D>(r[1]) * Quaternion::new(D::from(1.0), p[9] * half, p[10] * half, p[11] * half);
+        let f = self.force_generic(&x1, &x2, &q1, &q2);
+        let mut value = SVector::<f64, 12>::zeros();
+        let mut tangent = SMatrix::<f64, 12, 12>::zeros();
+        for i in 0..12 {
+            value[i] = f[i].re;
+            if let Some(row) = f[i].eps.0.as_ref() {
+                for j in 0..12 {
+                    tangent[(i, j)] = row[j];
+                }
+            }
+        }
+        (value, tangent)
+    }
+}

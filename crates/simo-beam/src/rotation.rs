@@ -1,0 +1,84 @@
+//! Rotations for the element, generic over the scalar so that the same code runs on `f64` and
+//! on dual numbers (the element tangent is the forward-mode derivative of its internal force).
+//!
+//! Conventions: unit quaternions `q = (w, v)` map section axes to space; a rotation vector
+//! `phi` has `exp(phi^)` with angle `|phi|`; the right Jacobian `J_r(phi)` satisfies
+//! `d exp(phi^) = exp(phi^) (J_r(phi) d phi)^`.
+
+use nalgebra::{Matrix3, Quaternion, RealField, UnitQuaternion, Vector3};
+
+/// Below this squared angle the trigonometric coefficients are evaluated by their series
+/// (truncation error ~ angle^6 / 1e5, below 1e-20 at this bound).
+const SERIES_BELOW: f64 = 1e-4;
+
+fn c<T: RealField + Copy>(x: f64) -> T {
+    nalgebra::convert(x)
+}
+
+/// Skew matrix `a^` with `a^ b = a x b`.
+pub fn skew<T: RealField + Copy>(a: &Vector3<T>) -> Matrix3<T> {
+    let z = T::zero();
+    Matrix3::new(z, -a.z, a.y, a.z, z, -a.x, -a.y, a.x, z)
+}
+
+/// Rotation matrix of a quaternion that is unit to first order (the dual perturbations used for
+/// the tangent are unit only to first order, which is all a first derivative needs).
+pub fn matrix<T: RealField + Copy>(q: &Quaternion<T>) -> Matrix3<T> {
+    UnitQuaternion::new_unchecked(*q).to_rotation_matrix().into_inner()
+}
+
+/// Rotation vector of the relative rotation `q` (any sign), with angle in `[0, pi]`, and the
+/// half rotation `exp(phi^ / 2)` as a quaternion.
+pub fn log_and_half<T: RealField + Copy>(q: &Quaternion<T>) -> (Vector3<T>, Quaternion<T>) {
+    // q and -q are the same rotation: take w >= 0 so the angle is at most pi.
+    let q = if q.w < T::zero() { -*q } else { *q };
+    let (w, v) = (q.w, q.imag());
+    let s2 = v.norm_squared();
+    // angle / |v| = 2 atan2(|v|, w) / |v|, written in |v|^2 near zero so dual numbers stay finite.
+    let ratio = if s2 < c(SERIES_BELOW) {
+        let x = s2 / (w * w);
+        (c::<T>(2.0) / w) * (T::one() - x / c(3.0) + x * x / c(5.0) - x * x * x / c(7.0))
+    } else {
+        let s = s2.sqrt();
+        c::<T>(2.0) * s.atan2(w) / s
+    };
+    // exp(phi/2) is the normalised mean of the identity and q (w >= 0 keeps 1 + w away from 0).
+    let one_plus_w = T::one() + w;
+    let norm = (c::<T>(2.0) * one_plus_w).sqrt();
+    let half = Quaternion::from_parts(one_plus_w / norm, v / norm);
+    (v * ratio, half)
+}
+
+/// `J_r(phi)^-1 = I + phi^/2 + (1/a^2 - (1 + cos a)/(2 a sin a)) phi^2`, valid for a < pi.
+pub fn right_jacobian_inverse<T: RealField + Copy>(phi: &Vector3<T>) -> Matrix3<T> {
+    let a2 = phi.norm_squared();
+    let coefficient = if a2 < c(SERIES_BELOW) {
+        c::<T>(1.0 / 12.0) + a2 / c(720.0) + a2 * a2 / c(30240.0)
+    } else {
+        let a = a2.sqrt();
+        T::one() / a2 - (T::one() + a.cos()) / (c::<T>(2.0) * a * a.sin())
+    };
+    let k = skew(phi);
+    Matrix3::identity() + k * c::<T>(0.5) + k * k * coefficient
+}
+
+/// `J_r(phi) = I - (1 - cos a)/a^2 phi^ + (a - sin a)/a^3 phi^2`.
+pub fn right_jacobian<T: RealField + Copy>(phi: &Vector3<T>) -> Matrix3<T> {
+    let a2 = phi.norm_squared();
+    let (c1, c2) = if a2 < c(SERIES_BELOW) {
+        (
+            c::<T>(0.5) - a2 / c(24.0) + a2 * a2 / c(720.0),
+            c::<T>(1.0 / 6.0) - a2 / c(120.0) + a2 * a2 / c(5040.0),
+        )
+    } else {
+        let a = a2.sqrt();
+        ((T::one() - a.cos()) / a2, (a - a.sin()) / (a2 * a))
+    };
+    let k = skew(phi);
+    Matrix3::identity() - k * c1 + k * k * c2
+}
+
+/// `exp(phi^)` as a unit quaternion (f64 only; used by the configuration update).
+pub fn exp(phi: &Vector3<f64>) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_scaled_axis(*phi)
+}

@@ -1,0 +1,125 @@
+//! Finite-difference and objectivity checks of the element (ARCHITECTURE.md, Tests; REFERENCES.md 5.1).
+#![allow(clippy::unwrap_used, clippy::float_cmp)]
+
+use nalgebra::{UnitQuaternion, Vector3};
+use simo_beam::{Element, Material, Section};
+
+fn section() -> Section {
+    // The paper's strip: EA/EI ~ 1e6 makes the checks exercise very different magnitudes.
+    let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+    Section::rectangle(&steel, 0.025, 0.005).unwrap()
+}
+
+/// A curved reference element and a strongly deformed current state (rotations ~ 1 rad).
+fn setup() -> (Element, [Vector3<f64>; 2], [UnitQuaternion<f64>; 2]) {
+    let x0 = [Vector3::new(0.0, 0.0, 0.0), Vector3::new(0.1, 0.01, 0.0)];
+    let r0 = [
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.0, 0.05)),
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.0, 0.15)),
+    ];
+    let e = Element::new([0, 1], section(), [&x0[0], &x0[1]], [&r0[0], &r0[1]]);
+    let x = [Vector3::new(0.01, -0.02, 0.005), Vector3::new(0.08, 0.05, 0.03)];
+    let r = [
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.2, 0.4)),
+        UnitQuaternion::from_scaled_axis(Vector3::new(-0.5, 0.9, 1.1)),
+    ];
+    (e, x, r)
+}
+
+/// Perturbs component j of [dx1, th1, dx2, th2] by h (rotations multiplicatively, material).
+fn perturbed(
+    x: &[Vector3<f64>; 2],
+    r: &[UnitQuaternion<f64>; 2],
+    j: usize,
+    h: f64,
+) -> ([Vector3<f64>; 2], [UnitQuaternion<f64>; 2]) {
+    let (mut x, mut r) = (*x, *r);
+    let node = j / 6;
+    let k = j % 6;
+    if k < 3 {
+        x[node][k] += h;
+    } else {
+        let mut th = Vector3::zeros();
+        th[k - 3] = h;
+        r[node] *= UnitQuaternion::from_scaled_axis(th);
+    }
+    (x, r)
+}
+
+#[test]
+fn force_is_the_gradient_of_the_energy() {
+    // Central differences of the energy along each variation. Step 1e-7 (m, rad): truncation
+    // O(h^2) ~ 1e-14 relative, round-off eps E / h ~ 1e-9 of the force scale; 1e-6 relative.
+    let (e, x, r) = setup();
+    let f = e.force([&x[0], &x[1]], [&r[0], &r[1]]);
+    let scale = f.amax();
+    for j in 0..12 {
+        let h = 1e-7;
+        let (xp, rp) = perturbed(&x, &r, j, h);
+        let (xm, rm) = perturbed(&x, &r, j, -h);
+        let fd = (e.energy([&xp[0], &xp[1]], [&rp[0], &rp[1]])
+            - e.energy([&xm[0], &xm[1]], [&rm[0], &rm[1]]))
+            / (2.0 * h);
+        assert!((fd - f[j]).abs() < 1e-6 * scale, "component {j}: force {} vs FD {fd}", f[j]);
+    }
+}
+
+#[test]
+fn tangent_matches_finite_differences_of_the_force() {
+    let (e, x, r) = setup();
+    let (f, k) = e.force_and_tangent([&x[0], &x[1]], [&r[0], &r[1]]);
+    let f_plain = e.force([&x[0], &x[1]], [&r[0], &r[1]]);
+    assert!((f - f_plain).amax() <= 1e-12 * f.amax());
+    let scale = k.amax();
+    for j in 0..12 {
+        let h = 1e-7;
+        let (xp, rp) = perturbed(&x, &r, j, h);
+        let (xm, rm) = perturbed(&x, &r, j, -h);
+        let column = (e.force([&xp[0], &xp[1]], [&rp[0], &rp[1]])
+            - e.force([&xm[0], &xm[1]], [&rm[0], &rm[1]]))
+            / (2.0 * h);
+        for i in 0..12 {
+            assert!(
+                (column[i] - k[(i, j)]).abs() < 1e-6 * scale,
+                "K[{i},{j}] = {} vs FD {}",
+                k[(i, j)],
+                column[i]
+            );
+        }
+    }
+    // Away from equilibrium the exact tangent of a multiplicative update is not symmetric.
+    let skew = (k - k.transpose()).amax();
+    assert!(skew > 1e-8 * scale, "skew part {skew}");
+}
+
+#[test]
+fn strains_are_objective_and_reference_is_stress_free() {
+    let (e, x, r) = setup();
+    let s = e.strains([&x[0], &x[1]], [&r[0], &r[1]]);
+    let f = e.force([&x[0], &x[1]], [&r[0], &r[1]]);
+    let q = UnitQuaternion::from_scaled_axis(Vector3::new(2.0, -1.0, 2.5));
+    let xr = [q * x[0] + Vector3::new(1.0, 2.0, 3.0), q * x[1] + Vector3::new(1.0, 2.0, 3.0)];
+    let rr = [q * r[0], q * r[1]];
+    let sr = e.strains([&xr[0], &xr[1]], [&rr[0], &rr[1]]);
+    // Round-off only: 1e-13 of the strain magnitude.
+    assert!((s.gamma - sr.gamma).amax() < 1e-13 * s.gamma.amax().max(1.0));
+    assert!((s.kappa - sr.kappa).amax() < 1e-13 * s.kappa.amax().max(1.0));
+    // Forces rotate with the body (positions) and material moments are unchanged.
+    let fr = e.force([&xr[0], &xr[1]], [&rr[0], &rr[1]]);
+    for node in 0..2 {
+        let fx = f.fixed_rows::<3>(6 * node).into_owned();
+        let fxr = fr.fixed_rows::<3>(6 * node).into_owned();
+        assert!((q * fx - fxr).amax() < 1e-10 * f.amax());
+        let m = f.fixed_rows::<3>(6 * node + 3).into_owned();
+        let mr = fr.fixed_rows::<3>(6 * node + 3).into_owned();
+        assert!((m - mr).amax() < 1e-10 * f.amax());
+    }
+    // The reference configuration carries no strain and no force.
+    let x0 = [Vector3::new(0.0, 0.0, 0.0), Vector3::new(0.1, 0.01, 0.0)];
+    let r0 = [
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.0, 0.05)),
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.0, 0.15)),
+    ];
+    let f0 = e.force([&x0[0], &x0[1]], [&r0[0], &r0[1]]);
+    assert!(f0.amax() < 1e-6, "{f0}");
+}
