@@ -12,7 +12,8 @@ pub struct NewtonOptions {
     /// Iterations before a step attempt is declared diverged.
     pub max_iterations: usize,
     /// Relative residual tolerance: the residual norm must fall below `rtol` times the size of
-    /// the force terms in the balance (inertial, net, old-time, and the model's force scale).
+    /// the force terms in the balance (inertial, net, old-time), plus the round-off floor
+    /// [`ROUND_OFF_FACTOR`] x eps x [`Model::force_scale`].
     pub rtol: f64,
     /// Absolute residual tolerance (model units), added to the relative one.
     pub atol: f64,
@@ -98,6 +99,11 @@ pub struct Integrator {
     /// Newton matrices factorised so far.
     pub factorisations: usize,
 }
+
+/// The residual norm cannot fall below about this many ulps of the model's force scale (the
+/// sum of a few large internal force terms that cancel) times the square root of the number of
+/// unknowns (independent round-off per equation); see [`Model::force_scale`].
+pub const ROUND_OFF_FACTOR: f64 = 64.0;
 
 fn norm(x: &Col<f64>) -> f64 {
     x.norm_l2()
@@ -267,7 +273,9 @@ impl Integrator {
             if !residual_norm.is_finite() {
                 break;
             }
-            if residual_norm <= self.options.atol + self.options.rtol * scale {
+            let floor =
+                ROUND_OFF_FACTOR * f64::EPSILON * model.force_scale(&q1) * (n as f64).sqrt();
+            if residual_norm <= self.options.atol + self.options.rtol * scale + floor {
                 let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * norm(&(&a1 - &old.a));
                 let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net };
                 let report = StepReport {

@@ -21,7 +21,8 @@
 //! `(1 - alpha_m)(M/(beta h^2) + C_I gamma/(beta h) + K_I) + (1 - alpha_f)(C gamma/(beta h) + K)`,
 //! assembled by the model from [`NewtonWeights`] into a fixed sparsity pattern and factorised with
 //! faer's sparse LU, whose symbolic analysis is done once ([`SparseLu`]). The residual test is
-//! relative to the size of the force terms (plus the model's [`Model::force_scale`]), so a beam
+//! relative to the size of the force terms, with a round-off floor set by the model's
+//! [`Model::force_scale`], so a beam
 //! with EA/EI ~ 1e6 converges without tuning. A failed step is halved (recursively), and
 //! [`HhtError::NewtonDiverged`] says when and how badly it failed if that does not help.
 //! Stepping is caller-driven with any step size; [`StepReport::error_estimate`] lets a caller
@@ -52,7 +53,7 @@ mod oscillator;
 mod scheme;
 
 pub use error::HhtError;
-pub use integrator::{Integrator, NewtonOptions, State, StepReport};
+pub use integrator::{Integrator, NewtonOptions, State, StepReport, ROUND_OFF_FACTOR};
 pub use linear::SparseLu;
 pub use model::{Model, NewtonWeights, Triplets};
 pub use oscillator::Oscillator;

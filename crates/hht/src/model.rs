@@ -134,10 +134,11 @@ pub trait Model {
         out: &mut Triplets,
     );
 
-    /// Magnitude of the largest internal force term at `q` (model units). It sets the round-off
-    /// floor of the residual test: a stiff beam in equilibrium has a net force of zero made of
-    /// axial forces of order EA, whose round-off a purely relative test would chase forever.
-    /// The default, 0, means the model gives no hint.
+    /// Magnitude of the largest terms that cancel inside the internal force (model units): for
+    /// a beam, EA times an axial stretch of order one. It sets the round-off floor of the
+    /// residual test, a few ulps of this number: a stiff beam carries forces that are small
+    /// differences of terms of order EA, whose round-off a purely relative test would chase
+    /// forever. The default, 0, means the model has no such terms.
     fn force_scale(&self, _q: &Self::Config) -> f64 {
         0.0
     }

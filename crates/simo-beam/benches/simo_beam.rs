@@ -1,1 +1,97 @@
-fn main() {}
+//! Element force + tangent, assembly + factorisation of a 64-element cantilever, one HHT step
+//! of it, the Mattiasson k = 10 static solve with 32 elements, and 50 ms of the paper's
+//! cantilever with 64 elements at 10 us steps (the comparison run of issue 3).
+#![allow(clippy::expect_used, missing_docs)]
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use faer::Col;
+use hht::{Integrator, Model, NewtonOptions, NewtonWeights, Scheme, SparseLu, Triplets};
+use nalgebra::Vector3;
+use simo_beam::benchmarks::{mattiasson, paper_cantilever};
+use simo_beam::{BeamModel, Load, Profile};
+
+fn loaded_cantilever(elements: usize) -> BeamModel {
+    paper_cantilever(elements)
+        .expect("mesh")
+        .load(Load {
+            node: elements,
+            force: Vector3::new(0.0, 0.0, -10.0),
+            moment: Vector3::zeros(),
+            follower: false,
+            profile: Profile::Table(vec![(0.0, 0.0), (1e-3, 1.0), (2e-3, 0.0)]),
+        })
+        .expect("load")
+}
+
+fn element(c: &mut Criterion) {
+    let model = paper_cantilever(8).expect("mesh");
+    let e = model.mesh().elements[3];
+    let x = [Vector3::new(0.1, 0.0, 0.01), Vector3::new(0.24, 0.01, 0.03)];
+    let r = [
+        nalgebra::UnitQuaternion::from_scaled_axis(Vector3::new(0.1, -0.2, 0.05)),
+        nalgebra::UnitQuaternion::from_scaled_axis(Vector3::new(0.12, -0.3, 0.02)),
+    ];
+    c.bench_function("simo_beam/element_force", |b| {
+        b.iter(|| e.force([&x[0], &x[1]], [&r[0], &r[1]]))
+    });
+    c.bench_function("simo_beam/element_force_and_tangent", |b| {
+        b.iter(|| e.force_and_tangent([&x[0], &x[1]], [&r[0], &r[1]]))
+    });
+}
+
+fn assembly(c: &mut Criterion) {
+    let model = loaded_cantilever(64);
+    let q = model.reference_state();
+    let n = model.ndof();
+    let zero = Col::<f64>::zeros(n);
+    let w = NewtonWeights { inertia: 1.0, force: 1.1, da: 1e10, dv: 1e5, dq: 1.0 };
+    let mut lu = SparseLu::new();
+    let mut t = Triplets::new();
+    c.bench_function("simo_beam/assemble_and_factor_64", |b| {
+        b.iter(|| {
+            t.clear();
+            model.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), w, &mut t);
+            lu.factor(n, &t, 0.0).expect("factor");
+        })
+    });
+    let mut integrator =
+        Integrator::new(Scheme::hht(-0.1).expect("alpha"), NewtonOptions::default());
+    let mut state = integrator.initial_state(&model, 0.0, q.clone(), zero.clone()).expect("state");
+    c.bench_function("simo_beam/hht_step_64", |b| {
+        b.iter(|| integrator.step(&model, &mut state, 1e-5).expect("step"))
+    });
+}
+
+fn statics(c: &mut Criterion) {
+    let mut group = c.benchmark_group("simo_beam/static");
+    group.sample_size(10);
+    group.bench_function("mattiasson_k10_32", |b| {
+        b.iter(|| mattiasson(10.0, 32, 5).expect("solve"))
+    });
+    group.finish();
+}
+
+fn comparison_run(c: &mut Criterion) {
+    // 50 ms of the paper's cantilever, 64 3D elements, 10 us steps, a 10 N tip pulse.
+    let model = loaded_cantilever(64);
+    let mut group = c.benchmark_group("simo_beam/paper_cantilever");
+    group.sample_size(10);
+    group.bench_function("50ms_64_elements_10us", |b| {
+        b.iter(|| {
+            let mut integrator =
+                Integrator::new(Scheme::hht(-0.1).expect("alpha"), NewtonOptions::default());
+            let n = model.ndof();
+            let mut state = integrator
+                .initial_state(&model, 0.0, model.reference_state(), Col::zeros(n))
+                .expect("state");
+            for _ in 0..5000 {
+                integrator.step(&model, &mut state, 1e-5).expect("step");
+            }
+            state.q.positions[64].z
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, element, assembly, statics, comparison_run);
+criterion_main!(benches);

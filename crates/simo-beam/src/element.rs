@@ -43,6 +43,9 @@ pub struct Element {
     pub gamma0: Vector3<f64>,
     /// Reference relative rotation vector `log(Lambda_1^T Lambda_2)` (rad).
     pub phi0: Vector3<f64>,
+    /// Constant rotation from each node's frame to the element's end frame: identity along a
+    /// smooth beam, the corner angle where two legs of a frame meet at a rigid joint.
+    pub offsets: [UnitQuaternion<f64>; 2],
 }
 
 /// Element strains at the Gauss point.
@@ -75,7 +78,14 @@ impl Element {
         let relative = r[0].conjugate() * r[1];
         let (phi0, half) = log_and_half(relative.quaternion());
         let lambda_m = matrix(&(r[0].quaternion() * half));
-        Self { nodes, length, section, gamma0: lambda_m.transpose() * d / length, phi0 }
+        Self {
+            nodes,
+            length,
+            section,
+            gamma0: lambda_m.transpose() * d / length,
+            phi0,
+            offsets: [UnitQuaternion::identity(); 2],
+        }
     }
 
     /// Strains and the quantities the force needs, generic in the scalar.
@@ -98,12 +108,9 @@ impl Element {
     }
 
     /// Strains at the current configuration.
-    pub fn strains(
-        &self,
-        x: [&Vector3<f64>; 2],
-        r: [&UnitQuaternion<f64>; 2],
-    ) -> Strains<f64> {
-        self.kinematics(x[0], x[1], r[0].quaternion(), r[1].quaternion()).0
+    pub fn strains(&self, x: [&Vector3<f64>; 2], r: [&UnitQuaternion<f64>; 2]) -> Strains<f64> {
+        let (q1, q2) = (r[0] * self.offsets[0], r[1] * self.offsets[1]);
+        self.kinematics(x[0], x[1], q1.quaternion(), q2.quaternion()).0
     }
 
     /// Strain energy (J).
@@ -116,7 +123,7 @@ impl Element {
     }
 
     /// Internal force `[f_x1, f_th1, f_x2, f_th2]` (N, N m; moments in the nodal material
-    /// frames), generic in the scalar.
+    /// frames), generic in the scalar; `q1`, `q2` are the node rotations.
     fn force_generic<T: RealField + Copy>(
         &self,
         x1: &Vector3<T>,
@@ -124,12 +131,16 @@ impl Element {
         q1: &Quaternion<T>,
         q2: &Quaternion<T>,
     ) -> SVector<T, 12> {
+        let q1 = &(q1 * quaternion_to::<T>(&self.offsets[0]));
+        let q2 = &(q2 * quaternion_to::<T>(&self.offsets[1]));
         let l0: T = cst(self.length);
         let (s, gamma_full, phi, half) = self.kinematics(x1, x2, q1, q2);
         let cn = self.section.force_stiffness();
         let cm = self.section.moment_stiffness();
-        let n = Vector3::new(s.gamma.x * cst(cn[0]), s.gamma.y * cst(cn[1]), s.gamma.z * cst(cn[2]));
-        let m = Vector3::new(s.kappa.x * cst(cm[0]), s.kappa.y * cst(cm[1]), s.kappa.z * cst(cm[2]));
+        let n =
+            Vector3::new(s.gamma.x * cst(cn[0]), s.gamma.y * cst(cn[1]), s.gamma.z * cst(cn[2]));
+        let m =
+            Vector3::new(s.kappa.x * cst(cm[0]), s.kappa.y * cst(cm[1]), s.kappa.z * cst(cm[2]));
         let lambda_m = matrix(&(q1 * half));
         let n_spatial = lambda_m * n;
         let c = n.cross(&gamma_full) * l0;
@@ -138,10 +149,14 @@ impl Element {
         let f_th2 = right_jacobian_inverse(&phi).transpose() * m_tilde;
         let f_th1 = matrix(&half) * c - matrix(&(half * half)) * f_th2;
         let mut f = SVector::<T, 12>::zeros();
+        // Moments for variations of the node frames: with Lambda_end = Lambda_node O, a node
+        // variation th gives the end variation O^T th, so the node moment is O times the end one.
+        let o1 = self.offsets[0].to_rotation_matrix().into_inner().map(cst::<T>);
+        let o2 = self.offsets[1].to_rotation_matrix().into_inner().map(cst::<T>);
         f.fixed_rows_mut::<3>(0).copy_from(&(-n_spatial));
-        f.fixed_rows_mut::<3>(3).copy_from(&f_th1);
+        f.fixed_rows_mut::<3>(3).copy_from(&(o1 * f_th1));
         f.fixed_rows_mut::<3>(6).copy_from(&n_spatial);
-        f.fixed_rows_mut::<3>(9).copy_from(&f_th2);
+        f.fixed_rows_mut::<3>(9).copy_from(&(o2 * f_th2));
         f
     }
 
@@ -169,8 +184,10 @@ impl Element {
         let half: D = cst(0.5);
         // Lambda exp(th^) to first order: q (1, th/2). Unit only to first order, which is all a
         // first derivative sees.
-        let q1 = quaternion_to::<D>(r[0]) * Quaternion::new(D::from(1.0), p[3] * half, p[4] * half, p[5] * half);
-        let q2 = quaternion_to::<D>(r[1]) * Quaternion::new(D::from(1.0), p[9] * half, p[10] * half, p[11] * half);
+        let q1 = quaternion_to::<D>(r[0])
+            * Quaternion::new(D::from(1.0), p[3] * half, p[4] * half, p[5] * half);
+        let q2 = quaternion_to::<D>(r[1])
+            * Quaternion::new(D::from(1.0), p[9] * half, p[10] * half, p[11] * half);
         let f = self.force_generic(&x1, &x2, &q1, &q2);
         let mut value = SVector::<f64, 12>::zeros();
         let mut tangent = SMatrix::<f64, 12, 12>::zeros();

@@ -1,0 +1,492 @@
+//! The assembled beam: supports, loads, inertia, and the [`hht::Model`] implementation.
+
+use crate::error::BeamError;
+use crate::mesh::Mesh;
+use crate::rotation::skew;
+use faer::{Col, ColMut, ColRef};
+use hht::{NewtonWeights, Triplets};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+
+/// How a node is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Support {
+    /// No constraint.
+    Free,
+    /// Position fixed, rotation free.
+    Pinned,
+    /// Position and rotation fixed.
+    Clamped,
+}
+
+/// Time variation of a load: the factor multiplying its vectors.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Profile {
+    /// Factor 1 at all times.
+    Constant,
+    /// Piecewise linear through (time (s), factor) points sorted by time; constant beyond the
+    /// ends.
+    Table(Vec<(f64, f64)>),
+}
+
+impl Profile {
+    /// The factor at time `t` (s).
+    pub fn factor(&self, t: f64) -> f64 {
+        match self {
+            Profile::Constant => 1.0,
+            Profile::Table(points) => {
+                let (Some(first), Some(last)) = (points.first(), points.last()) else {
+                    return 0.0;
+                };
+                if t <= first.0 {
+                    return first.1;
+                }
+                if t >= last.0 {
+                    return last.1;
+                }
+                for w in points.windows(2) {
+                    let ((t0, f0), (t1, f1)) = (w[0], w[1]);
+                    if t <= t1 {
+                        return if t1 > t0 { f0 + (f1 - f0) * (t - t0) / (t1 - t0) } else { f1 };
+                    }
+                }
+                last.1
+            }
+        }
+    }
+}
+
+/// A point load at a node.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Load {
+    /// Node index.
+    pub node: usize,
+    /// Force (N): spatial if dead, in the node's section frame if follower.
+    pub force: Vector3<f64>,
+    /// Moment (N m): spatial if dead, in the node's section frame if follower.
+    pub moment: Vector3<f64>,
+    /// Follower loads turn with the node's section.
+    pub follower: bool,
+    /// Time variation (dynamics); statics scales by the load factor instead.
+    pub profile: Profile,
+}
+
+/// Configuration: node positions (m) and section rotations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BeamState {
+    /// Node positions (m).
+    pub positions: Vec<Vector3<f64>>,
+    /// Node rotations (map section axes to space).
+    pub rotations: Vec<UnitQuaternion<f64>>,
+}
+
+/// A meshed beam with supports and loads; implements [`hht::Model`] with six unknowns per free
+/// node (displacement increment, then material rotation increment `Lambda <- Lambda exp(th^)`);
+/// velocities are spatial for positions and material (body) angular velocities for rotations.
+#[derive(Debug, Clone)]
+pub struct BeamModel {
+    mesh: Mesh,
+    dofs: Vec<[Option<usize>; 6]>,
+    ndof: usize,
+    loads: Vec<Load>,
+    /// Lumped rotational inertia of each node in its material frame (kg m^2).
+    node_inertia: Vec<Matrix3<f64>>,
+    /// Multiplies every load in [`hht::Model::net_force`] (statics sets it; 1 in dynamics).
+    load_factor: f64,
+    /// False in statics: loads are then scaled by the load factor only, not by their profile.
+    time_dependent: bool,
+    /// Largest section stiffness term, max(EA, GA, GJ/l0, EI/l0) (N): the size of the terms
+    /// that cancel in the internal force, hence its round-off floor.
+    force_scale: f64,
+}
+
+impl BeamModel {
+    /// A beam on `mesh`, free everywhere and unloaded.
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for a mesh without elements.
+    pub fn new(mesh: Mesh) -> Result<Self, BeamError> {
+        if mesh.elements.is_empty() {
+            return Err(BeamError::Mesh("a beam needs at least one element".into()));
+        }
+        let nodes = mesh.positions.len();
+        let mut node_inertia = vec![Matrix3::zeros(); nodes];
+        for e in &mesh.elements {
+            let j = Matrix3::from_diagonal(&Vector3::from(e.section.rho_i)) * (0.5 * e.length);
+            for end in 0..2 {
+                let o = e.offsets[end].to_rotation_matrix().into_inner();
+                node_inertia[e.nodes[end]] += o * j * o.transpose();
+            }
+        }
+        let force_scale = mesh
+            .elements
+            .iter()
+            .map(|e| {
+                let s = &e.section;
+                s.ea.max(s.ga2).max(s.ga3).max(s.gj.max(s.ei2).max(s.ei3) / e.length)
+            })
+            .fold(0.0, f64::max);
+        let mut model = Self {
+            mesh,
+            dofs: vec![[None; 6]; nodes],
+            ndof: 0,
+            loads: Vec::new(),
+            node_inertia,
+            load_factor: 1.0,
+            time_dependent: true,
+            force_scale,
+        };
+        model.number(&vec![Support::Free; nodes]);
+        Ok(model)
+    }
+
+    fn number(&mut self, supports: &[Support]) {
+        let mut n = 0;
+        for (node, s) in supports.iter().enumerate() {
+            for k in 0..6 {
+                let fixed = match s {
+                    Support::Free => false,
+                    Support::Pinned => k < 3,
+                    Support::Clamped => true,
+                };
+                self.dofs[node][k] = if fixed {
+                    None
+                } else {
+                    n += 1;
+                    Some(n - 1)
+                };
+            }
+        }
+        self.ndof = n;
+    }
+
+    /// Sets the support of `node`.
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for a node index out of range.
+    pub fn support(mut self, node: usize, support: Support) -> Result<Self, BeamError> {
+        self.check_node(node)?;
+        let mut supports: Vec<Support> = self
+            .dofs
+            .iter()
+            .map(|d| match (d[0].is_none(), d[3].is_none()) {
+                (true, true) => Support::Clamped,
+                (true, false) => Support::Pinned,
+                _ => Support::Free,
+            })
+            .collect();
+        supports[node] = support;
+        self.number(&supports);
+        Ok(self)
+    }
+
+    fn check_node(&self, node: usize) -> Result<(), BeamError> {
+        if node >= self.mesh.positions.len() {
+            return Err(BeamError::Mesh(format!(
+                "node {node} does not exist (the mesh has {} nodes)",
+                self.mesh.positions.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Adds a load at a node.
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for a node out of range, [`BeamError::InvalidParameter`] for a
+    /// non-finite vector.
+    pub fn load(mut self, load: Load) -> Result<Self, BeamError> {
+        self.check_node(load.node)?;
+        for v in load.force.iter().chain(load.moment.iter()) {
+            if !v.is_finite() {
+                return Err(BeamError::InvalidParameter {
+                    name: "load",
+                    value: *v,
+                    allowed: "finite force (N) and moment (N m) components",
+                });
+            }
+        }
+        self.loads.push(load);
+        Ok(self)
+    }
+
+    /// Adds a load at arc length `s` (m) from the first node, shared between the two nodes of
+    /// the element that holds it in proportion to the linear shape functions.
+    ///
+    /// # Errors
+    /// As [`BeamModel::load`]; [`BeamError::InvalidParameter`] for `s` outside the beam.
+    pub fn load_at(self, s: f64, load: Load) -> Result<Self, BeamError> {
+        let total = self.mesh.arc_length.last().copied().unwrap_or(0.0);
+        if !(s.is_finite() && (0.0..=total).contains(&s)) {
+            return Err(BeamError::InvalidParameter {
+                name: "load arc length",
+                value: s,
+                allowed: "a position along the beam, from 0 to its length (m)",
+            });
+        }
+        let i = self.mesh.arc_length.windows(2).position(|w| s <= w[1]).unwrap_or(0);
+        let (s0, s1) = (self.mesh.arc_length[i], self.mesh.arc_length[i + 1]);
+        let xi = (s - s0) / (s1 - s0);
+        let a = Load {
+            node: i,
+            force: load.force * (1.0 - xi),
+            moment: load.moment * (1.0 - xi),
+            ..load.clone()
+        };
+        let b = Load { node: i + 1, force: load.force * xi, moment: load.moment * xi, ..load };
+        self.load(a)?.load(b)
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Removes every load.
+    pub fn clear_loads(&mut self) {
+        self.loads.clear();
+    }
+
+    /// Sets the factor that multiplies every load (statics uses it as the load parameter).
+    pub fn set_load_factor(&mut self, factor: f64) {
+        self.load_factor = factor;
+    }
+
+    /// Equation number of `node`'s unknown `k` (0-2 displacement, 3-5 rotation), if free.
+    pub fn dof(&self, node: usize, k: usize) -> Option<usize> {
+        self.dofs.get(node).and_then(|d| d.get(k).copied().flatten())
+    }
+
+    /// The undeformed configuration.
+    pub fn reference_state(&self) -> BeamState {
+        BeamState { positions: self.mesh.positions.clone(), rotations: self.mesh.frames.clone() }
+    }
+
+    fn node_vector(&self, x: ColRef<'_, f64>, node: usize, offset: usize) -> Vector3<f64> {
+        Vector3::from_fn(|k, _| self.dofs[node][offset + k].map_or(0.0, |i| x[i]))
+    }
+
+    fn add_node_vector(
+        &self,
+        out: &mut ColMut<'_, f64>,
+        node: usize,
+        offset: usize,
+        f: &Vector3<f64>,
+    ) {
+        for k in 0..3 {
+            if let Some(i) = self.dofs[node][offset + k] {
+                out[i] += f[k];
+            }
+        }
+    }
+
+    fn factor(&self, t: f64, load: &Load) -> f64 {
+        let profile = if self.time_dependent { load.profile.factor(t) } else { 1.0 };
+        profile * self.load_factor
+    }
+
+    /// Switches loads between static use (load factor only) and dynamic use (profile times
+    /// load factor).
+    pub(crate) fn set_time_dependent(&mut self, on: bool) {
+        self.time_dependent = on;
+    }
+
+    fn external(&self, t: f64, q: &BeamState, load: &Load) -> (Vector3<f64>, Vector3<f64>) {
+        let p = self.factor(t, load);
+        let r = q.rotations[load.node];
+        if load.follower {
+            (r * load.force * p, load.moment * p)
+        } else {
+            (load.force * p, r.inverse() * load.moment * p)
+        }
+    }
+
+    /// Strain energy (J).
+    pub fn strain_energy(&self, q: &BeamState) -> f64 {
+        self.mesh
+            .elements
+            .iter()
+            .map(|e| {
+                let [a, b] = e.nodes;
+                e.energy([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]])
+            })
+            .sum()
+    }
+
+    /// Kinetic energy (J) for velocity `v` (consistent translational mass, lumped rotary).
+    pub fn kinetic_energy(&self, v: ColRef<'_, f64>) -> f64 {
+        let mut energy = 0.0;
+        for e in &self.mesh.elements {
+            let [a, b] = e.nodes;
+            let (va, vb) = (self.node_vector(v, a, 0), self.node_vector(v, b, 0));
+            let m = e.section.rho_a * e.length / 6.0;
+            energy += 0.5 * m * (2.0 * va.dot(&va) + 2.0 * va.dot(&vb) + 2.0 * vb.dot(&vb));
+        }
+        for (node, j) in self.node_inertia.iter().enumerate() {
+            let w = self.node_vector(v, node, 3);
+            energy += 0.5 * w.dot(&(j * w));
+        }
+        energy
+    }
+
+    /// Internal forces at `q` as a full vector over free unknowns (N, N m).
+    pub fn internal_force(&self, q: &BeamState) -> Col<f64> {
+        let mut out = Col::zeros(self.ndof);
+        self.add_internal(q, &mut out.as_mut());
+        out
+    }
+
+    fn add_internal(&self, q: &BeamState, out: &mut ColMut<'_, f64>) {
+        for e in &self.mesh.elements {
+            let [a, b] = e.nodes;
+            let f = e.force([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]]);
+            for (block, node) in [(0, a), (1, b)] {
+                self.add_node_vector(out, node, 0, &f.fixed_rows::<3>(6 * block).into_owned());
+                self.add_node_vector(out, node, 3, &f.fixed_rows::<3>(6 * block + 3).into_owned());
+            }
+        }
+    }
+
+    /// Pushes a 3x3 block for (node_a, offset_a) x (node_b, offset_b), always the same entries.
+    #[allow(clippy::too_many_arguments)]
+    fn push_block(
+        &self,
+        out: &mut Triplets,
+        a: usize,
+        oa: usize,
+        b: usize,
+        ob: usize,
+        block: &Matrix3<f64>,
+    ) {
+        for i in 0..3 {
+            let Some(row) = self.dofs[a][oa + i] else { continue };
+            for j in 0..3 {
+                if let Some(col) = self.dofs[b][ob + j] {
+                    out.push(row, col, block[(i, j)]);
+                }
+            }
+        }
+    }
+}
+
+impl hht::Model for BeamModel {
+    type Config = BeamState;
+
+    fn ndof(&self) -> usize {
+        self.ndof
+    }
+
+    fn update(&self, q: &mut BeamState, dq: ColRef<'_, f64>) {
+        for node in 0..q.positions.len() {
+            q.positions[node] += self.node_vector(dq, node, 0);
+            let th = self.node_vector(dq, node, 3);
+            if th.norm_squared() > 0.0 {
+                q.rotations[node] *= UnitQuaternion::from_scaled_axis(th);
+            }
+        }
+    }
+
+    fn inertial_force(
+        &self,
+        _q: &BeamState,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        mut out: ColMut<'_, f64>,
+    ) {
+        out.fill(0.0);
+        for e in &self.mesh.elements {
+            let [na, nb] = e.nodes;
+            let (aa, ab) = (self.node_vector(a, na, 0), self.node_vector(a, nb, 0));
+            let m = e.section.rho_a * e.length / 6.0;
+            self.add_node_vector(&mut out, na, 0, &((2.0 * aa + ab) * m));
+            self.add_node_vector(&mut out, nb, 0, &((aa + 2.0 * ab) * m));
+        }
+        for (node, j) in self.node_inertia.iter().enumerate() {
+            // Euler's equation in the body frame: J dW/dt + W x J W.
+            let w = self.node_vector(v, node, 3);
+            let dw = self.node_vector(a, node, 3);
+            self.add_node_vector(&mut out, node, 3, &(j * dw + w.cross(&(j * w))));
+        }
+    }
+
+    fn net_force(&self, t: f64, q: &BeamState, _v: ColRef<'_, f64>, mut out: ColMut<'_, f64>) {
+        out.fill(0.0);
+        self.add_internal(q, &mut out);
+        for load in &self.loads {
+            let (f, m) = self.external(t, q, load);
+            self.add_node_vector(&mut out, load.node, 0, &(-f));
+            self.add_node_vector(&mut out, load.node, 3, &(-m));
+        }
+    }
+
+    fn tangent(
+        &self,
+        t: f64,
+        q: &BeamState,
+        v: ColRef<'_, f64>,
+        _a: ColRef<'_, f64>,
+        w: NewtonWeights,
+        out: &mut Triplets,
+    ) {
+        let stiffness = w.force * w.dq;
+        let mass = w.inertia * w.da;
+        for e in &self.mesh.elements {
+            let [na, nb] = e.nodes;
+            let (_, k) = e.force_and_tangent(
+                [&q.positions[na], &q.positions[nb]],
+                [&q.rotations[na], &q.rotations[nb]],
+            );
+            let m = e.section.rho_a * e.length / 6.0 * mass;
+            let nodes = [na, nb];
+            for (bi, &ni) in nodes.iter().enumerate() {
+                for (bj, &nj) in nodes.iter().enumerate() {
+                    for (oi, oj) in [(0, 0), (0, 3), (3, 0), (3, 3)] {
+                        let mut block: Matrix3<f64> =
+                            k.fixed_view::<3, 3>(6 * bi + oi, 6 * bj + oj).into_owned() * stiffness;
+                        if oi == 0 && oj == 0 {
+                            let factor = if bi == bj { 2.0 } else { 1.0 };
+                            block += Matrix3::identity() * (m * factor);
+                        }
+                        self.push_block(out, ni, oi, nj, oj, &block);
+                    }
+                }
+            }
+        }
+        // Rotary inertia with its gyroscopic derivative, and the load stiffness, per node.
+        let mut node_blocks = vec![Matrix3::<f64>::zeros(); self.node_inertia.len()];
+        let mut node_force_blocks = vec![Matrix3::<f64>::zeros(); self.node_inertia.len()];
+        for (node, j) in self.node_inertia.iter().enumerate() {
+            let wv = self.node_vector(v, node, 3);
+            node_blocks[node] = j * mass + (skew(&wv) * j - skew(&(j * wv))) * (w.inertia * w.dv);
+        }
+        for load in &self.loads {
+            let p = self.factor(t, load);
+            let r = q.rotations[load.node];
+            if load.follower {
+                // d(R exp(th^) F)/dth = -R F^ ; the residual carries -f.
+                let rm = r.to_rotation_matrix().into_inner();
+                node_force_blocks[load.node] += rm * skew(&load.force) * (p * stiffness);
+            } else {
+                // d(exp(-th^) R^T M)/dth = (R^T M)^ ; the residual carries -m.
+                node_blocks[load.node] -= skew(&(r.inverse() * load.moment)) * (p * stiffness);
+            }
+        }
+        for node in 0..self.node_inertia.len() {
+            self.push_block(out, node, 3, node, 3, &node_blocks[node]);
+            self.push_block(out, node, 0, node, 3, &node_force_blocks[node]);
+        }
+    }
+
+    fn force_scale(&self, _q: &BeamState) -> f64 {
+        self.force_scale
+    }
+}
+
+/// Norm of the external loads at `q` and time `t` with the current load factor (N, N m).
+pub(crate) fn load_norm(model: &BeamModel, t: f64, q: &BeamState) -> f64 {
+    let mut total: f64 = 0.0;
+    for load in &model.loads {
+        let (f, m) = model.external(t, q, load);
+        total += f.norm_squared() + m.norm_squared();
+    }
+    total.sqrt()
+}
