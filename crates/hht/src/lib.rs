@@ -51,6 +51,7 @@ mod linear;
 mod model;
 mod oscillator;
 mod scheme;
+mod spectral;
 
 pub use error::HhtError;
 pub use integrator::{Integrator, NewtonOptions, State, StepReport, ROUND_OFF_FACTOR};
@@ -58,3 +59,4 @@ pub use linear::SparseLu;
 pub use model::{Model, NewtonWeights, Triplets};
 pub use oscillator::Oscillator;
 pub use scheme::Scheme;
+pub use spectral::{amplification, spectrum, Spectrum};

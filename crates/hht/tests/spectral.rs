@@ -3,39 +3,19 @@
 
 use faer::Col;
 use hht::{HhtError, Integrator, Model, NewtonOptions, Oscillator, Scheme, State};
-use nalgebra::Matrix3;
-
-/// Amplification matrix of one step of size `h` on `d'' + d = 0`, state (d, h v, h^2 a).
-fn amplification(scheme: Scheme, h: f64) -> Matrix3<f64> {
-    let model = Oscillator::undamped(1.0).unwrap();
-    let mut integrator = Integrator::new(scheme, NewtonOptions::default());
-    let mut m = Matrix3::zeros();
-    for j in 0..3 {
-        let mut x = [0.0; 3];
-        x[j] = 1.0;
-        let v = Col::from_fn(1, |_| x[1] / h);
-        let a = Col::from_fn(1, |_| x[2] / (h * h));
-        let mut state = State::new(&model, 0.0, x[0], v, a).unwrap();
-        integrator.step(&model, &mut state, h).unwrap();
-        m[(0, j)] = state.q;
-        m[(1, j)] = h * state.v[0];
-        m[(2, j)] = h * h * state.a[0];
-    }
-    m
-}
 
 fn spectral_radius(scheme: Scheme, h: f64) -> f64 {
-    amplification(scheme, h).complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max)
+    hht::amplification(scheme, h)
+        .unwrap()
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
 }
 
-/// (damping ratio, relative period error) from the principal root pair
-/// lambda = exp(Omega_bar (-xi +- i)), REFERENCES.md 4.2.
 fn damping_and_period(scheme: Scheme, omega_h: f64) -> (f64, f64) {
-    let roots = amplification(scheme, omega_h).complex_eigenvalues();
-    let principal = roots.iter().filter(|z| z.im > 0.0).copied().next().unwrap();
-    let omega_bar = principal.arg();
-    let xi = -principal.norm().ln() / omega_bar;
-    (xi, omega_h / omega_bar - 1.0)
+    let s = hht::spectrum(scheme, omega_h).unwrap();
+    (s.damping_ratio, s.period_error)
 }
 
 /// Spectral radius at Omega = 1e6 and the tolerance on its distance to rho_inf. HHT with
