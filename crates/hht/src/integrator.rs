@@ -275,44 +275,35 @@ impl Integrator {
             }
             let floor =
                 ROUND_OFF_FACTOR * f64::EPSILON * model.force_scale(&q1) * (n as f64).sqrt();
-            if residual_norm <= self.options.atol + self.options.rtol * scale + floor {
-                let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * norm(&(&a1 - &old.a));
-                let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net };
-                let report = StepReport {
-                    iterations: iteration,
-                    residual_norm,
-                    error_estimate,
-                    substeps: 1,
-                };
-                return Ok((next, report));
+            let mut converged =
+                residual_norm <= self.options.atol + self.options.rtol * scale + floor;
+            if !converged && iteration < self.options.max_iterations {
+                self.triplets.clear();
+                model.tangent(t1, &q1, v1.as_ref(), a1.as_ref(), w, &mut self.triplets);
+                self.lu.factor(n, &self.triplets, t1)?;
+                self.factorisations += 1;
+                r *= -1.0 / (s.beta * h * h);
+                self.lu.solve_in_place(r.as_mut(), t1)?;
+                // A correction below the round-off of the quantities it corrects cannot improve
+                // the iterate: the balance is then at its floating-point floor (for example a
+                // tiny displacement computed as the difference of two O(1) increments), so accept.
+                let correction = norm(&r);
+                converged = iteration > 0
+                    && (correction <= 1e-14 * norm(&a1).max(norm(&old.a))
+                        || s.beta * h * h * correction <= 1e-14 * norm(&delta).max(norm(&base)));
+                if !converged {
+                    a1 += &r;
+                    continue;
+                }
             }
-            if iteration == self.options.max_iterations {
+            if !converged {
                 break;
             }
-            self.triplets.clear();
-            model.tangent(t1, &q1, v1.as_ref(), a1.as_ref(), w, &mut self.triplets);
-            self.lu.factor(n, &self.triplets, t1)?;
-            self.factorisations += 1;
-            r *= -1.0 / (s.beta * h * h);
-            self.lu.solve_in_place(r.as_mut(), t1)?;
-            // A correction below the round-off of the quantities it corrects cannot improve the
-            // iterate: the balance is then at its floating-point floor (for example a tiny
-            // displacement computed as the difference of two O(1) increments), so accept.
-            let correction = norm(&r);
-            let at_round_off = correction <= 1e-14 * norm(&a1).max(norm(&old.a))
-                || s.beta * h * h * correction <= 1e-14 * norm(&delta).max(norm(&base));
-            if at_round_off && iteration > 0 {
-                let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * norm(&(&a1 - &old.a));
-                let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net };
-                let report = StepReport {
-                    iterations: iteration,
-                    residual_norm,
-                    error_estimate,
-                    substeps: 1,
-                };
-                return Ok((next, report));
-            }
-            a1 += &r;
+            let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * norm(&(&a1 - &old.a));
+            let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net };
+            let report =
+                StepReport { iterations: iteration, residual_norm, error_estimate, substeps: 1 };
+            return Ok((next, report));
         }
         Err(HhtError::NewtonDiverged {
             t: t1,
