@@ -269,7 +269,7 @@ impl Integrator {
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
             let mut r = (1.0 - s.alpha_m) * &inertial + (1.0 - s.alpha_f) * &net + &old_terms;
             residual_norm = norm(&r);
-            let scale = norm(&inertial).max(norm(&net)).max(old_scale).max(model.force_scale(&q1));
+            let scale = norm(&inertial).max(norm(&net)).max(old_scale);
             if !residual_norm.is_finite() {
                 break;
             }
