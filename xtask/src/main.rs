@@ -1,5 +1,6 @@
-//! The toolkit's command line: `cargo xtask reproduce | simulate | validate`.
+//! The toolkit's command line: `cargo xtask reproduce | simulate | beam | validate`.
 
+mod beam;
 mod plot;
 mod reproduce;
 mod simulate;
@@ -38,6 +39,15 @@ enum Command {
         #[arg(long)]
         history: Option<PathBuf>,
     },
+    /// Run a beam under prescribed loads (no ball), static or dynamic; write the tracked node's
+    /// history and the final shape as CSV (and SVG charts).
+    Beam {
+        /// Beam scene file (TOML, SI units); see validation/scenes/beam-*.toml.
+        scene: PathBuf,
+        /// Output folder; default target/beam/NAME.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Run every case under validation/ against its reference; non-zero exit on a failure.
     Validate {
         /// Print the results as a JSON list.
@@ -53,6 +63,7 @@ fn main() -> std::process::ExitCode {
         Command::Simulate { scene, json, history } => {
             simulate::run(&scene, json, history.as_deref())
         }
+        Command::Beam { scene, out } => beam::run(&scene, out.as_deref()),
         Command::Validate { json } => validate::run(json),
     };
     match result {

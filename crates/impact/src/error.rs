@@ -38,6 +38,9 @@ pub enum ImpactError {
     /// An error from the modal crate.
     #[error(transparent)]
     Modal(#[from] modal::ModalError),
+    /// An error from the beam crate.
+    #[error(transparent)]
+    Beam(#[from] simo_beam::BeamError),
 }
 
 /// `field` must be finite and strictly positive.

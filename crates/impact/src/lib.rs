@@ -38,6 +38,7 @@
 //! # Ok::<(), impact::ImpactError>(())
 //! ```
 
+pub mod beam_scene;
 mod error;
 mod history;
 pub mod modal_solver;
@@ -45,6 +46,7 @@ mod plan;
 mod report;
 mod scene;
 
+pub use beam_scene::{BeamRun, BeamScene};
 pub use error::ImpactError;
 pub use history::History;
 pub use modal_solver::{run, Outcome};

@@ -36,6 +36,9 @@ pub struct StaticSolution {
     pub first_residuals: Vec<f64>,
     /// Increments that were cut and retried.
     pub cuts: usize,
+    /// The load path: (load factor, equilibrium configuration) after each accepted increment,
+    /// ending with the full load.
+    pub path: Vec<(f64, BeamState)>,
 }
 
 /// Solves `f_int(q) = lambda f_ext(q)` for lambda from 0 to 1, starting from the reference
@@ -69,8 +72,10 @@ pub fn solve_static(
     let mut iterations = Vec::new();
     let mut first_residuals = Vec::new();
     let mut cuts = 0;
+    let mut path = Vec::new();
     while lambda < 1.0 - 1e-14 {
-        let target = (lambda + step).min(1.0);
+        // Land exactly on the full load, not on a sum of rounded increments.
+        let target = if lambda + step >= 1.0 - 1e-12 { 1.0 } else { lambda + step };
         model.set_load_factor(target);
         let mut trial = state.clone();
         let mut residuals = Vec::new();
@@ -118,8 +123,9 @@ pub fn solve_static(
                     first_residuals = residuals;
                 }
                 iterations.push(k);
-                state = trial;
                 lambda = target;
+                path.push((lambda, trial.clone()));
+                state = trial;
                 step = (2.0 * step).min(nominal);
             }
             None => {
@@ -131,5 +137,5 @@ pub fn solve_static(
             }
         }
     }
-    Ok(StaticSolution { state, iterations, first_residuals, cuts })
+    Ok(StaticSolution { state, iterations, first_residuals, cuts, path })
 }

@@ -1,0 +1,776 @@
+//! A beam-only scene: the Simo beam under prescribed loads (no ball), static or dynamic.
+//!
+//! This is how a user runs the standard beam benchmarks (Mattiasson, the 45-degree bend, the
+//! right-angle cantilever) or their own frame without writing Rust:
+//!
+//! ```toml
+//! name = "mattiasson-k10"
+//! analysis = "static"            # static | dynamic
+//! [section]                      # a material and a shape, or the stiffnesses directly
+//! axial_stiffness = 1e7          # EA (N)
+//! shear_stiffness = 1e7          # k G A (N), both shear directions
+//! torsional_stiffness = 1.0      # G J (N m^2)
+//! bending_stiffness = 1.0        # E I (N m^2), both bending directions
+//! [[segment]]                    # straight or arc pieces, chained with rigid corners
+//! start = [0.0, 0.0, 0.0]
+//! end = [1.0, 0.0, 0.0]
+//! elements = 64
+//! [[support]]
+//! at = 0.0                       # arc length (m) of a node
+//! kind = "clamped"               # clamped | pinned
+//! [[load]]
+//! at = 1.0                       # arc length (m)
+//! force = [0.0, 0.0, -10.0]      # (N), spatial (or in the section frame if follower)
+//! [static]
+//! load_steps = 10
+//! ```
+//!
+//! A dynamic scene replaces `[static]` by `[dynamic]` (`duration`, `time_step` in s, optional
+//! HHT `alpha` in [-1/3, 0]) and may give each load a `profile` of (time (s), factor) points.
+
+use crate::error::{positive, ImpactError};
+use faer::Col;
+use hht::{Integrator, Model, NewtonOptions, Scheme};
+use nalgebra::{UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+use simo_beam::{
+    solve_static, BeamModel, BeamState, Load, Material, Mesh, Profile, Section, StaticOptions,
+    Support,
+};
+
+/// Static or dynamic analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AnalysisName {
+    /// Equilibrium under the full loads, reached in load steps.
+    Static,
+    /// Motion from rest under time-varying loads, integrated by HHT-alpha.
+    Dynamic,
+}
+
+/// A beam under prescribed loads. Every unknown key is an error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeamScene {
+    /// Name used in reports and file names.
+    pub name: String,
+    /// Static or dynamic.
+    pub analysis: AnalysisName,
+    /// The cross-section, the same along the whole beam.
+    pub section: SectionSpec,
+    /// The pieces of the beam axis, in order (at least one).
+    #[serde(rename = "segment")]
+    pub segments: Vec<SegmentSpec>,
+    /// Supports at nodes.
+    #[serde(rename = "support", default)]
+    pub supports: Vec<SupportSpec>,
+    /// Point loads.
+    #[serde(rename = "load", default)]
+    pub loads: Vec<LoadSpec>,
+    /// Settings of a static analysis.
+    #[serde(rename = "static")]
+    pub statics: Option<StaticSpec>,
+    /// Settings of a dynamic analysis (required when `analysis = "dynamic"`).
+    pub dynamic: Option<DynamicSpec>,
+    /// Which point the history follows.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// A section: either a material (`youngs_modulus`, `poisson_ratio`, `density`) with a rectangle
+/// (`width`, `thickness`) or a circle (`radius`), or the stiffnesses directly.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionSpec {
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio (-).
+    pub poisson_ratio: Option<f64>,
+    /// Density (kg/m^3).
+    pub density: Option<f64>,
+    /// Rectangle width along the section axis E2 (m).
+    pub width: Option<f64>,
+    /// Rectangle thickness along the section axis E3 (m).
+    pub thickness: Option<f64>,
+    /// Circle radius (m).
+    pub radius: Option<f64>,
+    /// EA (N).
+    pub axial_stiffness: Option<f64>,
+    /// k G A (N), both shear directions.
+    pub shear_stiffness: Option<f64>,
+    /// G J (N m^2).
+    pub torsional_stiffness: Option<f64>,
+    /// E I (N m^2) about both section axes, unless `bending_stiffness_2`/`_3` are given.
+    pub bending_stiffness: Option<f64>,
+    /// E I2 about E2 (N m^2).
+    pub bending_stiffness_2: Option<f64>,
+    /// E I3 about E3 (N m^2).
+    pub bending_stiffness_3: Option<f64>,
+    /// rho A (kg/m); default 1 (statics does not use it).
+    pub mass_per_length: Option<f64>,
+    /// rho (I2 + I3), rho I2, rho I3 (kg m); default 1e-3 x `mass_per_length` each.
+    pub rotary_inertia: Option<[f64; 3]>,
+}
+
+/// One piece of the beam axis. It starts where the previous piece ended (the first at `start`,
+/// default the origin); a straight piece goes to `end`, an arc turns `angle_degrees` about
+/// `normal` around `centre`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentSpec {
+    /// Start point (m); only needed for the first piece (later pieces must start where the
+    /// previous ended, if given).
+    pub start: Option<[f64; 3]>,
+    /// End point of a straight piece (m).
+    pub end: Option<[f64; 3]>,
+    /// Centre of an arc (m).
+    pub centre: Option<[f64; 3]>,
+    /// Axis of an arc (right-handed turn); it is also the section axis E3 along the arc.
+    pub normal: Option<[f64; 3]>,
+    /// Angle swept by an arc (degrees).
+    pub angle_degrees: Option<f64>,
+    /// Section axis E3 (thickness direction) of a straight piece; default z, or x for a piece
+    /// along z.
+    pub thickness_direction: Option<[f64; 3]>,
+    /// Number of elements.
+    pub elements: usize,
+}
+
+/// How a node is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SupportKind {
+    /// Position and rotation fixed.
+    Clamped,
+    /// Position fixed, rotation free.
+    Pinned,
+}
+
+/// A support at the node at arc length `at`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSpec {
+    /// Arc length from the start of the first piece (m); must be a node.
+    pub at: f64,
+    /// Clamped or pinned.
+    pub kind: SupportKind,
+}
+
+/// A point load at arc length `at`, shared between the two nodes of its element.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// Arc length from the start (m).
+    pub at: f64,
+    /// Force (N).
+    #[serde(default)]
+    pub force: [f64; 3],
+    /// Moment (N m).
+    #[serde(default)]
+    pub moment: [f64; 3],
+    /// Whether the load turns with the section (given in the section frame E1, E2, E3).
+    #[serde(default)]
+    pub follower: bool,
+    /// Dynamic analysis: (time (s), factor) points, piecewise linear, constant beyond the
+    /// ends; default factor 1 at all times. A static analysis ignores it.
+    pub profile: Option<Vec<[f64; 2]>>,
+}
+
+/// Static analysis settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StaticSpec {
+    /// Equal load increments (each cut in half automatically if Newton fails); default 10.
+    pub load_steps: Option<usize>,
+}
+
+/// Dynamic analysis settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicSpec {
+    /// Simulated time (s) from rest in the reference configuration.
+    pub duration: f64,
+    /// Time step (s).
+    pub time_step: f64,
+    /// HHT alpha in [-1/3, 0]; default 0 (trapezoidal rule, no numerical damping).
+    pub alpha: Option<f64>,
+}
+
+/// Output settings.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Arc length (m) of the node whose history is recorded; default the last node.
+    pub track: Option<f64>,
+}
+
+/// One sample of the tracked node.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TrackSample {
+    /// Time (s) in dynamics, load factor (-) in statics.
+    pub time_or_load: f64,
+    /// Position (m).
+    pub position: [f64; 3],
+    /// Rotation of the section from its reference orientation, as a rotation vector (rad),
+    /// spatial components.
+    pub rotation: [f64; 3],
+    /// Strain energy (J).
+    pub strain_energy: f64,
+    /// Kinetic energy (J); zero in statics.
+    pub kinetic_energy: f64,
+}
+
+/// One node of the final configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ShapeNode {
+    /// Reference arc length (m).
+    pub arc_length: f64,
+    /// Position (m).
+    pub position: [f64; 3],
+    /// Rotation from the reference orientation as a rotation vector (rad).
+    pub rotation: [f64; 3],
+}
+
+/// The result of a beam scene.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BeamRun {
+    /// Scene name.
+    pub name: String,
+    /// Arc length (m) of the tracked node.
+    pub tracked_arc_length: f64,
+    /// History of the tracked node.
+    pub history: Vec<TrackSample>,
+    /// The final configuration.
+    pub shape: Vec<ShapeNode>,
+    /// Number of unknowns.
+    pub unknowns: usize,
+    /// Newton iterations in total.
+    pub newton_iterations: usize,
+    /// Load increments cut (statics) or time steps halved (dynamics).
+    pub cuts: usize,
+    /// Wall-clock time of the solve (s).
+    pub wall_time: f64,
+}
+
+fn invalid(field: String, value: impl ToString, allowed: &str) -> ImpactError {
+    ImpactError::InvalidField { field, value: value.to_string(), allowed: allowed.to_owned() }
+}
+
+fn vector(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, ImpactError> {
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(invalid(field.to_owned(), format!("{v:?}"), "three finite numbers"));
+    }
+    Ok(Vector3::from(v))
+}
+
+fn direction(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, ImpactError> {
+    let d = vector(field, v)?;
+    if d.norm() == 0.0 {
+        return Err(invalid(field.to_owned(), format!("{v:?}"), "a non-zero direction"));
+    }
+    Ok(d)
+}
+
+impl SectionSpec {
+    fn build(&self) -> Result<Section, ImpactError> {
+        let material_form = self.youngs_modulus.is_some()
+            || self.poisson_ratio.is_some()
+            || self.width.is_some()
+            || self.thickness.is_some()
+            || self.radius.is_some();
+        let stiffness_form = self.axial_stiffness.is_some()
+            || self.shear_stiffness.is_some()
+            || self.torsional_stiffness.is_some()
+            || self.bending_stiffness.is_some()
+            || self.bending_stiffness_2.is_some()
+            || self.bending_stiffness_3.is_some();
+        let need = |name: &str, v: Option<f64>| {
+            v.ok_or_else(|| {
+                ImpactError::Inconsistent(format!("section.{name} is missing (a number is needed)"))
+            })
+        };
+        match (material_form, stiffness_form) {
+            (true, true) => Err(ImpactError::Inconsistent(
+                "section: give either a material and a shape (youngs_modulus, poisson_ratio, \
+                 density, width and thickness or radius) or the stiffnesses (axial_stiffness, \
+                 shear_stiffness, torsional_stiffness, bending_stiffness), not both"
+                    .into(),
+            )),
+            (false, false) => Err(ImpactError::Inconsistent(
+                "section is empty: give a material and a shape or the stiffnesses".into(),
+            )),
+            (true, false) => {
+                let e = need("youngs_modulus", self.youngs_modulus)?;
+                let nu = need("poisson_ratio", self.poisson_ratio)?;
+                let rho = need("density", self.density)?;
+                positive("section.youngs_modulus", e, "Pa")?;
+                positive("section.density", rho, "kg/m^3")?;
+                if self.mass_per_length.is_some() || self.rotary_inertia.is_some() {
+                    return Err(ImpactError::Inconsistent(
+                        "section: mass_per_length and rotary_inertia come from the density and \
+                         the shape; remove them"
+                            .into(),
+                    ));
+                }
+                if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+                    return Err(invalid(
+                        "section.poisson_ratio".into(),
+                        nu,
+                        "a number in (-1, 0.5)",
+                    ));
+                }
+                let material = Material::new(e, nu, rho)?;
+                match (self.width, self.thickness, self.radius) {
+                    (Some(w), Some(t), None) => {
+                        positive("section.width", w, "m")?;
+                        positive("section.thickness", t, "m")?;
+                        Ok(Section::rectangle(&material, w, t)?)
+                    }
+                    (None, None, Some(r)) => {
+                        positive("section.radius", r, "m")?;
+                        Ok(Section::circle(&material, r)?)
+                    }
+                    _ => Err(ImpactError::Inconsistent(
+                        "section: give width and thickness (rectangle) or radius (circle)".into(),
+                    )),
+                }
+            }
+            (false, true) => {
+                if self.density.is_some() {
+                    return Err(ImpactError::Inconsistent(
+                        "section: with stiffnesses, give mass_per_length and rotary_inertia \
+                         instead of density"
+                            .into(),
+                    ));
+                }
+                let ea = positive(
+                    "section.axial_stiffness",
+                    need("axial_stiffness", self.axial_stiffness)?,
+                    "N",
+                )?;
+                let ga = positive(
+                    "section.shear_stiffness",
+                    need("shear_stiffness", self.shear_stiffness)?,
+                    "N",
+                )?;
+                let gj = positive(
+                    "section.torsional_stiffness",
+                    need("torsional_stiffness", self.torsional_stiffness)?,
+                    "N m^2",
+                )?;
+                let bending = |name: &str, own: Option<f64>| {
+                    let v = own.or(self.bending_stiffness).ok_or_else(|| {
+                        ImpactError::Inconsistent(format!(
+                            "section.{name} is missing (or give bending_stiffness for both axes)"
+                        ))
+                    })?;
+                    positive(&format!("section.{name}"), v, "N m^2")
+                };
+                let ei2 = bending("bending_stiffness_2", self.bending_stiffness_2)?;
+                let ei3 = bending("bending_stiffness_3", self.bending_stiffness_3)?;
+                let rho_a = positive(
+                    "section.mass_per_length",
+                    self.mass_per_length.unwrap_or(1.0),
+                    "kg/m",
+                )?;
+                let rho_i = self.rotary_inertia.unwrap_or([1e-3 * rho_a; 3]);
+                for (k, r) in rho_i.iter().enumerate() {
+                    positive(&format!("section.rotary_inertia[{k}]"), *r, "kg m")?;
+                }
+                Ok(Section { ea, ga2: ga, ga3: ga, gj, ei2, ei3, rho_a, rho_i }.validated()?)
+            }
+        }
+    }
+}
+
+impl SegmentSpec {
+    fn build(
+        &self,
+        index: usize,
+        previous_end: Option<Vector3<f64>>,
+        section: Section,
+    ) -> Result<(Mesh, f64), ImpactError> {
+        let field = |name: &str| format!("segment[{index}].{name}");
+        if self.elements == 0 {
+            return Err(invalid(field("elements"), 0, "at least 1 element"));
+        }
+        let start = match (self.start, previous_end) {
+            (Some(s), None) => vector(&field("start"), s)?,
+            (None, None) => Vector3::zeros(),
+            (None, Some(p)) => p,
+            (Some(s), Some(p)) => {
+                let s = vector(&field("start"), s)?;
+                if (s - p).norm() > 1e-9 * (1.0 + p.norm()) {
+                    return Err(invalid(
+                        field("start"),
+                        format!("{s:?}"),
+                        &format!("the end of the previous segment, {:?} (or leave it out)", p),
+                    ));
+                }
+                p
+            }
+        };
+        match (self.end, self.centre, self.normal, self.angle_degrees) {
+            (Some(end), None, None, None) => {
+                let end = vector(&field("end"), end)?;
+                let axis = end - start;
+                if axis.norm() == 0.0 {
+                    return Err(invalid(
+                        field("end"),
+                        format!("{end:?}"),
+                        "a point other than the start",
+                    ));
+                }
+                let hint = match self.thickness_direction {
+                    Some(d) => direction(&field("thickness_direction"), d)?,
+                    None if axis.normalize().z.abs() > 0.99 => Vector3::x(),
+                    None => Vector3::z(),
+                };
+                if hint.normalize().cross(&axis.normalize()).norm() < 1e-6 {
+                    return Err(invalid(
+                        field("thickness_direction"),
+                        format!("{hint:?}"),
+                        "a direction not along the segment",
+                    ));
+                }
+                Ok((Mesh::straight(start, end, self.elements, section, hint)?, axis.norm()))
+            }
+            (None, Some(centre), Some(normal), Some(angle)) => {
+                let centre = vector(&field("centre"), centre)?;
+                let normal = direction(&field("normal"), normal)?.normalize();
+                if !(angle.is_finite() && angle != 0.0 && angle.abs() <= 360.0) {
+                    return Err(invalid(
+                        field("angle_degrees"),
+                        angle,
+                        "a non-zero angle within +-360 degrees",
+                    ));
+                }
+                if self.thickness_direction.is_some() {
+                    return Err(ImpactError::Inconsistent(format!(
+                        "{}: an arc's thickness direction is its normal",
+                        field("thickness_direction")
+                    )));
+                }
+                let radial = start - centre;
+                let radius = radial.norm();
+                if radius == 0.0 || normal.dot(&radial).abs() > 1e-9 * radius {
+                    return Err(invalid(
+                        field("centre"),
+                        format!("{centre:?}"),
+                        "a point away from the start, in the plane through the start normal to `normal`",
+                    ));
+                }
+                let mesh = Mesh::arc(
+                    centre,
+                    radius,
+                    radial,
+                    normal,
+                    angle.to_radians(),
+                    self.elements,
+                    section,
+                )?;
+                Ok((mesh, radius * angle.to_radians().abs()))
+            }
+            _ => Err(ImpactError::Inconsistent(format!(
+                "segment[{index}]: give `end` (straight) or `centre`, `normal` and `angle_degrees` \
+                 (arc)"
+            ))),
+        }
+    }
+}
+
+/// Arc length of every node along the true (curved) reference axis: what a user measures.
+/// The mesh's own arc length sums the element chords, which falls short on an arc.
+struct Stations(Vec<f64>);
+
+impl Stations {
+    fn total(&self) -> f64 {
+        self.0.last().copied().unwrap_or(0.0)
+    }
+
+    /// The node at arc length `s`, which must be a node's.
+    fn node(&self, field: String, s: f64) -> Result<usize, ImpactError> {
+        let total = self.total();
+        let mut node = 0;
+        for (i, si) in self.0.iter().enumerate() {
+            if (si - s).abs() < (self.0[node] - s).abs() {
+                node = i;
+            }
+        }
+        if !(s.is_finite() && (self.0[node] - s).abs() <= 1e-9 * total.max(1.0)) {
+            return Err(invalid(
+                field,
+                s,
+                &format!(
+                    "the arc length of a node, from 0 to {total} m (nearest node at {} m)",
+                    self.0[node]
+                ),
+            ));
+        }
+        Ok(node)
+    }
+
+    /// The mesh's chord arc length at the true arc length `s`, interpolated within its element.
+    fn to_mesh(&self, mesh: &Mesh, field: String, s: f64) -> Result<f64, ImpactError> {
+        let total = self.total();
+        if !(s.is_finite() && (0.0..=total * (1.0 + 1e-12)).contains(&s)) {
+            return Err(invalid(field, s, &format!("an arc length from 0 to {total} m")));
+        }
+        let i = self.0.windows(2).position(|w| s <= w[1]).unwrap_or(self.0.len().saturating_sub(2));
+        let xi = ((s - self.0[i]) / (self.0[i + 1] - self.0[i])).clamp(0.0, 1.0);
+        Ok(mesh.arc_length[i] + xi * (mesh.arc_length[i + 1] - mesh.arc_length[i]))
+    }
+}
+
+fn rotation_vector(q: &UnitQuaternion<f64>, reference: &UnitQuaternion<f64>) -> [f64; 3] {
+    (q * reference.inverse()).scaled_axis().into()
+}
+
+impl BeamScene {
+    /// Parses a beam scene from TOML text.
+    ///
+    /// # Errors
+    /// `Parse` with the key and line for invalid TOML, unknown keys, missing fields and wrong
+    /// types.
+    pub fn from_toml(text: &str) -> Result<Self, ImpactError> {
+        toml::from_str(text).map_err(|e| ImpactError::Parse(e.to_string()))
+    }
+
+    /// Builds the beam model: mesh, supports, loads.
+    ///
+    /// # Errors
+    /// `InvalidField` or `Inconsistent` naming the field at fault.
+    pub fn model(&self) -> Result<BeamModel, ImpactError> {
+        Ok(self.build()?.0)
+    }
+
+    fn build(&self) -> Result<(BeamModel, Stations), ImpactError> {
+        let section = self.section.build()?;
+        if self.segments.is_empty() {
+            return Err(ImpactError::Inconsistent(
+                "the beam needs at least one [[segment]]".into(),
+            ));
+        }
+        let mut mesh: Option<Mesh> = None;
+        let mut stations = vec![0.0];
+        for (i, seg) in self.segments.iter().enumerate() {
+            let previous_end = mesh.as_ref().and_then(|m| m.positions.last().copied());
+            let (piece, length) = seg.build(i, previous_end, section)?;
+            let s0 = stations.last().copied().unwrap_or(0.0);
+            // Nodes are equally spaced along each piece (in length or in angle).
+            stations
+                .extend((1..=seg.elements).map(|k| s0 + length * k as f64 / seg.elements as f64));
+            mesh = Some(match mesh {
+                None => piece,
+                Some(m) => m.join(piece)?,
+            });
+        }
+        let mesh = mesh.ok_or_else(|| ImpactError::Inconsistent("no segment".into()))?;
+        let stations = Stations(stations);
+        let mut nodes = Vec::new();
+        for (i, s) in self.supports.iter().enumerate() {
+            nodes.push(stations.node(format!("support[{i}].at"), s.at)?);
+        }
+        let mut loads = Vec::new();
+        for (i, l) in self.loads.iter().enumerate() {
+            let field = |name: &str| format!("load[{i}].{name}");
+            let at = stations.to_mesh(&mesh, field("at"), l.at)?;
+            let profile = match &l.profile {
+                None => Profile::Constant,
+                Some(points) => {
+                    if points.is_empty()
+                        || points.iter().any(|p| !(p[0].is_finite() && p[1].is_finite()))
+                        || points.windows(2).any(|w| w[1][0] < w[0][0])
+                    {
+                        return Err(invalid(
+                            field("profile"),
+                            format!("{points:?}"),
+                            "a non-empty list of finite [time (s), factor] pairs, times not decreasing",
+                        ));
+                    }
+                    Profile::Table(points.iter().map(|p| (p[0], p[1])).collect())
+                }
+            };
+            let load = Load {
+                node: 0,
+                force: vector(&field("force"), l.force)?,
+                moment: vector(&field("moment"), l.moment)?,
+                follower: l.follower,
+                profile,
+            };
+            loads.push((at, load));
+        }
+        let mut model = BeamModel::new(mesh)?;
+        for (node, s) in nodes.into_iter().zip(&self.supports) {
+            let kind = match s.kind {
+                SupportKind::Clamped => Support::Clamped,
+                SupportKind::Pinned => Support::Pinned,
+            };
+            model = model.support(node, kind)?;
+        }
+        for (at, load) in loads {
+            model = model.load_at(at, load)?;
+        }
+        Ok((model, stations))
+    }
+
+    /// Runs the scene. `progress` is called with the fraction done (0 to 1) after every load
+    /// or time step.
+    ///
+    /// # Errors
+    /// Any validation error of [`BeamScene::model`]; `SolverFailed` when the static solver or
+    /// the integrator fails (with the load factor or time reached).
+    pub fn run(&self, mut progress: impl FnMut(f64)) -> Result<BeamRun, ImpactError> {
+        let (model, stations) = self.build()?;
+        let mesh = model.mesh().clone();
+        let track = match self.output.track {
+            None => mesh.positions.len() - 1,
+            Some(s) => stations.node("output.track".into(), s)?,
+        };
+        let reference = model.reference_state();
+        let sample = |x: f64, q: &BeamState, kinetic: f64| TrackSample {
+            time_or_load: x,
+            position: q.positions[track].into(),
+            rotation: rotation_vector(&q.rotations[track], &reference.rotations[track]),
+            strain_energy: model.strain_energy(q),
+            kinetic_energy: kinetic,
+        };
+        let clock = std::time::Instant::now();
+        let mut history = vec![sample(0.0, &reference, 0.0)];
+        let (last, newton_iterations, cuts) = match self.analysis {
+            AnalysisName::Static => {
+                if self.dynamic.is_some() {
+                    return Err(ImpactError::Inconsistent(
+                        "analysis = \"static\" takes a [static] table, not [dynamic]".into(),
+                    ));
+                }
+                if self.supports.is_empty() {
+                    return Err(ImpactError::Inconsistent(
+                        "a static analysis needs at least one [[support]] (a free beam has no \
+                         equilibrium under load)"
+                            .into(),
+                    ));
+                }
+                let load_steps = self.statics.and_then(|s| s.load_steps).unwrap_or(10);
+                if load_steps == 0 {
+                    return Err(invalid("static.load_steps".into(), 0, "at least 1"));
+                }
+                let options = StaticOptions { load_steps, ..StaticOptions::default() };
+                let solution = solve_static(&model, options).map_err(|e| match e {
+                    simo_beam::BeamError::NotConverged { load_factor, .. } => {
+                        ImpactError::SolverFailed { t: load_factor, reason: e.to_string() }
+                    }
+                    other => other.into(),
+                })?;
+                for (lambda, q) in &solution.path {
+                    history.push(sample(*lambda, q, 0.0));
+                }
+                progress(1.0);
+                (solution.state, solution.iterations.iter().sum(), solution.cuts)
+            }
+            AnalysisName::Dynamic => {
+                let Some(spec) = self.dynamic else {
+                    return Err(ImpactError::Inconsistent(
+                        "analysis = \"dynamic\" needs a [dynamic] table with duration and time_step"
+                            .into(),
+                    ));
+                };
+                if self.statics.is_some() {
+                    return Err(ImpactError::Inconsistent(
+                        "analysis = \"dynamic\" takes a [dynamic] table, not [static]".into(),
+                    ));
+                }
+                positive("dynamic.duration", spec.duration, "s")?;
+                positive("dynamic.time_step", spec.time_step, "s")?;
+                let steps = (spec.duration / spec.time_step).ceil();
+                if steps > 1e8 {
+                    return Err(invalid(
+                        "dynamic.time_step".into(),
+                        spec.time_step,
+                        "at most 1e8 steps in the duration",
+                    ));
+                }
+                let alpha = spec.alpha.unwrap_or(0.0);
+                let scheme = Scheme::hht(alpha).map_err(|_| {
+                    invalid("dynamic.alpha".into(), alpha, "a number in [-1/3, 0] (HHT-alpha)")
+                })?;
+                let mut integrator = Integrator::new(scheme, NewtonOptions::default());
+                let fail = |e: hht::HhtError, t: f64| ImpactError::SolverFailed {
+                    t,
+                    reason: e.to_string(),
+                };
+                let mut state = integrator
+                    .initial_state(&model, 0.0, reference.clone(), Col::zeros(model.ndof()))
+                    .map_err(|e| fail(e, 0.0))?;
+                let steps = steps as usize;
+                let (mut iterations, mut cuts) = (0, 0);
+                for k in 0..steps {
+                    let h = (spec.duration - state.t).min(spec.time_step);
+                    let report =
+                        integrator.step(&model, &mut state, h).map_err(|e| fail(e, state.t))?;
+                    iterations += report.iterations;
+                    cuts += report.substeps.saturating_sub(1);
+                    history.push(sample(state.t, &state.q, model.kinetic_energy(state.v.as_ref())));
+                    progress((k + 1) as f64 / steps as f64);
+                }
+                (state.q, iterations, cuts)
+            }
+        };
+        let shape = (0..mesh.positions.len())
+            .map(|i| ShapeNode {
+                arc_length: stations.0[i],
+                position: last.positions[i].into(),
+                rotation: rotation_vector(&last.rotations[i], &reference.rotations[i]),
+            })
+            .collect();
+        Ok(BeamRun {
+            name: self.name.clone(),
+            tracked_arc_length: stations.0[track],
+            history,
+            shape,
+            unknowns: model.ndof(),
+            newton_iterations,
+            cuts,
+            wall_time: clock.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+impl BeamRun {
+    /// Writes the tracked node's history as CSV: `time_or_load` (s or -), `x_m`, `y_m`, `z_m`,
+    /// rotation vector `rx_rad`, `ry_rad`, `rz_rad`, `strain_energy_j`, `kinetic_energy_j`.
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn write_history_csv(&self, mut out: impl std::io::Write) -> std::io::Result<()> {
+        writeln!(
+            out,
+            "time_or_load,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,strain_energy_j,kinetic_energy_j"
+        )?;
+        for s in &self.history {
+            let [x, y, z] = s.position;
+            let [rx, ry, rz] = s.rotation;
+            writeln!(
+                out,
+                "{:e},{x:e},{y:e},{z:e},{rx:e},{ry:e},{rz:e},{:e},{:e}",
+                s.time_or_load, s.strain_energy, s.kinetic_energy
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Writes the final configuration as CSV: `arc_length_m`, `x_m`, `y_m`, `z_m`, `rx_rad`,
+    /// `ry_rad`, `rz_rad`, one row per node.
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn write_shape_csv(&self, mut out: impl std::io::Write) -> std::io::Result<()> {
+        writeln!(out, "arc_length_m,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad")?;
+        for n in &self.shape {
+            let [x, y, z] = n.position;
+            let [rx, ry, rz] = n.rotation;
+            writeln!(out, "{:e},{x:e},{y:e},{z:e},{rx:e},{ry:e},{rz:e}", n.arc_length)?;
+        }
+        Ok(())
+    }
+}

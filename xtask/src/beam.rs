@@ -1,0 +1,90 @@
+//! `cargo xtask beam SCENE.toml`: a beam under prescribed loads (no ball), static or dynamic;
+//! the tracked node's history and the final shape as CSV, and a chart of the tracked node.
+
+use crate::plot::{Chart, Series};
+use anyhow::Context;
+use impact::beam_scene::AnalysisName;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::Path;
+
+#[allow(clippy::print_stdout)]
+pub fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read the scene file {}", path.display()))?;
+    let scene =
+        impact::BeamScene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let run = scene
+        .run(|fraction| bar.set_position((fraction * 1000.0) as u64))
+        .with_context(|| format!("in {}", path.display()))?;
+    bar.finish_and_clear();
+
+    let dir = out.map_or_else(|| Path::new("target/beam").join(&run.name), Path::to_path_buf);
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let create = |name: &str| -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+        let p = dir.join(name);
+        let f =
+            std::fs::File::create(&p).with_context(|| format!("cannot write {}", p.display()))?;
+        Ok(std::io::BufWriter::new(f))
+    };
+    run.write_history_csv(create("history.csv")?)?;
+    run.write_shape_csv(create("shape.csv")?)?;
+
+    let (x_label, what) = match scene.analysis {
+        AnalysisName::Static => ("load factor (-)", "load path"),
+        AnalysisName::Dynamic => ("time (s)", "history"),
+    };
+    let first = run.history.first().map_or([0.0; 3], |s| s.position);
+    let series = ["x", "y", "z"]
+        .iter()
+        .enumerate()
+        .map(|(k, axis)| Series {
+            label: format!("{axis} displacement"),
+            points: run
+                .history
+                .iter()
+                .map(|s| (s.time_or_load, s.position[k] - first[k]))
+                .collect(),
+        })
+        .collect();
+    let title = format!("{}: {what} of the node at s = {} m", run.name, run.tracked_arc_length);
+    Chart { title: &title, x_label, y_label: "displacement (m)", series, markers: false }
+        .write(&dir, "tracked-displacement")?;
+    let shape = ["x", "y", "z"]
+        .iter()
+        .enumerate()
+        .map(|(k, axis)| Series {
+            label: axis.to_string(),
+            points: run.shape.iter().map(|n| (n.arc_length, n.position[k])).collect(),
+        })
+        .collect();
+    let title = format!("{}: final shape", run.name);
+    Chart {
+        title: &title,
+        x_label: "arc length (m)",
+        y_label: "position (m)",
+        series: shape,
+        markers: false,
+    }
+    .write(&dir, "final-shape")?;
+
+    let last = run.history.last().map_or([0.0; 3], |s| s.position);
+    let rotation = run.history.last().map_or([0.0; 3], |s| s.rotation);
+    println!(
+        "{}: {} unknowns, {} Newton iterations, {} cut step(s), {:.3} s",
+        run.name, run.unknowns, run.newton_iterations, run.cuts, run.wall_time
+    );
+    println!(
+        "node at s = {} m: final position ({:.6e}, {:.6e}, {:.6e}) m, rotation vector ({:.6e}, {:.6e}, {:.6e}) rad",
+        run.tracked_arc_length, last[0], last[1], last[2], rotation[0], rotation[1], rotation[2]
+    );
+    println!(
+        "wrote {}/{{history,shape,tracked-displacement,final-shape}}.csv and the two .svg",
+        dir.display()
+    );
+    Ok(true)
+}
