@@ -25,9 +25,14 @@ pub fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bo
         println!("{}", serde_json::to_string_pretty(r)?);
         return Ok(true);
     }
+    let resolution = match r.plan.method.as_str() {
+        "fe" => format!("{} elements", r.plan.elements),
+        "modal" => format!("{} modes", r.plan.modes),
+        _ => "rigid block".to_string(),
+    };
     println!(
-        "{}: {} model, {} modes, contact law {}, step in contact {:.3e} s",
-        r.name, r.plan.method, r.plan.modes, r.plan.contact_law, r.plan.time_step
+        "{}: {} model, {resolution}, contact law {}, step in contact {:.3e} s",
+        r.name, r.plan.method, r.plan.contact_law, r.plan.time_step
     );
     for reason in &r.plan.reasons {
         println!("  - {reason}");

@@ -287,10 +287,13 @@ impl Integrator {
                 // A correction below the round-off of the quantities it corrects cannot improve
                 // the iterate: the balance is then at its floating-point floor (for example a
                 // tiny displacement computed as the difference of two O(1) increments), so accept.
+                // The configuration's own round-off is ~eps |q| per coordinate (sqrt(n) in norm).
                 let correction = norm(&r);
+                let configuration = model.configuration_scale(&q1) * (n as f64).sqrt();
                 converged = iteration > 0
                     && (correction <= 1e-14 * norm(&a1).max(norm(&old.a))
-                        || s.beta * h * h * correction <= 1e-14 * norm(&delta).max(norm(&base)));
+                        || s.beta * h * h * correction
+                            <= 1e-14 * norm(&delta).max(norm(&base)).max(configuration));
                 if !converged {
                     a1 += &r;
                     continue;

@@ -18,25 +18,41 @@ pub struct History {
     pub ball_velocity: Vec<f64>,
     /// Beam displacement at the impact point, in the direction of impact (m).
     pub beam_displacement: Vec<f64>,
+    /// Where the ball touches (or is nearest to) the beam, as the reference position along
+    /// the beam from x = 0 (m): fixed at the impact point in the modal method, sliding in the
+    /// finite-element method; 0 on a half-space.
+    pub contact_point: Vec<f64>,
+}
+
+/// One row of a [`History`] (the same fields and units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Time since first touch (s).
+    pub time: f64,
+    /// Contact force (N).
+    pub force: f64,
+    /// Approach (m).
+    pub approach: f64,
+    /// Ball displacement toward the beam since first touch (m).
+    pub ball_position: f64,
+    /// Ball velocity toward the beam (m/s).
+    pub ball_velocity: f64,
+    /// Beam displacement at the impact point (m).
+    pub beam_displacement: f64,
+    /// Reference position of the contact point along the beam (m).
+    pub contact_point: f64,
 }
 
 impl History {
     /// Appends one row.
-    pub fn push(
-        &mut self,
-        t: f64,
-        force: f64,
-        approach: f64,
-        ball_position: f64,
-        ball_velocity: f64,
-        beam: f64,
-    ) {
-        self.time.push(t);
-        self.force.push(force);
-        self.approach.push(approach);
-        self.ball_position.push(ball_position);
-        self.ball_velocity.push(ball_velocity);
-        self.beam_displacement.push(beam);
+    pub fn push(&mut self, s: Sample) {
+        self.time.push(s.time);
+        self.force.push(s.force);
+        self.approach.push(s.approach);
+        self.ball_position.push(s.ball_position);
+        self.ball_velocity.push(s.ball_velocity);
+        self.beam_displacement.push(s.beam_displacement);
+        self.contact_point.push(s.contact_point);
     }
 
     /// Number of rows.
@@ -56,18 +72,19 @@ impl History {
     pub fn write_csv(&self, mut w: impl Write) -> std::io::Result<()> {
         writeln!(
             w,
-            "time_s,force_n,approach_m,ball_position_m,ball_velocity_m_s,beam_displacement_m"
+            "time_s,force_n,approach_m,ball_position_m,ball_velocity_m_s,beam_displacement_m,contact_point_m"
         )?;
         for i in 0..self.len() {
             writeln!(
                 w,
-                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
+                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
                 self.time[i],
                 self.force[i],
                 self.approach[i],
                 self.ball_position[i],
                 self.ball_velocity[i],
-                self.beam_displacement[i]
+                self.beam_displacement[i],
+                self.contact_point[i]
             )?;
         }
         Ok(())

@@ -40,6 +40,7 @@
 
 pub mod beam_scene;
 mod error;
+pub mod fe_solver;
 mod history;
 pub mod modal_solver;
 mod plan;
@@ -48,9 +49,12 @@ mod scene;
 
 pub use beam_scene::{BeamRun, BeamScene};
 pub use error::ImpactError;
-pub use history::History;
+pub use history::{History, Sample};
 pub use modal_solver::{run, Outcome};
-pub use plan::{Law, Plan, PlanSummary, Target, DEFAULT_SAMPLES_PER_PULSE, GRAVITY, MODE_CUTOFF};
+pub use plan::{
+    FeTarget, Law, Plan, PlanSummary, Target, DEFAULT_SAMPLES_PER_PULSE, FE_ALPHA,
+    FE_SAMPLES_PER_PULSE, GRAVITY, LARGE_DEFLECTION, MODE_CUTOFF,
+};
 pub use report::{Contact, Energy, Report};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,

@@ -11,7 +11,7 @@
 //! Onset and separation are located by root finding on the approach.
 
 use crate::error::ImpactError;
-use crate::history::History;
+use crate::history::{History, Sample};
 use crate::plan::{Law, Plan, Target};
 use crate::report::{Contact, Energy, Report};
 use hertz::ContactLaw;
@@ -32,6 +32,9 @@ pub struct Outcome {
 /// # Errors
 /// `SolverFailed` if a step produces a non-finite value (not expected for valid plans).
 pub fn run(plan: &Plan) -> Result<Outcome, ImpactError> {
+    if let Target::Fe(fe) = &plan.target {
+        return crate::fe_solver::run(plan, fe);
+    }
     match &plan.law {
         Law::Hertz(l) => Solver::new(plan, l)?.run(),
         Law::HuntCrossley(l) => Solver::new(plan, l)?.run(),
@@ -54,6 +57,8 @@ struct Solver<'a, L: ContactLaw> {
     force: f64,
     /// Beam displacement at the impact point, sum g q, kept in step with `beam`.
     displacement: f64,
+    /// Impact position (m), 0 on a half-space: the history's contact point.
+    contact_point: f64,
     /// Whether any mode is damped (else the damping work is skipped, not summed as zeros).
     damped: bool,
     // Bookkeeping.
@@ -76,7 +81,7 @@ fn parabola_peak(ym: f64, y0: f64, yp: f64) -> f64 {
 }
 
 /// Largest of equally spaced samples, refined by a parabola where it is interior.
-fn refined_max(samples: &[f64]) -> f64 {
+pub(crate) fn refined_max(samples: &[f64]) -> f64 {
     let Some((k, &best)) = samples.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
         return 0.0;
     };
@@ -105,7 +110,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 let m = beam.modes(*modes)?;
                 PointModes::new(beam, &m, *position, *damping)?
             }
-            Target::HalfSpace => PointModes::from_parts(vec![], vec![], vec![])?,
+            Target::HalfSpace | Target::Fe(_) => PointModes::from_parts(vec![], vec![], vec![])?,
         };
         let contact_step = Rc::new(Transition::new(&modes, plan.time_step, Hold::FirstOrder)?);
         let n = modes.len();
@@ -123,6 +128,10 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             law_state: L::State::default(),
             force: 0.0,
             displacement: 0.0,
+            contact_point: match &plan.target {
+                Target::Beam { position, .. } => *position,
+                _ => 0.0,
+            },
             damped,
             damping_work: 0.0,
             history: History::default(),
@@ -142,14 +151,15 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
 
     fn record(&mut self) {
         let w = self.beam_displacement();
-        self.history.push(
-            self.t,
-            self.force,
-            self.ball_position - w,
-            self.ball_position,
-            self.ball_velocity,
-            w,
-        );
+        self.history.push(Sample {
+            time: self.t,
+            force: self.force,
+            approach: self.ball_position - w,
+            ball_position: self.ball_position,
+            ball_velocity: self.ball_velocity,
+            beam_displacement: w,
+            contact_point: self.contact_point,
+        });
     }
 
     fn check_finite(&self, value: f64, what: &str) -> Result<(), ImpactError> {
@@ -529,7 +539,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                     }
                 }
             }
-            Target::HalfSpace => None,
+            Target::HalfSpace | Target::Fe(_) => None,
         };
         let restitution = self
             .contacts

@@ -13,6 +13,22 @@ pub const GRAVITY: f64 = 9.81;
 /// 1.6e-5, 4.1e-6, 1.0e-6, 2.6e-7 of the initial energy at 200, 400, 800, 1600; 1000 keeps it
 /// below 1e-6 (tested in the impact tests).
 pub const DEFAULT_SAMPLES_PER_PULSE: usize = 1000;
+/// Default steps per estimated contact duration for the finite-element method (each step is a
+/// Newton solve of the whole beam; see the convergence table in the FE tests).
+pub const FE_SAMPLES_PER_PULSE: usize = 200;
+/// Default HHT alpha of the finite-element method: a little numerical damping of the
+/// frequencies above the mesh's resolution (the contact excites them), spectral radius 0.9 at
+/// infinity, period and damping errors O((omega h)^2) below.
+pub const FE_ALPHA: f64 = -0.05;
+/// Default largest step out of contact, in contact steps.
+pub const FE_FREE_STEP_RATIO: f64 = 10.0;
+/// Elements per flexural wavelength at the impact point in the default graded mesh.
+pub const FE_ELEMENTS_PER_WAVELENGTH: f64 = 16.0;
+/// Growth of the element size away from the impact point in the default graded mesh.
+pub const FE_GROWTH: f64 = 1.15;
+/// The auto plan takes the finite-element method when the ball could bend the beam by more
+/// than this fraction of its length.
+pub const LARGE_DEFLECTION: f64 = 0.1;
 /// Modes are kept up to omega t_c = 20 for the estimated contact duration t_c
 /// (REFERENCES.md 6.4): the force pulse does not excite faster modes.
 pub const MODE_CUTOFF: f64 = 20.0;
@@ -42,17 +58,49 @@ pub enum Target {
         /// Number of modes.
         modes: usize,
     },
+    /// A beam, modelled by geometrically exact finite elements (Simo) and HHT-alpha.
+    Fe(FeTarget),
     /// A massive half-space: no modes.
     HalfSpace,
+}
+
+/// The finite-element model of a struck beam.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FeTarget {
+    /// The same beam as an Euler-Bernoulli beam: its static stiffness defines the equivalent
+    /// static force (as in the modal method).
+    pub analytic: modal::Beam,
+    /// Beam material.
+    pub material: simo_beam::Material,
+    /// Section width (m), along y.
+    pub width: f64,
+    /// Section thickness (m), along z (the direction of impact).
+    pub thickness: f64,
+    /// End conditions.
+    pub support: crate::scene::SupportName,
+    /// Impact point (m) from x = 0.
+    pub position: f64,
+    /// Node positions along x (m), from 0 to L.
+    pub nodes: Vec<f64>,
+    /// HHT alpha in [-1/3, 0].
+    pub alpha: f64,
+    /// Largest step out of contact (s).
+    pub free_time_step: f64,
+    /// Steps per estimated contact duration.
+    pub samples_per_pulse: usize,
+    /// Largest approach on a rigid support (m): the scale of the event tolerance.
+    pub approach_scale: f64,
 }
 
 /// The plan's summary for the report.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlanSummary {
-    /// `modal` or `half-space`.
+    /// `modal`, `fe` or `half-space`.
     pub method: String,
-    /// Number of modes (0 for a half-space).
+    /// Number of modes (0 unless modal).
     pub modes: usize,
+    /// Number of finite elements (0 unless fe).
+    pub elements: usize,
     /// Time step in contact (s).
     pub time_step: f64,
     /// Contact law name.
@@ -247,31 +295,32 @@ impl Plan {
         }
 
         let s = &scene.solver;
-        let samples = s.samples_per_pulse.unwrap_or(DEFAULT_SAMPLES_PER_PULSE);
-        if samples < 10 {
-            return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
+        let fe_asked = s.method == MethodName::Fe;
+        let fe_keys = s.elements.is_some()
+            || s.element_size.is_some()
+            || s.alpha.is_some()
+            || s.time_step.is_some();
+        if fe_keys && s.method == MethodName::Modal {
+            return Err(ImpactError::Inconsistent(
+                "solver.elements, element_size, alpha and time_step belong to method = \"fe\"; the modal method takes solver.modes".into(),
+            ));
         }
-        let time_step = estimated_duration / samples as f64;
-        reasons.push(format!(
-            "time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s (Hertz, rigid support)"
-        ));
+        if fe_asked && s.modes.is_some() {
+            return Err(ImpactError::Inconsistent(
+                "solver.modes belongs to method = \"modal\"; the fe method takes solver.elements"
+                    .into(),
+            ));
+        }
 
         let target = match beam_spec {
             None => {
-                if s.method == MethodName::Fe || s.modes.is_some() {
-                    return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\" nor solver.modes: the block is rigid".into()));
+                if fe_asked || fe_keys || s.modes.is_some() {
+                    return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step nor modes: the block is rigid".into()));
                 }
                 reasons.push("massive half-space: no beam model, the ball meets a rigid-backed Hertz contact".into());
                 Target::HalfSpace
             }
             Some(beam) => {
-                match s.method {
-                    MethodName::Fe => return Err(ImpactError::Unsupported(
-                        "solver.method = \"fe\" is not available yet (the finite-element beam arrives with the Simo-beam issue); use \"modal\" or \"auto\"".into(),
-                    )),
-                    MethodName::Auto => reasons.push("method modal (auto): Goldsmith's modal series, exact between steps; small deflections assumed".into()),
-                    MethodName::Modal => reasons.push("method modal, as asked".into()),
-                }
                 let length = positive("beam.length", beam.length, "m")?;
                 positive("beam.width", beam.width, "m")?;
                 positive("beam.thickness", beam.thickness, "m")?;
@@ -306,30 +355,172 @@ impl Plan {
                         "must be a damping ratio in [0, 1)",
                     ));
                 }
-                let needed = modes_needed(&m, estimated_duration)?;
-                let modes = match s.modes {
-                    Some(0) => return Err(invalid("solver.modes", 0, "must be at least 1")),
-                    Some(n) if n > 20_000 => {
-                        return Err(invalid("solver.modes", n, "must be at most 20000"))
+                // The deflection if the ball's whole kinetic energy went into static bending
+                // at the impact point, w = sqrt(m V^2 f): an upper bound that decides whether
+                // small-deflection theory can hold.
+                let flexibility = m.static_flexibility(position).unwrap_or(0.0);
+                let deflection = (ball_mass * speed * speed * flexibility).sqrt();
+                let large = deflection > LARGE_DEFLECTION * length;
+                let use_fe = match s.method {
+                    MethodName::Fe => {
+                        reasons.push(
+                            "method fe, as asked: geometrically exact Simo beam with HHT-alpha"
+                                .into(),
+                        );
+                        true
                     }
-                    Some(n) => {
+                    MethodName::Modal => {
+                        reasons.push("method modal, as asked".into());
+                        false
+                    }
+                    MethodName::Auto if large || fe_keys => {
                         reasons.push(format!(
-                            "{n} modes, as asked (omega t_c <= {MODE_CUTOFF} would need {needed})"
+                            "method fe (auto): {}",
+                            if large {
+                                format!("the ball's energy could bend the beam {deflection:.3e} m at the impact point, more than {:.0} % of its length (sqrt(m V^2 / k)): small-deflection theory does not hold", 100.0 * LARGE_DEFLECTION)
+                            } else {
+                                "solver.elements, alpha or time_step given".into()
+                            }
                         ));
-                        n
+                        true
                     }
-                    None => {
-                        reasons.push(format!("{needed} modes: all with omega t_c <= {MODE_CUTOFF} for the estimated contact duration"));
-                        needed
+                    MethodName::Auto => {
+                        reasons.push(format!("method modal (auto): Goldsmith's modal series, exact between steps; the ball's energy bends the beam at most {deflection:.3e} m (sqrt(m V^2 / k)), small against its length"));
+                        false
                     }
                 };
-                Target::Beam { beam: m, position, damping, modes }
+                if use_fe {
+                    if damping > 0.0 {
+                        return Err(invalid("beam.modal_damping", damping, "must be 0 or absent with method = \"fe\" (the finite-element beam is undamped; HHT alpha adds numerical damping of high frequencies)"));
+                    }
+                    let samples = s.samples_per_pulse.unwrap_or(FE_SAMPLES_PER_PULSE);
+                    if samples < 10 {
+                        return Err(invalid(
+                            "solver.samples_per_pulse",
+                            samples,
+                            "must be at least 10",
+                        ));
+                    }
+                    let alpha = s.alpha.unwrap_or(FE_ALPHA);
+                    if !(alpha.is_finite() && (-1.0 / 3.0..=0.0).contains(&alpha)) {
+                        return Err(invalid(
+                            "solver.alpha",
+                            alpha,
+                            "must be in [-1/3, 0] (HHT, the paper's eq. 9)",
+                        ));
+                    }
+                    let contact_step = estimated_duration / samples as f64;
+                    let free_time_step = match s.time_step {
+                        Some(h) => positive("solver.time_step", h, "s")?.max(contact_step),
+                        None => FE_FREE_STEP_RATIO * contact_step,
+                    };
+                    // Flexural wavelength at the fastest frequency the pulse excites
+                    // (omega t_c = MODE_CUTOFF, as for the modes): lambda = 2 pi (EI / rho A)^(1/4) / sqrt(omega).
+                    let omega = MODE_CUTOFF / estimated_duration;
+                    let wavelength =
+                        2.0 * PI * (m.flexural_rigidity() / m.mass_per_length()).powf(0.25)
+                            / omega.sqrt();
+                    if s.elements.is_some() && s.element_size.is_some() {
+                        return Err(ImpactError::Inconsistent("solver: give elements (a uniform mesh) or element_size (a mesh graded from the impact point), not both".into()));
+                    }
+                    let nodes = match s.elements {
+                        Some(0) => return Err(invalid("solver.elements", 0, "must be at least 1")),
+                        Some(n) if n > 100_000 => {
+                            return Err(invalid("solver.elements", n, "must be at most 100000"))
+                        }
+                        Some(n) => {
+                            reasons.push(format!("{n} equal elements, as asked"));
+                            (0..=n).map(|i| length * i as f64 / n as f64).collect()
+                        }
+                        None => {
+                            let h0 = match s.element_size {
+                                Some(h) => positive("solver.element_size", h, "m")?.min(length),
+                                None => {
+                                    (wavelength / FE_ELEMENTS_PER_WAVELENGTH).min(length / 16.0)
+                                }
+                            };
+                            // Elements needed: about log(1 + L (r - 1) / h0) / log(r) per side.
+                            let estimate = 2.0 * (1.0 + length * (FE_GROWTH - 1.0) / h0).ln()
+                                / FE_GROWTH.ln()
+                                + 32.0;
+                            if estimate > 100_000.0 {
+                                return Err(invalid(
+                                    "solver.element_size",
+                                    h0,
+                                    "too small: the mesh would exceed 100000 elements",
+                                ));
+                            }
+                            let nodes =
+                                graded_nodes(length, position, h0, FE_GROWTH, length / 16.0);
+                            let why = if s.element_size.is_some() {
+                                "as asked".to_string()
+                            } else {
+                                format!("1/{FE_ELEMENTS_PER_WAVELENGTH} of the flexural wavelength {wavelength:.3e} m at omega t_c = {MODE_CUTOFF}")
+                            };
+                            reasons.push(format!(
+                                "{} elements graded from {h0:.3e} m at the impact point ({why}) growing by {FE_GROWTH} per element to at most L/16",
+                                nodes.len() - 1
+                            ));
+                            nodes
+                        }
+                    };
+                    reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact"));
+                    let rigid_approach = rigid.max_approach;
+                    Target::Fe(FeTarget {
+                        analytic: m,
+                        material: simo_beam::Material::new(
+                            beam.youngs_modulus,
+                            beam.poisson_ratio,
+                            beam.density,
+                        )?,
+                        width: beam.width,
+                        thickness: beam.thickness,
+                        support: beam.support,
+                        position,
+                        nodes,
+                        alpha,
+                        free_time_step,
+                        samples_per_pulse: samples,
+                        approach_scale: rigid_approach,
+                    })
+                } else {
+                    let needed = modes_needed(&m, estimated_duration)?;
+                    let modes = match s.modes {
+                        Some(0) => return Err(invalid("solver.modes", 0, "must be at least 1")),
+                        Some(n) if n > 20_000 => {
+                            return Err(invalid("solver.modes", n, "must be at most 20000"))
+                        }
+                        Some(n) => {
+                            reasons.push(format!(
+                                "{n} modes, as asked (omega t_c <= {MODE_CUTOFF} would need {needed})"
+                            ));
+                            n
+                        }
+                        None => {
+                            reasons.push(format!("{needed} modes: all with omega t_c <= {MODE_CUTOFF} for the estimated contact duration"));
+                            needed
+                        }
+                    };
+                    Target::Beam { beam: m, position, damping, modes }
+                }
             }
         };
 
+        let samples = match &target {
+            Target::Fe(fe) => fe.samples_per_pulse,
+            _ => s.samples_per_pulse.unwrap_or(DEFAULT_SAMPLES_PER_PULSE),
+        };
+        if samples < 10 {
+            return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
+        }
+        let time_step = estimated_duration / samples as f64;
+        reasons.push(format!(
+            "time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s (Hertz, rigid support)"
+        ));
+
         let default_end = match target {
             Target::HalfSpace => 4.0 * estimated_duration,
-            Target::Beam { .. } => 0.005,
+            Target::Beam { .. } | Target::Fe(_) => 0.005,
         };
         let end_time = match s.end_time {
             Some(t) => positive("solver.end_time", t, "s")?,
@@ -343,9 +534,10 @@ impl Plan {
             None => end_time / 2000.0,
         };
 
-        let (method, modes) = match &target {
-            Target::Beam { modes, .. } => ("modal", *modes),
-            Target::HalfSpace => ("half-space", 0),
+        let (method, modes, elements) = match &target {
+            Target::Beam { modes, .. } => ("modal", *modes, 0),
+            Target::Fe(fe) => ("fe", 0, fe.nodes.len() - 1),
+            Target::HalfSpace => ("half-space", 0, 0),
         };
         let contact_law = match c.law {
             LawName::Hertz => "hertz",
@@ -357,6 +549,7 @@ impl Plan {
             summary: PlanSummary {
                 method: method.into(),
                 modes,
+                elements,
                 time_step,
                 contact_law: contact_law.into(),
                 reasons,
@@ -375,6 +568,33 @@ impl Plan {
             warnings,
         })
     }
+}
+
+/// Nodes from 0 to `length` with a node at `centre`, element size `h0` there, growing by
+/// `growth` per element away from it up to `h_max`.
+fn graded_nodes(length: f64, centre: f64, h0: f64, growth: f64, h_max: f64) -> Vec<f64> {
+    let side = |span: f64| -> Vec<f64> {
+        // Offsets from the centre, the last exactly at `span`.
+        let mut out = Vec::new();
+        let (mut at, mut h) = (0.0, h0);
+        while span - at > 1.5 * h {
+            at += h;
+            out.push(at);
+            h = (h * growth).min(h_max);
+        }
+        if span > 0.0 {
+            out.push(span);
+        }
+        out
+    };
+    let mut nodes: Vec<f64> = side(centre).iter().rev().map(|d| centre - d).collect();
+    nodes.push(centre);
+    nodes.extend(side(length - centre).iter().map(|d| centre + d));
+    nodes[0] = 0.0;
+    if let Some(last) = nodes.last_mut() {
+        *last = length;
+    }
+    nodes
 }
 
 /// Number of modes with omega_n t_c <= MODE_CUTOFF (at least 4, so the lowest modes that carry

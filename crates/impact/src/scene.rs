@@ -163,7 +163,7 @@ pub enum MethodName {
     Auto,
     /// Goldsmith's modal method.
     Modal,
-    /// The nonlinear finite-element beam (not available yet).
+    /// The geometrically exact finite-element beam (Simo) with HHT-alpha.
     Fe,
 }
 
@@ -182,6 +182,15 @@ pub struct SolverSpec {
     pub samples_per_pulse: Option<usize>,
     /// Interval of the recorded history in free flight (s).
     pub output_interval: Option<f64>,
+    /// Number of equal finite elements (fe method); default a mesh graded from the impact point.
+    pub elements: Option<usize>,
+    /// Element length at the impact point (m) of the graded mesh (fe method); default 1/16 of
+    /// the flexural wavelength at the fastest frequency the pulse excites.
+    pub element_size: Option<f64>,
+    /// HHT alpha in [-1/3, 0] (fe method); default -0.05.
+    pub alpha: Option<f64>,
+    /// Largest time step out of contact (s) (fe method); default 10 contact steps.
+    pub time_step: Option<f64>,
 }
 
 impl Scene {

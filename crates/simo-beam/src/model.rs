@@ -479,6 +479,10 @@ impl hht::Model for BeamModel {
     fn force_scale(&self, _q: &BeamState) -> f64 {
         self.force_scale
     }
+
+    fn configuration_scale(&self, q: &BeamState) -> f64 {
+        q.positions.iter().map(|x| x.amax()).fold(0.0, f64::max)
+    }
 }
 
 /// Norm of the external loads at `q` and time `t` with the current load factor (N, N m).

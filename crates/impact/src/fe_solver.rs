@@ -1,0 +1,723 @@
+//! Ball + Simo beam + contact law, coupled monolithically and integrated by HHT-alpha.
+//!
+//! **Model.** The beam (`simo-beam`) lies along x from the first support, its thickness along
+//! z; the ball is a rigid sphere of mass m with three translational unknowns, starting at first
+//! touch above the top face at the impact point and moving along -z. Gravity acts on the ball
+//! only (the beam's own sag is the reference state, as in the modal method).
+//!
+//! **Contact.** Frictionless, node-to-segment style: for the ball centre c the contact element
+//! is the element whose chord (x_a, x_b) passes nearest to c; on it the contact point is the
+//! projection `xi = (c - x_a).t / t.t`, `x = x_a + xi t`, the face normal is the interpolated
+//! section axis `n = normalise((1 - xi) d3_a + xi d3_b)` (d3 = Lambda E3, so it turns with the
+//! sections) and the approach is
+//!
+//! `delta = R + h/2 - (c - x).n`
+//!
+//! (positive in compression; the struck face is half the thickness h from the centre line).
+//! The contact force F = law(delta, delta-dot) does the virtual work `-F d(delta)`: its
+//! generalised force is `F grad(delta)` over the 15 unknowns it touches (ball, and the
+//! displacements and rotation increments of both nodes), and its Newton matrix is
+//! `k grad grad^T + F Hess(delta)` (+ the damping term `c grad grad^T` times dv/dq), where
+//! gradient and Hessian come from second-order forward differentiation (num-dual) of the
+//! formula above, so the geometric terms of the sliding contact point and turning normal are
+//! all in it. (The Hessian is taken for `Lambda exp(theta^)` with one increment; composing two
+//! increments adds a skew term of size F |c - x| |theta|^2 that vanishes when the ball sits
+//! on the normal: Newton stays quadratic in practice.)
+//!
+//! **Events.** Contact onset and separation are located in time by re-stepping from the last
+//! state before the event with a step found by the Illinois method on `delta(tau) = release`,
+//! so a contact starts and ends on its own instant, not on the step grid. In contact the step is
+//! the plan's contact step; out of contact the step grows to `solver.time_step` while the gap
+//! and closing speed allow (a step never jumps past a predicted touch).
+
+use crate::error::ImpactError;
+use crate::history::{History, Sample};
+use crate::modal_solver::{refined_max, Outcome};
+use crate::plan::{FeTarget, Law, Plan};
+use crate::report::{Contact, Energy, Report};
+use crate::scene::SupportName;
+use faer::{Col, ColMut, ColRef};
+use hertz::ContactLaw;
+use hht::{Integrator, Model, NewtonOptions, NewtonWeights, Scheme, State, Triplets};
+use nalgebra::{SMatrix, SVector, UnitQuaternion, Vector3};
+use num_dual::Dual2SVec64;
+use simo_beam::{BeamModel, BeamState, Mesh, Section, Support};
+
+/// Configuration of the coupled model: the beam's and the ball centre's (m).
+#[derive(Debug, Clone)]
+pub struct Config {
+    /// The beam.
+    pub beam: BeamState,
+    /// Ball centre (m).
+    pub ball: Vector3<f64>,
+}
+
+/// Unknowns of one contact element: ball (3), node a (6), node b (6).
+const LOCAL: usize = 15;
+
+/// The contact kinematics at a configuration: which element, where, and delta with its
+/// gradient and Hessian over the element's 15 local unknowns.
+#[derive(Debug, Clone)]
+struct ContactPoint {
+    element: usize,
+    xi: f64,
+    delta: f64,
+    gradient: SVector<f64, LOCAL>,
+    hessian: SMatrix<f64, LOCAL, LOCAL>,
+}
+
+/// The coupled ball-beam-contact model for [`hht`].
+pub struct BallOnBeam<'a, L: ContactLaw> {
+    beam: BeamModel,
+    nb: usize,
+    mass: f64,
+    gravity: f64,
+    radius: f64,
+    half_thickness: f64,
+    law: &'a L,
+    /// The law's history, committed after every accepted step.
+    pub law_state: L::State,
+    /// Global equation numbers of each element's 15 local unknowns.
+    local_dofs: Vec<[Option<usize>; LOCAL]>,
+}
+
+/// delta = R + h/2 - (c - x).n for local unknowns `u` = (ball displacement, node a
+/// displacement and rotation increment, node b likewise) about the configuration given.
+#[allow(clippy::too_many_arguments)]
+fn approach_of<T: nalgebra::RealField + Copy>(
+    u: &SVector<T, LOCAL>,
+    c0: &Vector3<f64>,
+    xa0: &Vector3<f64>,
+    xb0: &Vector3<f64>,
+    ra: &UnitQuaternion<f64>,
+    rb: &UnitQuaternion<f64>,
+    reach: f64,
+) -> T {
+    let lift = |v: &Vector3<f64>| v.map(nalgebra::convert::<f64, T>);
+    let part = |k: usize| Vector3::new(u[k], u[k + 1], u[k + 2]);
+    let c = lift(c0) + part(0);
+    let xa = lift(xa0) + part(3);
+    let xb = lift(xb0) + part(9);
+    // d3 = Lambda exp(theta^) E3 to second order in theta (all a Hessian at theta = 0 needs).
+    let d3 = |r: &UnitQuaternion<f64>, th: Vector3<T>| {
+        let e3 = Vector3::new(T::zero(), T::zero(), T::one());
+        let turned =
+            e3 + th.cross(&e3) + th.cross(&th.cross(&e3)) * nalgebra::convert::<f64, T>(0.5);
+        let m = r.to_rotation_matrix().into_inner().map(nalgebra::convert::<f64, T>);
+        m * turned
+    };
+    let da = d3(ra, part(6));
+    let db = d3(rb, part(12));
+    let t = xb - xa;
+    let xi = (c - xa).dot(&t) / t.dot(&t);
+    let x = xa + t * xi;
+    let d = da * (T::one() - xi) + db * xi;
+    let n = d / d.norm();
+    nalgebra::convert::<f64, T>(reach) - (c - x).dot(&n)
+}
+
+impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
+    /// The coupled model.
+    fn new(
+        beam: BeamModel,
+        mass: f64,
+        gravity: f64,
+        radius: f64,
+        half_thickness: f64,
+        law: &'a L,
+    ) -> Self {
+        let nb = beam.ndof();
+        let local_dofs = beam
+            .mesh()
+            .elements
+            .iter()
+            .map(|e| {
+                let mut d = [None; LOCAL];
+                for (k, slot) in d.iter_mut().take(3).enumerate() {
+                    *slot = Some(nb + k);
+                }
+                for (end, node) in e.nodes.iter().enumerate() {
+                    for k in 0..6 {
+                        d[3 + 6 * end + k] = beam.dof(*node, k);
+                    }
+                }
+                d
+            })
+            .collect();
+        Self {
+            beam,
+            nb,
+            mass,
+            gravity,
+            radius,
+            half_thickness,
+            law,
+            law_state: L::State::default(),
+            local_dofs,
+        }
+    }
+
+    /// The beam model.
+    pub fn beam(&self) -> &BeamModel {
+        &self.beam
+    }
+
+    /// The element whose chord passes nearest to the ball centre, and the clamped projection.
+    fn nearest_element(&self, q: &Config) -> (usize, f64) {
+        let mut best = (0, 0.0, f64::INFINITY);
+        for (i, e) in self.beam.mesh().elements.iter().enumerate() {
+            let (xa, xb) = (q.beam.positions[e.nodes[0]], q.beam.positions[e.nodes[1]]);
+            let t = xb - xa;
+            let xi = ((q.ball - xa).dot(&t) / t.dot(&t)).clamp(0.0, 1.0);
+            let distance = (q.ball - (xa + t * xi)).norm();
+            if distance < best.2 {
+                best = (i, xi, distance);
+            }
+        }
+        (best.0, best.1)
+    }
+
+    /// Approach only (no derivatives), for event location and the history.
+    fn approach(&self, q: &Config) -> f64 {
+        self.contact_point(q, false).delta
+    }
+
+    fn contact_point(&self, q: &Config, derivatives: bool) -> ContactPoint {
+        let (element, xi) = self.nearest_element(q);
+        let e = &self.beam.mesh().elements[element];
+        let (a, b) = (e.nodes[0], e.nodes[1]);
+        let reach = self.radius + self.half_thickness;
+        let args = (
+            &q.ball,
+            &q.beam.positions[a],
+            &q.beam.positions[b],
+            &q.beam.rotations[a],
+            &q.beam.rotations[b],
+        );
+        if !derivatives {
+            let delta = approach_of(
+                &SVector::<f64, LOCAL>::zeros(),
+                args.0,
+                args.1,
+                args.2,
+                args.3,
+                args.4,
+                reach,
+            );
+            return ContactPoint {
+                element,
+                xi,
+                delta,
+                gradient: SVector::zeros(),
+                hessian: SMatrix::zeros(),
+            };
+        }
+        let (delta, gradient, hessian) = num_dual::hessian(
+            |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| {
+                approach_of(&u, args.0, args.1, args.2, args.3, args.4, reach)
+            },
+            &SVector::<f64, LOCAL>::zeros(),
+        );
+        ContactPoint { element, xi, delta, gradient, hessian }
+    }
+
+    /// delta-dot = grad(delta) . local velocities.
+    fn rate(&self, p: &ContactPoint, v: ColRef<'_, f64>) -> f64 {
+        self.local_dofs[p.element]
+            .iter()
+            .zip(p.gradient.iter())
+            .map(|(d, g)| d.map_or(0.0, |i| g * v[i]))
+            .sum()
+    }
+
+    /// Contact approach, its rate and the law's force at a state.
+    fn contact(&self, q: &Config, v: ColRef<'_, f64>) -> (f64, f64, hertz::ContactForce) {
+        let p = self.contact_point(q, true);
+        let rate = self.rate(&p, v);
+        (p.delta, rate, self.law.force(&self.law_state, p.delta, rate))
+    }
+
+    fn ball(&self, x: ColRef<'_, f64>) -> Vector3<f64> {
+        Vector3::new(x[self.nb], x[self.nb + 1], x[self.nb + 2])
+    }
+}
+
+impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
+    type Config = Config;
+
+    fn ndof(&self) -> usize {
+        self.nb + 3
+    }
+
+    fn update(&self, q: &mut Config, dq: ColRef<'_, f64>) {
+        self.beam.update(&mut q.beam, dq.subrows(0, self.nb));
+        q.ball += self.ball(dq);
+    }
+
+    fn inertial_force(
+        &self,
+        q: &Config,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        mut out: ColMut<'_, f64>,
+    ) {
+        let nb = self.nb;
+        self.beam.inertial_force(
+            &q.beam,
+            v.subrows(0, nb),
+            a.subrows(0, nb),
+            out.as_mut().subrows_mut(0, nb),
+        );
+        for k in 0..3 {
+            out[nb + k] = self.mass * a[nb + k];
+        }
+    }
+
+    fn net_force(&self, t: f64, q: &Config, v: ColRef<'_, f64>, mut out: ColMut<'_, f64>) {
+        let nb = self.nb;
+        self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
+        // Gravity pulls the ball along -z: net force = -(external) = +m g e_z.
+        out[nb] = 0.0;
+        out[nb + 1] = 0.0;
+        out[nb + 2] = self.mass * self.gravity;
+        let p = self.contact_point(q, true);
+        if p.delta <= self.law.release_approach(&self.law_state) {
+            return;
+        }
+        let f = self.law.force(&self.law_state, p.delta, self.rate(&p, v)).force;
+        for (d, g) in self.local_dofs[p.element].iter().zip(p.gradient.iter()) {
+            if let Some(i) = d {
+                out[*i] += f * g;
+            }
+        }
+    }
+
+    fn tangent(
+        &self,
+        t: f64,
+        q: &Config,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        w: NewtonWeights,
+        out: &mut Triplets,
+    ) {
+        let nb = self.nb;
+        self.beam.tangent(t, &q.beam, v.subrows(0, nb), a.subrows(0, nb), w, out);
+        for k in 0..3 {
+            out.push(nb + k, nb + k, w.inertia * w.da * self.mass);
+        }
+        // The contact block is pushed for the element nearest to the ball, in or out of
+        // contact (zeros), so the sparsity changes only when the ball moves to another element
+        // (one symbolic LU analysis then). Pushing every element's block instead couples the
+        // ball to the whole beam: a dense row and column that the fill-reducing ordering turns
+        // into O(n^2) fill (0.2 s per step at 600 elements).
+        let p = self.contact_point(q, true);
+        let mut block = SMatrix::<f64, LOCAL, LOCAL>::zeros();
+        if p.delta > self.law.release_approach(&self.law_state) {
+            let rate = self.rate(&p, v);
+            let cf = self.law.force(&self.law_state, p.delta, rate);
+            let gg = p.gradient * p.gradient.transpose();
+            block = (gg * cf.stiffness + p.hessian * cf.force) * (w.force * w.dq)
+                + gg * (cf.damping * w.force * w.dv);
+        }
+        let dofs = &self.local_dofs[p.element];
+        for (r, dr) in dofs.iter().enumerate() {
+            let Some(i) = dr else { continue };
+            for (c, dc) in dofs.iter().enumerate() {
+                if let Some(j) = dc {
+                    out.push(*i, *j, block[(r, c)]);
+                }
+            }
+        }
+    }
+
+    fn force_scale(&self, q: &Config) -> f64 {
+        self.beam.force_scale(&q.beam)
+    }
+
+    fn configuration_scale(&self, q: &Config) -> f64 {
+        self.beam.configuration_scale(&q.beam).max(q.ball.amax())
+    }
+}
+
+/// Builds the beam of an FE plan: a straight mesh along x, thickness along z.
+///
+/// # Errors
+/// From the beam crate.
+pub fn build_beam(target: &FeTarget) -> Result<BeamModel, ImpactError> {
+    let section = Section::rectangle(&target.material, target.width, target.thickness)?;
+    let mesh = Mesh::from_nodes(
+        target.nodes.iter().map(|x| Vector3::new(*x, 0.0, 0.0)).collect(),
+        vec![UnitQuaternion::identity(); target.nodes.len()],
+        section,
+    );
+    let last = target.nodes.len() - 1;
+    let model = BeamModel::new(mesh)?;
+    let (first, end) = match target.support {
+        SupportName::ClampedFree => (Support::Clamped, Support::Free),
+        SupportName::PinnedPinned => (Support::Pinned, Support::Pinned),
+        SupportName::ClampedClamped => (Support::Clamped, Support::Clamped),
+        SupportName::ClampedPinned => (Support::Clamped, Support::Pinned),
+        SupportName::FreeFree => (Support::Free, Support::Free),
+    };
+    Ok(model.support(0, first)?.support(last, end)?)
+}
+
+/// Runs an FE plan to its end time.
+///
+/// # Errors
+/// `SolverFailed` when Newton fails even after step halving, with the time reached.
+pub fn run(plan: &Plan, target: &FeTarget) -> Result<Outcome, ImpactError> {
+    match &plan.law {
+        Law::Hertz(l) => Run::new(plan, target, l)?.run(),
+        Law::HuntCrossley(l) => Run::new(plan, target, l)?.run(),
+        Law::Thornton(l) => Run::new(plan, target, l)?.run(),
+    }
+}
+
+struct Run<'a, L: ContactLaw> {
+    plan: &'a Plan,
+    target: &'a FeTarget,
+    model: BallOnBeam<'a, L>,
+    integrator: Integrator,
+    state: State<Config>,
+    /// Ball centre at first touch (m).
+    ball_start: Vector3<f64>,
+    /// The impact point's element and local coordinate (material point, fixed).
+    impact_element: (usize, f64),
+    history: History,
+    contacts: Vec<Contact>,
+    max_displacement: (f64, f64),
+    force: f64,
+    steps: usize,
+    located: usize,
+    newton_iterations: usize,
+    halvings: usize,
+}
+
+impl<'a, L: ContactLaw> Run<'a, L> {
+    fn new(plan: &'a Plan, target: &'a FeTarget, law: &'a L) -> Result<Self, ImpactError> {
+        let beam = build_beam(target)?;
+        let model = BallOnBeam::new(
+            beam,
+            plan.ball_mass,
+            plan.gravity,
+            plan.ball_radius,
+            0.5 * target.thickness,
+            law,
+        );
+        let scheme = Scheme::hht(target.alpha)
+            .map_err(|e| ImpactError::SolverFailed { t: 0.0, reason: e.to_string() })?;
+        let mut integrator = Integrator::new(scheme, NewtonOptions::default());
+        let ball_start =
+            Vector3::new(target.position, 0.0, 0.5 * target.thickness + plan.ball_radius);
+        let q = Config { beam: model.beam().reference_state(), ball: ball_start };
+        let n = model.ndof();
+        let mut v = Col::<f64>::zeros(n);
+        v[n - 1] = -plan.speed;
+        let state = integrator.initial_state(&model, 0.0, q, v).map_err(|e| fail(0.0, &e))?;
+        let i = target.nodes.windows(2).position(|w| target.position <= w[1]).unwrap_or(0);
+        let xi = (target.position - target.nodes[i]) / (target.nodes[i + 1] - target.nodes[i]);
+        Ok(Self {
+            plan,
+            target,
+            model,
+            integrator,
+            state,
+            ball_start,
+            impact_element: (i, xi),
+            history: History::default(),
+            contacts: Vec::new(),
+            max_displacement: (0.0, 0.0),
+            force: 0.0,
+            steps: 0,
+            located: 0,
+            newton_iterations: 0,
+            halvings: 0,
+        })
+    }
+
+    /// Beam displacement at the impact point (material point), along the impact direction -z.
+    fn beam_displacement(&self) -> f64 {
+        let (i, xi) = self.impact_element;
+        let e = &self.model.beam().mesh().elements[i];
+        let (a, b) = (e.nodes[0], e.nodes[1]);
+        let p = &self.state.q.beam.positions;
+        -((1.0 - xi) * p[a].z + xi * p[b].z)
+    }
+
+    fn ball_position(&self) -> f64 {
+        self.ball_start.z - self.state.q.ball.z
+    }
+
+    fn ball_velocity(&self) -> f64 {
+        -self.state.v[self.state.v.nrows() - 1]
+    }
+
+    fn record(&mut self) {
+        let p = self.model.contact_point(&self.state.q, false);
+        let e = &self.model.beam().mesh().elements[p.element];
+        let nodes = &self.target.nodes;
+        let contact_point = nodes[e.nodes[0]] + p.xi * (nodes[e.nodes[1]] - nodes[e.nodes[0]]);
+        self.history.push(Sample {
+            time: self.state.t,
+            force: self.force,
+            approach: p.delta,
+            ball_position: self.ball_position(),
+            ball_velocity: self.ball_velocity(),
+            beam_displacement: self.beam_displacement(),
+            contact_point,
+        });
+    }
+
+    /// One integrator step of `h` from the current state, committing nothing.
+    fn trial(&mut self, from: &State<Config>, h: f64) -> Result<State<Config>, ImpactError> {
+        let mut s = from.clone();
+        let report = self.integrator.step(&self.model, &mut s, h).map_err(|e| fail(from.t, &e))?;
+        self.newton_iterations += report.iterations;
+        self.halvings += report.substeps.saturating_sub(1);
+        Ok(s)
+    }
+
+    /// Accepts a state reached by one step: commits the law, updates the force, counters.
+    fn accept(&mut self, s: State<Config>) -> Result<(), ImpactError> {
+        let (delta, rate, cf) = self.model.contact(&s.q, s.v.as_ref());
+        if !(delta.is_finite() && cf.force.is_finite()) {
+            return Err(ImpactError::SolverFailed {
+                t: s.t,
+                reason: "the contact approach or force is not finite".into(),
+            });
+        }
+        self.model.law.commit(&mut self.model.law_state, delta, rate);
+        self.force = if delta > self.model.law.release_approach(&self.model.law_state) {
+            cf.force
+        } else {
+            0.0
+        };
+        self.state = s;
+        self.steps += 1;
+        let w = self.beam_displacement();
+        if w > self.max_displacement.0 {
+            self.max_displacement = (w, self.state.t);
+        }
+        Ok(())
+    }
+
+    /// Step length in (0, h) at which the approach crosses `release`, by the Illinois method on
+    /// re-stepped trials from `from` (approach(0) and approach(h) on opposite sides).
+    fn locate(
+        &mut self,
+        from: &State<Config>,
+        h: f64,
+        release: f64,
+        end: &State<Config>,
+    ) -> Result<State<Config>, ImpactError> {
+        self.located += 1;
+        let (mut a, mut b) = (0.0, h);
+        let mut fa = self.model.approach(&from.q) - release;
+        let mut fb = self.model.approach(&end.q) - release;
+        let mut best = end.clone();
+        let mut side = 0;
+        // The approach is located to 1e-4 of the estimated largest approach (or 1e-6 of the
+        // step): its error then shifts onset and separation by ~1e-4 of a contact step.
+        let tol = 1e-4 * self.target.approach_scale;
+        for _ in 0..40 {
+            let c = (a * fb - b * fa) / (fb - fa);
+            if !(c > a && c < b) {
+                break;
+            }
+            let s = self.trial(from, c)?;
+            let fc = self.model.approach(&s.q) - release;
+            best = s;
+            if fc.abs() <= tol || b - a <= 1e-6 * h {
+                break;
+            }
+            if (fc > 0.0) == (fa > 0.0) {
+                a = c;
+                fa = fc;
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            } else {
+                b = c;
+                fb = fc;
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        Ok(best)
+    }
+
+    fn run(mut self) -> Result<Outcome, ImpactError> {
+        let clock = std::time::Instant::now();
+        self.record();
+        let end = self.plan.end_time;
+        while self.state.t < end * (1.0 - 1e-12) {
+            self.contact_phase()?;
+            if self.state.t < end * (1.0 - 1e-12) {
+                self.free_flight()?;
+            }
+        }
+        Ok(self.finish(clock.elapsed().as_secs_f64()))
+    }
+
+    /// From onset (approach at the release level) to separation or the end time.
+    fn contact_phase(&mut self) -> Result<(), ImpactError> {
+        let end = self.plan.end_time;
+        let h = self.plan.time_step;
+        let start = self.state.t;
+        let velocity_before = self.ball_velocity();
+        let mut forces = vec![self.force];
+        let mut approaches = vec![self.model.approach(&self.state.q)];
+        let mut impulse = 0.0;
+        let mut complete = false;
+        let mut steps = 0;
+        let stride = (self.target.samples_per_pulse / 100).max(1);
+        while self.state.t < end * (1.0 - 1e-12) {
+            let tau = h.min(end - self.state.t);
+            let from = self.state.clone();
+            let f0 = self.force;
+            let trial = self.trial(&from, tau)?;
+            let release = self.model.law.release_approach(&self.model.law_state);
+            let separated = self.model.approach(&trial.q) <= release && steps > 0;
+            let next = if separated { self.locate(&from, tau, release, &trial)? } else { trial };
+            let dt = next.t - from.t;
+            self.accept(next)?;
+            let f1 = if separated { 0.0 } else { self.force };
+            self.force = f1;
+            impulse += 0.5 * dt * (f0 + f1);
+            forces.push(f1);
+            approaches.push(self.model.approach(&self.state.q));
+            steps += 1;
+            if separated {
+                complete = true;
+                break;
+            }
+            if steps % stride == 0 {
+                self.record();
+            }
+        }
+        self.record();
+        if forces.iter().all(|f| *f == 0.0) {
+            return Ok(());
+        }
+        self.contacts.push(Contact {
+            start,
+            duration: self.state.t - start,
+            complete,
+            peak_force: refined_max(&forces),
+            max_approach: refined_max(&approaches),
+            impulse,
+            ball_velocity_before: velocity_before,
+            ball_velocity_after: self.ball_velocity(),
+            print_radius: self.model.law.print_radius(&self.model.law_state),
+            steps,
+        });
+        Ok(())
+    }
+
+    /// Free flight until the next onset (located) or the end time.
+    fn free_flight(&mut self) -> Result<(), ImpactError> {
+        let end = self.plan.end_time;
+        let (h_contact, h_free) = (self.plan.time_step, self.target.free_time_step);
+        let mut next_output = self.state.t + self.plan.output_interval;
+        while self.state.t < end * (1.0 - 1e-12) {
+            let release = self.model.law.release_approach(&self.model.law_state);
+            let (delta, rate, _) = self.model.contact(&self.state.q, self.state.v.as_ref());
+            // Do not step past a touch predicted from the gap and the closing speed (plus the
+            // ball's gravity); at least one contact step.
+            let gap = release - delta;
+            let closing = rate.max(0.0) + self.plan.gravity * h_free;
+            let mut tau = h_free;
+            if closing > 0.0 {
+                tau = tau.min((0.5 * gap / closing).max(h_contact));
+            }
+            let tau = tau.min(end - self.state.t);
+            let from = self.state.clone();
+            let trial = self.trial(&from, tau)?;
+            if self.model.approach(&trial.q) > release {
+                let onset =
+                    if delta < release { self.locate(&from, tau, release, &trial)? } else { trial };
+                self.accept(onset)?;
+                self.force = 0.0;
+                return Ok(());
+            }
+            self.accept(trial)?;
+            if self.state.t >= next_output || self.state.t >= end * (1.0 - 1e-12) {
+                self.record();
+                next_output = self.state.t + self.plan.output_interval;
+            }
+        }
+        Ok(())
+    }
+
+    fn finish(self, wall_time: f64) -> Outcome {
+        let plan = self.plan;
+        let m = plan.ball_mass;
+        let law = self.model.law;
+        let q = &self.state.q;
+        let delta = self.model.approach(q);
+        let initial = 0.5 * m * plan.speed * plan.speed;
+        let v = self.state.v.as_ref();
+        let n = v.nrows();
+        let ball_speed2 = (0..3).map(|k| v[n - 3 + k] * v[n - 3 + k]).sum::<f64>();
+        let ball_kinetic = 0.5 * m * ball_speed2;
+        let ball_potential = -m * plan.gravity * self.ball_position();
+        let beam_model = self.model.beam();
+        let beam =
+            beam_model.strain_energy(&q.beam) + beam_model.kinetic_energy(v.subrows(0, n - 3));
+        let contact_stored = law.stored_energy(&self.model.law_state, delta);
+        let dissipated = law.dissipated_energy(&self.model.law_state);
+        let balance_error =
+            initial - (ball_kinetic + ball_potential + beam + contact_stored + dissipated);
+        let mut warnings = plan.warnings.clone();
+        let static_stiffness = match self.target.analytic.static_flexibility(self.target.position) {
+            Some(f) if f > 0.0 => Some(1.0 / f),
+            _ => {
+                warnings.push("no static stiffness at the impact point (free-free beam or a support point): no equivalent static force".into());
+                None
+            }
+        };
+        let restitution = self
+            .contacts
+            .first()
+            .filter(|c| c.complete)
+            .map(|c| -c.ball_velocity_after / c.ball_velocity_before);
+        let mut summary = plan.summary.clone();
+        summary.reasons.push(format!(
+            "{} HHT steps ({} Newton iterations, {} step halvings), {} events located by re-stepping",
+            self.steps, self.newton_iterations, self.halvings, self.located
+        ));
+        let report = Report {
+            name: plan.name.clone(),
+            plan: summary,
+            warnings,
+            impact_speed: plan.speed,
+            contact_count: self.contacts.len(),
+            contacts: self.contacts,
+            restitution,
+            max_displacement: self.max_displacement.0,
+            max_displacement_time: self.max_displacement.1,
+            static_stiffness,
+            equivalent_static_force: static_stiffness.map(|k| k * self.max_displacement.0),
+            energy: Energy {
+                initial,
+                ball_kinetic,
+                ball_potential,
+                beam,
+                contact_stored,
+                dissipated,
+                balance_error,
+            },
+            wall_time,
+        };
+        Outcome { report, history: self.history }
+    }
+}
+
+fn fail(t: f64, e: &hht::HhtError) -> ImpactError {
+    ImpactError::SolverFailed { t, reason: e.to_string() }
+}
