@@ -117,8 +117,9 @@ fn approach_of<T: nalgebra::RealField + Copy>(
 }
 
 impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
-    /// The coupled model.
-    fn new(
+    /// The coupled model: `beam`, a ball of `mass` (kg) and `radius` (m) under `gravity`
+    /// (m/s^2, along -z), a struck face `half_thickness` (m) above the centre line, and `law`.
+    pub fn new(
         beam: BeamModel,
         mass: f64,
         gravity: f64,

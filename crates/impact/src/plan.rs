@@ -176,7 +176,7 @@ impl Plan {
     /// # Errors
     /// `InvalidField` naming the first field with a bad value, `Inconsistent` for a combination
     /// that is not a scene (both or neither of speed and drop height, a plastic law without a
-    /// yield stress, ...), `Unsupported` for the finite-element method.
+    /// yield stress, ...).
     pub fn new(scene: &Scene) -> Result<Self, ImpactError> {
         let mut reasons = Vec::new();
         let mut warnings = Vec::new();
