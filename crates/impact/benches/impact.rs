@@ -1,6 +1,7 @@
-//! Whole simulations: the paper's tip scene (h = 0.2 m, 5 ms) with 4, 64 and 256 modes, and the
+//! Whole simulations: the paper's tip scene (h = 0.2 m, 5 ms) with 4, 64 and 256 modes, the
+//! same scene with the finite-element method (default graded mesh; first contact only, and
+//! 5 ms), and the half-space closed-form case.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
-//! half-space closed-form case.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use impact::{simulate, Scene};
@@ -17,6 +18,13 @@ fn scenes(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("paper tip 5 ms", modes), &scene, |b, s| {
             b.iter(|| simulate(s))
         });
+    }
+    for (label, end) in [("fe paper tip first contact", 6e-5), ("fe paper tip 5 ms", 5e-3)] {
+        let mut scene = Scene::from_toml(PAPER).expect("valid scene");
+        scene.solver.method = impact::MethodName::Fe;
+        scene.solver.modes = None;
+        scene.solver.end_time = Some(end);
+        group.bench_function(label, |b| b.iter(|| simulate(&scene)));
     }
     let hs = Scene::from_toml(HALF_SPACE).expect("valid scene");
     group.bench_function("half-space", |b| b.iter(|| simulate(&hs)));
