@@ -34,7 +34,7 @@ use crate::error::ImpactError;
 use crate::history::{History, Sample};
 use crate::modal_solver::{refined_max, Outcome};
 use crate::plan::{FeTarget, Law, Plan};
-use crate::report::{Contact, Energy, Report};
+use crate::report::{Contact, Ending, Energy, Report};
 use crate::scene::SupportName;
 use faer::{Col, ColMut, ColRef};
 use hertz::ContactLaw;
@@ -682,39 +682,31 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 None
             }
         };
-        let restitution = self
-            .contacts
-            .first()
-            .filter(|c| c.complete)
-            .map(|c| -c.ball_velocity_after / c.ball_velocity_before);
         let mut summary = plan.summary.clone();
         summary.reasons.push(format!(
             "{} HHT steps ({} Newton iterations, {} step halvings), {} events located by re-stepping",
             self.steps, self.newton_iterations, self.halvings, self.located
         ));
-        let report = Report {
-            name: plan.name.clone(),
-            plan: summary,
-            warnings,
-            impact_speed: plan.speed,
-            contact_count: self.contacts.len(),
-            contacts: self.contacts,
-            restitution,
-            max_displacement: self.max_displacement.0,
-            max_displacement_time: self.max_displacement.1,
-            static_stiffness,
-            equivalent_static_force: static_stiffness.map(|k| k * self.max_displacement.0),
-            energy: Energy {
-                initial,
-                ball_kinetic,
-                ball_potential,
-                beam,
-                contact_stored,
-                dissipated,
-                balance_error,
+        let report = Report::assemble(
+            plan,
+            Ending {
+                plan: summary,
+                warnings,
+                contacts: self.contacts,
+                max_displacement: self.max_displacement,
+                static_stiffness,
+                energy: Energy {
+                    initial,
+                    ball_kinetic,
+                    ball_potential,
+                    beam,
+                    contact_stored,
+                    dissipated,
+                    balance_error,
+                },
+                wall_time,
             },
-            wall_time,
-        };
+        );
         Outcome { report, history: self.history }
     }
 }

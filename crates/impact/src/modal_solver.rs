@@ -13,7 +13,7 @@
 use crate::error::ImpactError;
 use crate::history::{History, Sample};
 use crate::plan::{Law, Plan, Target};
-use crate::report::{Contact, Energy, Report};
+use crate::report::{Contact, Ending, Energy, Report};
 use hertz::ContactLaw;
 use modal::{Hold, ModalState, PointModes, Transition};
 use std::rc::Rc;
@@ -541,34 +541,26 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             }
             Target::HalfSpace | Target::Fe(_) => None,
         };
-        let restitution = self
-            .contacts
-            .first()
-            .filter(|c| c.complete)
-            .map(|c| -c.ball_velocity_after / c.ball_velocity_before);
-        let report = Report {
-            name: plan.name.clone(),
-            plan: plan.summary.clone(),
-            warnings,
-            impact_speed: plan.speed,
-            contact_count: self.contacts.len(),
-            contacts: self.contacts,
-            restitution,
-            max_displacement: self.max_displacement.0,
-            max_displacement_time: self.max_displacement.1,
-            static_stiffness,
-            equivalent_static_force: static_stiffness.map(|k| k * self.max_displacement.0),
-            energy: Energy {
-                initial,
-                ball_kinetic,
-                ball_potential,
-                beam,
-                contact_stored,
-                dissipated,
-                balance_error,
+        let report = Report::assemble(
+            plan,
+            Ending {
+                plan: plan.summary.clone(),
+                warnings,
+                contacts: self.contacts,
+                max_displacement: self.max_displacement,
+                static_stiffness,
+                energy: Energy {
+                    initial,
+                    ball_kinetic,
+                    ball_potential,
+                    beam,
+                    contact_stored,
+                    dissipated,
+                    balance_error,
+                },
+                wall_time,
             },
-            wall_time,
-        };
+        );
         Outcome { report, history: self.history }
     }
 }

@@ -79,3 +79,42 @@ pub struct Report {
     /// Wall-clock time of the run (s).
     pub wall_time: f64,
 }
+
+/// What a solver knows at the end of a run, before the derived fields are filled in.
+pub(crate) struct Ending {
+    pub plan: crate::plan::PlanSummary,
+    pub warnings: Vec<String>,
+    pub contacts: Vec<Contact>,
+    /// (largest displacement at the impact point (m), when (s)).
+    pub max_displacement: (f64, f64),
+    pub static_stiffness: Option<f64>,
+    pub energy: Energy,
+    pub wall_time: f64,
+}
+
+impl Report {
+    /// The report of a run of `plan`: restitution from the first complete contact, the
+    /// equivalent static force from the static stiffness.
+    pub(crate) fn assemble(plan: &crate::plan::Plan, end: Ending) -> Self {
+        let restitution = end
+            .contacts
+            .first()
+            .filter(|c| c.complete)
+            .map(|c| -c.ball_velocity_after / c.ball_velocity_before);
+        Self {
+            name: plan.name.clone(),
+            plan: end.plan,
+            warnings: end.warnings,
+            impact_speed: plan.speed,
+            contact_count: end.contacts.len(),
+            contacts: end.contacts,
+            restitution,
+            max_displacement: end.max_displacement.0,
+            max_displacement_time: end.max_displacement.1,
+            static_stiffness: end.static_stiffness,
+            equivalent_static_force: end.static_stiffness.map(|k| k * end.max_displacement.0),
+            energy: end.energy,
+            wall_time: end.wall_time,
+        }
+    }
+}
