@@ -34,13 +34,13 @@ use crate::error::ImpactError;
 use crate::history::{History, Sample};
 use crate::modal_solver::{refined_max, Outcome};
 use crate::plan::{FeTarget, Law, Plan};
-use crate::report::{Contact, Ending, Energy, Report};
+use crate::report::{static_stiffness, Contact, Ending, Energy, Report};
 use crate::scene::SupportName;
 use faer::{Col, ColMut, ColRef};
 use hertz::ContactLaw;
 use hht::{Integrator, Model, NewtonOptions, NewtonWeights, Scheme, State, Triplets};
 use nalgebra::{SMatrix, SVector, UnitQuaternion, Vector3};
-use num_dual::Dual2SVec64;
+use num_dual::{Dual2SVec64, DualSVec64};
 use simo_beam::{BeamModel, BeamState, Mesh, Section, Support};
 
 /// Configuration of the coupled model: the beam's and the ball centre's (m).
@@ -50,6 +50,14 @@ pub struct Config {
     pub beam: BeamState,
     /// Ball centre (m).
     pub ball: Vector3<f64>,
+}
+
+/// How many derivatives of the approach to compute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Order {
+    Value,
+    Gradient,
+    Hessian,
 }
 
 /// Unknowns of one contact element: ball (3), node a (6), node b (6).
@@ -180,46 +188,44 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
 
     /// Approach only (no derivatives), for event location and the history.
     fn approach(&self, q: &Config) -> f64 {
-        self.contact_point(q, false).delta
+        self.contact_point(q, Order::Value).delta
     }
 
-    fn contact_point(&self, q: &Config, derivatives: bool) -> ContactPoint {
+    /// The contact point with derivatives up to `order` (the others left zero): the residual
+    /// needs the gradient, only the Newton matrix in contact needs the Hessian.
+    fn contact_point(&self, q: &Config, order: Order) -> ContactPoint {
         let (element, xi) = self.nearest_element(q);
         let e = &self.beam.mesh().elements[element];
         let (a, b) = (e.nodes[0], e.nodes[1]);
         let reach = self.radius + self.half_thickness;
-        let args = (
-            &q.ball,
-            &q.beam.positions[a],
-            &q.beam.positions[b],
-            &q.beam.rotations[a],
-            &q.beam.rotations[b],
-        );
-        if !derivatives {
-            let delta = approach_of(
-                &SVector::<f64, LOCAL>::zeros(),
-                args.0,
-                args.1,
-                args.2,
-                args.3,
-                args.4,
-                reach,
-            );
-            return ContactPoint {
-                element,
-                xi,
-                delta,
-                gradient: SVector::zeros(),
-                hessian: SMatrix::zeros(),
-            };
-        }
-        let (delta, gradient, hessian) = num_dual::hessian(
-            |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| {
-                approach_of(&u, args.0, args.1, args.2, args.3, args.4, reach)
-            },
-            &SVector::<f64, LOCAL>::zeros(),
-        );
+        let (c, xa, xb) = (&q.ball, &q.beam.positions[a], &q.beam.positions[b]);
+        let (ra, rb) = (&q.beam.rotations[a], &q.beam.rotations[b]);
+        let zero = SVector::<f64, LOCAL>::zeros();
+        let (delta, gradient, hessian) = match order {
+            Order::Value => {
+                (approach_of(&zero, c, xa, xb, ra, rb, reach), SVector::zeros(), SMatrix::zeros())
+            }
+            Order::Gradient => {
+                let (d, g) = num_dual::gradient(
+                    |u: SVector<DualSVec64<LOCAL>, LOCAL>| {
+                        approach_of(&u, c, xa, xb, ra, rb, reach)
+                    },
+                    &zero,
+                );
+                (d, g, SMatrix::zeros())
+            }
+            Order::Hessian => num_dual::hessian(
+                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, xa, xb, ra, rb, reach),
+                &zero,
+            ),
+        };
         ContactPoint { element, xi, delta, gradient, hessian }
+    }
+
+    /// The contact point with the gradient if the ball touches (`None` otherwise).
+    fn touching(&self, q: &Config, order: Order) -> Option<ContactPoint> {
+        let p = self.contact_point(q, Order::Value);
+        (p.delta > self.law.release_approach(&self.law_state)).then(|| self.contact_point(q, order))
     }
 
     /// delta-dot = grad(delta) . local velocities.
@@ -233,7 +239,7 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
 
     /// Contact approach, its rate and the law's force at a state.
     fn contact(&self, q: &Config, v: ColRef<'_, f64>) -> (f64, f64, hertz::ContactForce) {
-        let p = self.contact_point(q, true);
+        let p = self.contact_point(q, Order::Gradient);
         let rate = self.rate(&p, v);
         (p.delta, rate, self.law.force(&self.law_state, p.delta, rate))
     }
@@ -281,10 +287,9 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         out[nb] = 0.0;
         out[nb + 1] = 0.0;
         out[nb + 2] = self.mass * self.gravity;
-        let p = self.contact_point(q, true);
-        if p.delta <= self.law.release_approach(&self.law_state) {
+        let Some(p) = self.touching(q, Order::Gradient) else {
             return;
-        }
+        };
         let f = self.law.force(&self.law_state, p.delta, self.rate(&p, v)).force;
         for (d, g) in self.local_dofs[p.element].iter().zip(p.gradient.iter()) {
             if let Some(i) = d {
@@ -309,19 +314,18 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         }
         // The contact block is pushed for the element nearest to the ball, in or out of
         // contact (zeros), so the sparsity changes only when the ball moves to another element
-        // (one symbolic LU analysis then). Pushing every element's block instead couples the
-        // ball to the whole beam: a dense row and column that the fill-reducing ordering turns
-        // into O(n^2) fill (0.2 s per step at 600 elements).
-        let p = self.contact_point(q, true);
+        // (one symbolic LU analysis then), and the ball is coupled to one element, not to the
+        // whole beam.
+        let (element, _) = self.nearest_element(q);
         let mut block = SMatrix::<f64, LOCAL, LOCAL>::zeros();
-        if p.delta > self.law.release_approach(&self.law_state) {
+        if let Some(p) = self.touching(q, Order::Hessian) {
             let rate = self.rate(&p, v);
             let cf = self.law.force(&self.law_state, p.delta, rate);
             let gg = p.gradient * p.gradient.transpose();
             block = (gg * cf.stiffness + p.hessian * cf.force) * (w.force * w.dq)
                 + gg * (cf.damping * w.force * w.dv);
         }
-        let dofs = &self.local_dofs[p.element];
+        let dofs = &self.local_dofs[element];
         for (r, dr) in dofs.iter().enumerate() {
             let Some(i) = dr else { continue };
             for (c, dc) in dofs.iter().enumerate() {
@@ -456,7 +460,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     }
 
     fn record(&mut self) {
-        let p = self.model.contact_point(&self.state.q, false);
+        let p = self.model.contact_point(&self.state.q, Order::Value);
         let e = &self.model.beam().mesh().elements[p.element];
         let nodes = &self.target.nodes;
         let contact_point = nodes[e.nodes[0]] + p.xi * (nodes[e.nodes[1]] - nodes[e.nodes[0]]);
@@ -675,13 +679,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let balance_error =
             initial - (ball_kinetic + ball_potential + beam + contact_stored + dissipated);
         let mut warnings = plan.warnings.clone();
-        let static_stiffness = match self.target.analytic.static_flexibility(self.target.position) {
-            Some(f) if f > 0.0 => Some(1.0 / f),
-            _ => {
-                warnings.push("no static stiffness at the impact point (free-free beam or a support point): no equivalent static force".into());
-                None
-            }
-        };
+        let static_stiffness =
+            static_stiffness(&self.target.analytic, self.target.position, &mut warnings);
         let mut summary = plan.summary.clone();
         summary.reasons.push(format!(
             "{} HHT steps ({} Newton iterations, {} step halvings), {} events located by re-stepping",

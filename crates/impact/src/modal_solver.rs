@@ -13,7 +13,7 @@
 use crate::error::ImpactError;
 use crate::history::{History, Sample};
 use crate::plan::{Law, Plan, Target};
-use crate::report::{Contact, Ending, Energy, Report};
+use crate::report::{static_stiffness, Contact, Ending, Energy, Report};
 use hertz::ContactLaw;
 use modal::{Hold, ModalState, PointModes, Transition};
 use std::rc::Rc;
@@ -524,20 +524,14 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         let static_stiffness = match &plan.target {
             Target::Beam { beam, position, .. } => {
                 let length = beam.length();
-                if self.max_displacement.0 > 0.1 * length {
+                if self.max_displacement.0 > crate::plan::LARGE_DEFLECTION * length {
                     warnings.push(format!(
                         "the largest displacement {:.4} m is {:.0} % of the beam length: small-deflection (modal) theory is exceeded",
                         self.max_displacement.0,
                         100.0 * self.max_displacement.0 / length
                     ));
                 }
-                match beam.static_flexibility(*position) {
-                    Some(f) if f > 0.0 => Some(1.0 / f),
-                    _ => {
-                        warnings.push("no static stiffness at the impact point (free-free beam or a support point): no equivalent static force".into());
-                        None
-                    }
-                }
+                static_stiffness(beam, *position, &mut warnings)
             }
             Target::HalfSpace | Target::Fe(_) => None,
         };

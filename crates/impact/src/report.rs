@@ -118,3 +118,18 @@ impl Report {
         }
     }
 }
+
+/// Static stiffness (N/m) of `beam` at `position` (m), or a warning when there is none.
+pub(crate) fn static_stiffness(
+    beam: &modal::Beam,
+    position: f64,
+    warnings: &mut Vec<String>,
+) -> Option<f64> {
+    match beam.static_flexibility(position) {
+        Some(f) if f > 0.0 => Some(1.0 / f),
+        _ => {
+            warnings.push("no static stiffness at the impact point (free-free beam or a support point): no equivalent static force".into());
+            None
+        }
+    }
+}
