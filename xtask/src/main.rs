@@ -1,6 +1,7 @@
-//! The toolkit's command line: `cargo xtask reproduce | simulate | beam | validate`.
+//! The toolkit's command line: `cargo xtask reproduce | simulate | compare | beam | validate`.
 
 mod beam;
+mod compare;
 mod plot;
 mod reproduce;
 mod simulate;
@@ -39,6 +40,21 @@ enum Command {
         #[arg(long)]
         history: Option<PathBuf>,
     },
+    /// Run a beam scene with the modal and the finite-element method (and optional lists of
+    /// mode and element counts) and print and plot the differences.
+    Compare {
+        /// Scene file (TOML, SI units) with a [beam].
+        scene: PathBuf,
+        /// Also run the modal method with these mode counts (comma separated).
+        #[arg(long, value_delimiter = ',')]
+        modes: Vec<usize>,
+        /// Also run the finite-element method with these numbers of equal elements.
+        #[arg(long, value_delimiter = ',')]
+        elements: Vec<usize>,
+        /// Output folder; default target/compare/NAME.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Run a beam under prescribed loads (no ball), static or dynamic; write the tracked node's
     /// history and the final shape as CSV (and SVG charts).
     Beam {
@@ -62,6 +78,9 @@ fn main() -> std::process::ExitCode {
         Command::Reproduce { out, quick } => reproduce::run(&out, quick),
         Command::Simulate { scene, json, history } => {
             simulate::run(&scene, json, history.as_deref())
+        }
+        Command::Compare { scene, modes, elements, out } => {
+            compare::run(&scene, &modes, &elements, out.as_deref())
         }
         Command::Beam { scene, out } => beam::run(&scene, out.as_deref()),
         Command::Validate { json } => validate::run(json),

@@ -22,6 +22,14 @@ pub struct History {
     /// the beam from x = 0 (m): fixed at the impact point in the modal method, sliding in the
     /// finite-element method; 0 on a half-space.
     pub contact_point: Vec<f64>,
+    /// Ball energy, kinetic + gravitational potential from the first-touch height (J).
+    pub ball_energy: Vec<f64>,
+    /// Beam energy, kinetic + strain (J); 0 on a half-space.
+    pub beam_energy: Vec<f64>,
+    /// Elastic energy stored in the contact (J).
+    pub contact_energy: Vec<f64>,
+    /// Energy dissipated so far: plastic work, contact damping and modal damping (J).
+    pub dissipated_energy: Vec<f64>,
 }
 
 /// One row of a [`History`] (the same fields and units).
@@ -41,6 +49,14 @@ pub struct Sample {
     pub beam_displacement: f64,
     /// Reference position of the contact point along the beam (m).
     pub contact_point: f64,
+    /// Ball energy (J).
+    pub ball_energy: f64,
+    /// Beam energy (J).
+    pub beam_energy: f64,
+    /// Energy stored in the contact (J).
+    pub contact_energy: f64,
+    /// Energy dissipated so far (J).
+    pub dissipated_energy: f64,
 }
 
 impl History {
@@ -53,6 +69,10 @@ impl History {
         self.ball_velocity.push(s.ball_velocity);
         self.beam_displacement.push(s.beam_displacement);
         self.contact_point.push(s.contact_point);
+        self.ball_energy.push(s.ball_energy);
+        self.beam_energy.push(s.beam_energy);
+        self.contact_energy.push(s.contact_energy);
+        self.dissipated_energy.push(s.dissipated_energy);
     }
 
     /// Number of rows.
@@ -72,19 +92,23 @@ impl History {
     pub fn write_csv(&self, mut w: impl Write) -> std::io::Result<()> {
         writeln!(
             w,
-            "time_s,force_n,approach_m,ball_position_m,ball_velocity_m_s,beam_displacement_m,contact_point_m"
+            "time_s,force_n,approach_m,ball_position_m,ball_velocity_m_s,beam_displacement_m,contact_point_m,ball_energy_j,beam_energy_j,contact_energy_j,dissipated_energy_j"
         )?;
         for i in 0..self.len() {
             writeln!(
                 w,
-                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
+                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
                 self.time[i],
                 self.force[i],
                 self.approach[i],
                 self.ball_position[i],
                 self.ball_velocity[i],
                 self.beam_displacement[i],
-                self.contact_point[i]
+                self.contact_point[i],
+                self.ball_energy[i],
+                self.beam_energy[i],
+                self.contact_energy[i],
+                self.dissipated_energy[i]
             )?;
         }
         Ok(())

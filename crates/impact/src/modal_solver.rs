@@ -151,7 +151,14 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
 
     fn record(&mut self) {
         let w = self.beam_displacement();
+        let m = self.plan.ball_mass;
+        let delta = self.ball_position - w;
         self.history.push(Sample {
+            ball_energy: 0.5 * m * self.ball_velocity * self.ball_velocity
+                - m * self.plan.gravity * self.ball_position,
+            beam_energy: self.modes.energy(&self.beam),
+            contact_energy: self.law.stored_energy(&self.law_state, delta),
+            dissipated_energy: self.law.dissipated_energy(&self.law_state) + self.damping_work,
             time: self.t,
             force: self.force,
             approach: self.ball_position - w,

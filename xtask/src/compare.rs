@@ -1,0 +1,230 @@
+//! `cargo xtask compare SCENE.toml`: the same impact by the modal and the finite-element
+//! method (and optional lists of mode and element counts), side by side.
+//!
+//! Every run is compared with the reference run, the finite-element method on its default
+//! graded mesh (the geometrically exact model, converged in the mesh for the paper's scene to
+//! 0.2 %): the table gives first-contact duration, peak force, contact count and largest
+//! displacement with their differences, and the charts overlay the displacement and force
+//! histories and plot each run's displacement minus the reference's.
+
+use crate::plot::{Chart, Series};
+use crate::reproduce::run_all;
+use anyhow::Context;
+use impact::{MethodName, Outcome, Scene};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// One run of the comparison: its label and the scene that makes it.
+fn variants(scene: &Scene, modes: &[usize], elements: &[usize]) -> Vec<(String, Scene)> {
+    let fe = |elements: Option<usize>| {
+        let mut s = scene.clone();
+        s.solver.method = MethodName::Fe;
+        s.solver.modes = None;
+        if elements.is_some() {
+            s.solver.elements = elements;
+            s.solver.element_size = None;
+        }
+        s
+    };
+    let modal = |modes: Option<usize>| {
+        let mut s = scene.clone();
+        s.solver.method = MethodName::Modal;
+        s.solver.elements = None;
+        s.solver.element_size = None;
+        s.solver.alpha = None;
+        s.solver.time_step = None;
+        if modes.is_some() {
+            s.solver.modes = modes;
+        }
+        s
+    };
+    let mut runs = vec![("fe".to_string(), fe(None)), ("modal".to_string(), modal(None))];
+    runs.extend(modes.iter().map(|&n| (format!("modal, {n} modes"), modal(Some(n)))));
+    runs.extend(elements.iter().map(|&n| (format!("fe, {n} equal elements"), fe(Some(n)))));
+    runs
+}
+
+/// Linear interpolation of `(times, values)` at `t` (times non-decreasing; clamped at the ends).
+fn interpolate(times: &[f64], values: &[f64], t: f64) -> f64 {
+    let i = times.partition_point(|&x| x < t);
+    if i == 0 {
+        return values[0];
+    }
+    if i >= times.len() {
+        return values[values.len() - 1];
+    }
+    let (t0, t1) = (times[i - 1], times[i]);
+    if t1 <= t0 {
+        return values[i];
+    }
+    values[i - 1] + (values[i] - values[i - 1]) * (t - t0) / (t1 - t0)
+}
+
+fn relative(value: f64, reference: f64) -> String {
+    if reference == 0.0 {
+        return "-".into();
+    }
+    format!("{:+.3} %", 100.0 * (value - reference) / reference)
+}
+
+#[allow(clippy::print_stdout)]
+pub fn run(
+    path: &Path,
+    modes: &[usize],
+    elements: &[usize],
+    out: Option<&Path>,
+) -> anyhow::Result<bool> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read the scene file {}", path.display()))?;
+    let scene = Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    anyhow::ensure!(
+        scene.beam.is_some(),
+        "{}: compare needs a [beam] scene (a [half_space] has one model only)",
+        path.display()
+    );
+    let out: PathBuf =
+        out.map_or_else(|| Path::new("target/compare").join(&scene.name), Path::to_path_buf);
+    std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    let runs = variants(&scene, modes, elements);
+    let labels: Vec<String> = runs.iter().map(|(l, _)| l.clone()).collect();
+    let outcomes = run_all("compare", runs.into_iter().map(|(_, s)| s).collect())?;
+    let labels: Vec<String> = labels
+        .iter()
+        .zip(&outcomes)
+        .map(|(l, o)| {
+            let p = &o.report.plan;
+            match (l.as_str(), p.method.as_str()) {
+                ("fe", _) => format!("fe, {} elements (reference)", p.elements),
+                ("modal", _) => format!("modal, {} modes", p.modes),
+                _ => l.clone(),
+            }
+        })
+        .collect();
+    let reference = &outcomes[0];
+    let first = |o: &Outcome| o.report.contacts.first().map(|c| (c.duration, c.peak_force));
+    let (d0, f0) = first(reference).unwrap_or((0.0, 0.0));
+    let w0 = reference.report.max_displacement;
+
+    let mut table = String::new();
+    writeln!(
+        table,
+        "{:<34} {:>12} {:>10} {:>11} {:>10} {:>8} {:>13} {:>10} {:>9}",
+        "run",
+        "t_c (us)",
+        "diff",
+        "peak F (N)",
+        "diff",
+        "contacts",
+        "max disp (mm)",
+        "diff",
+        "wall (s)"
+    )?;
+    let mut csv = String::from(
+        "run,first_contact_duration_s,peak_force_n,contact_count,max_displacement_m,wall_time_s\n",
+    );
+    for (label, o) in labels.iter().zip(&outcomes) {
+        let r = &o.report;
+        let (d, f) = first(o).unwrap_or((0.0, 0.0));
+        writeln!(
+            table,
+            "{label:<34} {:>12.4} {:>10} {f:>11.3} {:>10} {:>8} {:>13.5} {:>10} {:>9.3}",
+            d * 1e6,
+            relative(d, d0),
+            relative(f, f0),
+            r.contact_count,
+            r.max_displacement * 1e3,
+            relative(r.max_displacement, w0),
+            r.wall_time
+        )?;
+        writeln!(
+            csv,
+            "\"{label}\",{d:.9e},{f:.9e},{},{:.9e},{:.4e}",
+            r.contact_count, r.max_displacement, r.wall_time
+        )?;
+    }
+    std::fs::write(out.join("summary.csv"), csv)
+        .with_context(|| format!("cannot write {}", out.join("summary.csv").display()))?;
+
+    let history =
+        |pick: fn(&impact::History) -> &Vec<f64>, time_scale: f64, scale: f64, until: f64| {
+            labels
+                .iter()
+                .zip(&outcomes)
+                .map(|(label, o)| Series {
+                    label: label.clone(),
+                    points: o
+                        .history
+                        .time
+                        .iter()
+                        .zip(pick(&o.history))
+                        .filter(|(t, _)| **t <= until)
+                        .map(|(t, y)| (t * time_scale, y * scale))
+                        .collect(),
+                })
+                .collect()
+        };
+    let end = reference.history.time.last().copied().unwrap_or(0.0);
+    Chart {
+        title: "Displacement at the impact point",
+        x_label: "time (ms)",
+        y_label: "displacement (mm)",
+        series: history(|h| &h.beam_displacement, 1e3, 1e3, end),
+        markers: false,
+    }
+    .write(&out, "displacement")?;
+    let window = if d0 > 0.0 { 1.5 * d0 } else { end };
+    Chart {
+        title: "Contact force, first contact",
+        x_label: "time (us)",
+        y_label: "contact force (N)",
+        series: history(|h| &h.force, 1e6, 1.0, window),
+        markers: false,
+    }
+    .write(&out, "force")?;
+    let (rt, rw) = (&reference.history.time, &reference.history.beam_displacement);
+    let differences = labels
+        .iter()
+        .zip(&outcomes)
+        .skip(1)
+        .map(|(label, o)| Series {
+            label: format!("{label} - reference"),
+            points: o
+                .history
+                .time
+                .iter()
+                .zip(&o.history.beam_displacement)
+                .map(|(t, w)| (t * 1e3, (w - interpolate(rt, rw, *t)) * 1e3))
+                .collect(),
+        })
+        .collect();
+    Chart {
+        title: "Displacement difference from the reference (fe, default mesh)",
+        x_label: "time (ms)",
+        y_label: "displacement difference (mm)",
+        series: differences,
+        markers: false,
+    }
+    .write(&out, "displacement_difference")?;
+    println!("{}: first-contact duration, peak force and largest displacement at the impact point; differences from the first row\n", scene.name);
+    print!("{table}");
+    println!(
+        "\nwrote summary.csv and displacement, force, displacement_difference (.svg, .csv) to {}",
+        out.display()
+    );
+    Ok(true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::interpolate;
+
+    #[test]
+    fn interpolation_is_linear_and_clamped() {
+        let t = [0.0, 1.0, 1.0, 3.0];
+        let y = [0.0, 2.0, 4.0, 8.0];
+        assert!((interpolate(&t, &y, 0.5) - 1.0).abs() < 1e-15);
+        assert!((interpolate(&t, &y, 2.0) - 6.0).abs() < 1e-15);
+        assert!((interpolate(&t, &y, -1.0) - 0.0).abs() < 1e-15);
+        assert!((interpolate(&t, &y, 5.0) - 8.0).abs() < 1e-15);
+    }
+}
