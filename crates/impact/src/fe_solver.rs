@@ -26,9 +26,14 @@
 //!
 //! **Events.** Contact onset and separation are located in time by re-stepping from the last
 //! state before the event with a step found by the Illinois method on `delta(tau) = release`,
-//! so a contact starts and ends on its own instant, not on the step grid. In contact the step is
-//! the plan's contact step; out of contact the step grows to `solver.time_step` while the gap
-//! and closing speed allow (a step never jumps past a predicted touch).
+//! so a contact starts and ends on its own instant, not on the step grid. In contact the step
+//! starts at the plan's contact step and adapts to the ball's local error estimate (see
+//! [`CONTACT_ERROR`]); out of contact the step grows to `solver.time_step` while the gap and
+//! closing speed allow (a step never jumps past a predicted touch).
+//!
+//! **Contact element.** The element found at the last accepted step is kept while the ball
+//! projects on it (within [`STICKY_REACH`] past its ends), so a ball over a node does not switch
+//! elements between Newton iterations.
 
 use crate::error::ImpactError;
 use crate::history::{History, Sample};
@@ -96,7 +101,7 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
 /// before the nearest element is searched again. Without it a ball over a node flips between
 /// the two elements from one Newton iteration to the next (equal approach, different
 /// derivatives): Newton then oscillated with the residual's sign and halved the step.
-const STICKY_REACH: f64 = 0.05;
+pub const STICKY_REACH: f64 = 0.05;
 
 /// Local position error of the ball allowed per contact step, as a fraction of the largest
 /// approach on a rigid support. A Hertzian pulse then keeps about the plan's contact step;
