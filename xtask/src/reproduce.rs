@@ -43,6 +43,20 @@ pub fn run_all(label: &str, scenes: Vec<Scene>) -> anyhow::Result<Vec<impact::Ou
     out
 }
 
+/// The displacement at the impact point of a run, in mm against ms.
+fn displacement_series(label: String, o: &impact::Outcome) -> Series {
+    Series {
+        label,
+        points: o
+            .history
+            .time
+            .iter()
+            .zip(&o.history.beam_displacement)
+            .map(|(t, w)| (t * 1e3, w * 1e3))
+            .collect(),
+    }
+}
+
 pub fn run(out: &Path, quick: bool) -> anyhow::Result<bool> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let clock = std::time::Instant::now();
@@ -84,16 +98,7 @@ fn fig3a(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     let series = runs
         .iter()
         .zip(&counts)
-        .map(|(o, n)| Series {
-            label: format!("{n} mode{}", if *n == 1 { "" } else { "s" }),
-            points: o
-                .history
-                .time
-                .iter()
-                .zip(&o.history.beam_displacement)
-                .map(|(t, w)| (t * 1e3, w * 1e3))
-                .collect(),
-        })
+        .map(|(o, n)| displacement_series(format!("{n} mode{}", if *n == 1 { "" } else { "s" }), o))
         .collect();
     Chart {
         title: "Fig. 3a: tip displacement vs time for increasing numbers of modes",
@@ -165,20 +170,7 @@ fn method_runs(
 fn fig3b(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     let end = if quick { 1e-3 } else { 5e-3 };
     let (labels, runs) = method_runs("3b: modal vs FE displacement", end, quick)?;
-    let series = labels
-        .iter()
-        .zip(&runs)
-        .map(|(l, o)| Series {
-            label: l.clone(),
-            points: o
-                .history
-                .time
-                .iter()
-                .zip(&o.history.beam_displacement)
-                .map(|(t, w)| (t * 1e3, w * 1e3))
-                .collect(),
-        })
-        .collect();
+    let series = labels.iter().zip(&runs).map(|(l, o)| displacement_series(l.clone(), o)).collect();
     Chart {
         title: "Fig. 3b: tip displacement, modal vs finite elements",
         x_label: "time (ms)",

@@ -37,6 +37,7 @@
 
 use crate::error::ImpactError;
 use crate::history::{History, Sample};
+use crate::illinois::Illinois;
 use crate::modal_solver::{refined_max, Outcome};
 use crate::plan::{FeTarget, Law, Plan};
 use crate::report::{static_stiffness, Contact, Ending, Energy, Report};
@@ -564,40 +565,25 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         end: &State<Config>,
     ) -> Result<State<Config>, ImpactError> {
         self.located += 1;
-        let (mut a, mut b) = (0.0, h);
-        let mut fa = self.model.approach(&from.q) - release;
-        let mut fb = self.model.approach(&end.q) - release;
+        let mut bracket = Illinois::new(
+            0.0,
+            self.model.approach(&from.q) - release,
+            h,
+            self.model.approach(&end.q) - release,
+        );
         let mut best = end.clone();
-        let mut side = 0;
         // The approach is located to 1e-4 of the estimated largest approach (or 1e-6 of the
         // step): its error then shifts onset and separation by ~1e-4 of a contact step.
         let tol = 1e-4 * self.target.approach_scale;
         for _ in 0..40 {
-            let c = (a * fb - b * fa) / (fb - fa);
-            if !(c > a && c < b) {
-                break;
-            }
+            let Some(c) = bracket.trial() else { break };
             let s = self.trial(from, c)?;
             let fc = self.model.approach(&s.q) - release;
             best = s;
-            if fc.abs() <= tol || b - a <= 1e-6 * h {
+            if fc.abs() <= tol || bracket.b - bracket.a <= 1e-6 * h {
                 break;
             }
-            if (fc > 0.0) == (fa > 0.0) {
-                a = c;
-                fa = fc;
-                if side == -1 {
-                    fb *= 0.5;
-                }
-                side = -1;
-            } else {
-                b = c;
-                fb = fc;
-                if side == 1 {
-                    fa *= 0.5;
-                }
-                side = 1;
-            }
+            bracket.narrow(c, fc);
         }
         Ok(best)
     }

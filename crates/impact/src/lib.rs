@@ -42,6 +42,7 @@ pub mod beam_scene;
 mod error;
 pub mod fe_solver;
 mod history;
+mod illinois;
 pub mod modal_solver;
 mod plan;
 mod report;

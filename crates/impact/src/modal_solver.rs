@@ -12,6 +12,7 @@
 
 use crate::error::ImpactError;
 use crate::history::{History, Sample};
+use crate::illinois::Illinois;
 use crate::plan::{Law, Plan, Target};
 use crate::report::{static_stiffness, Contact, Ending, Energy, Report};
 use hertz::ContactLaw;
@@ -373,35 +374,19 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         delta0: f64,
         delta_h: f64,
     ) -> Result<f64, ImpactError> {
-        let (mut a, mut b) = (0.0, h);
-        let (mut fa, mut fb) = (delta0 - target, delta_h - target);
-        let mut side = 0;
+        let mut bracket = Illinois::new(0.0, delta0 - target, h, delta_h - target);
         for _ in 0..100 {
-            let c = (a * fb - b * fa) / (fb - fa);
-            if !(c > a && c < b) || b - a <= 1e-13 * h {
+            let Some(c) = bracket.trial() else { break };
+            if bracket.b - bracket.a <= 1e-13 * h {
                 break;
             }
             let fc = self.approach_after(c, f0)? - target;
             if fc == 0.0 {
                 return Ok(c);
             }
-            if (fc > 0.0) == (fa > 0.0) {
-                a = c;
-                fa = fc;
-                if side == -1 {
-                    fb *= 0.5;
-                }
-                side = -1;
-            } else {
-                b = c;
-                fb = fc;
-                if side == 1 {
-                    fa *= 0.5;
-                }
-                side = 1;
-            }
+            bracket.narrow(c, fc);
         }
-        Ok(0.5 * (a + b))
+        Ok(0.5 * (bracket.a + bracket.b))
     }
 
     fn locate_separation(&self, h: f64, f0: f64, release: f64) -> Result<f64, ImpactError> {
