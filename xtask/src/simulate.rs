@@ -30,8 +30,10 @@ pub fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bo
         "modal" => format!("{} modes", r.plan.modes),
         _ => "rigid block".to_string(),
     };
+    // The fe method's contact step grows from the plan's; the others' (adaptive) stays below.
+    let bound = if r.plan.method == "fe" { "from" } else { "up to" };
     println!(
-        "{}: {} model, {resolution}, contact law {}, step in contact {:.3e} s",
+        "{}: {} model, {resolution}, contact law {}, contact step {bound} {:.3e} s",
         r.name, r.plan.method, r.plan.contact_law, r.plan.time_step
     );
     for reason in &r.plan.reasons {

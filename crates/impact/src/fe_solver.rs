@@ -625,6 +625,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let mut h = h_min;
         let start = self.state.t;
         let velocity_before = self.ball_velocity();
+        let mut times = vec![self.state.t];
         let mut forces = vec![self.force];
         let mut approaches = vec![self.model.approach(&self.state.q)];
         let mut impulse = 0.0;
@@ -653,6 +654,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             let f1 = if separated { 0.0 } else { self.force };
             self.force = f1;
             impulse += 0.5 * dt * (f0 + f1);
+            times.push(self.state.t);
             forces.push(f1);
             approaches.push(self.model.approach(&self.state.q));
             steps += 1;
@@ -673,8 +675,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             start,
             duration: self.state.t - start,
             complete,
-            peak_force: refined_max(&forces),
-            max_approach: refined_max(&approaches),
+            peak_force: refined_max(&times, &forces),
+            max_approach: refined_max(&times, &approaches),
             impulse,
             ball_velocity_before: velocity_before,
             ball_velocity_after: self.ball_velocity(),

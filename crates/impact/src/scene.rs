@@ -178,8 +178,15 @@ pub struct SolverSpec {
     pub modes: Option<usize>,
     /// Simulated time (s) from first touch.
     pub end_time: Option<f64>,
-    /// Time steps per estimated contact duration.
+    /// Time steps per estimated contact duration (the largest contact step of the modal and
+    /// half-space methods, which adapt it below that; the fe method's smallest).
     pub samples_per_pulse: Option<usize>,
+    /// Modal and half-space methods: allowed energy mismatch of the contact steps, as a
+    /// fraction of the impact energy per estimated contact duration; default 1e-6.
+    pub energy_tolerance: Option<f64>,
+    /// Modal and half-space methods: adapt the contact step to `energy_tolerance` (default
+    /// true); false takes uniform steps of the estimated duration / samples_per_pulse.
+    pub adaptive_step: Option<bool>,
     /// Interval of the recorded history in free flight (s).
     pub output_interval: Option<f64>,
     /// Number of equal finite elements (fe method); default a mesh graded from the impact point.

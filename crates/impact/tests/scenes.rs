@@ -46,10 +46,16 @@ fn paper_scene(modes: usize, samples: usize, gravity: bool) -> Scene {
     s
 }
 
+fn uniform(mut s: Scene) -> Scene {
+    s.solver.adaptive_step = Some(false);
+    s
+}
+
 #[test]
 fn energy_balance_with_many_recontacts() {
     // Issue criterion: elastic Hertz, undamped beam, gravity off, paper's tip scene, 64 modes,
-    // 5 ms, default settings: balance error below 1e-6 of the initial energy.
+    // 5 ms, default settings: balance error below 1e-6 of the initial energy (measured 4.3e-7,
+    // adaptive step, 6000 steps).
     let mut s = paper_scene(64, DEFAULT_SAMPLES_PER_PULSE, false);
     s.solver.samples_per_pulse = None;
     let out = simulate(&s).unwrap();
@@ -57,9 +63,10 @@ fn energy_balance_with_many_recontacts() {
     assert!(out.report.contact_count >= 10, "only {} contacts", out.report.contact_count);
     assert!(e.balance_error.abs() < 1e-6 * e.initial, "{e:?}");
     assert!(e.dissipated == 0.0 && e.ball_potential == 0.0);
-    // Second order: the error falls by ~4 per halving of the step (measured 3.86, 3.89).
+    // The scheme under it, with uniform steps, is second order: the error falls by ~4 per
+    // halving of the step (measured 3.86, 3.89).
     let err = |n| {
-        let e = simulate(&paper_scene(64, n, false)).unwrap().report.energy;
+        let e = simulate(&uniform(paper_scene(64, n, false))).unwrap().report.energy;
         e.balance_error.abs()
     };
     let (a, b, c) = (err(200), err(400), err(800));
@@ -69,11 +76,43 @@ fn energy_balance_with_many_recontacts() {
 }
 
 #[test]
+fn adaptive_step_error_follows_its_tolerance() {
+    // The same run as above with energy tolerances 1e-5, 1e-6, 1e-7. The tolerance is per
+    // estimated contact duration, so the balance error may reach it times the contact time
+    // over that duration (here ~16); it stays below one tolerance (measured 1.5e-6, 4.3e-7,
+    // 8.4e-8 of the initial energy with 4355, 5981, 11902 steps), falls with it, and the
+    // first contact agrees with the uniform-step limit (Richardson from 1600 and 3200 steps
+    // per pulse: 35.3185225 us, 844.73994 N; measured 2e-8 and 1.2e-7 at 1e-6).
+    let run = |tol: f64| {
+        let mut s = paper_scene(64, DEFAULT_SAMPLES_PER_PULSE, false);
+        s.solver.energy_tolerance = Some(tol);
+        let out = simulate(&s).unwrap();
+        let steps: usize = out.report.contacts.iter().map(|c| c.steps).sum();
+        (out.report.energy.balance_error.abs() / out.report.energy.initial, steps, out)
+    };
+    let (e5, n5, _) = run(1e-5);
+    let (e6, n6, out6) = run(1e-6);
+    let (e7, n7, _) = run(1e-7);
+    assert!(e5 < 1e-5 && e6 < 1e-6 && e7 < 1e-7, "errors {e5:e} {e6:e} {e7:e}");
+    assert!(e5 > e6 && e6 > e7, "errors {e5:e} {e6:e} {e7:e}");
+    assert!(n5 < n6 && n6 < n7, "steps {n5} {n6} {n7}");
+    let first = &out6.report.contacts[0];
+    assert!(rel(first.duration, 35.318_522_5e-6) < 1e-7, "{}", first.duration);
+    assert!(rel(first.peak_force, 844.739_94) < 1e-6, "{}", first.peak_force);
+    // Uniform steps to the same energy error take 4 times as many steps (800 per pulse:
+    // 1.0e-6 with 14609 steps).
+    let u = simulate(&uniform(paper_scene(64, 800, false))).unwrap();
+    let nu: usize = u.report.contacts.iter().map(|c| c.steps).sum();
+    assert!(u.report.energy.balance_error.abs() > e6 * u.report.energy.initial && nu > 2 * n6);
+}
+
+#[test]
 fn first_contact_converges_with_the_step() {
-    // The paper's tip scene with 4 and with 128 modes: first-contact duration and peak force
-    // converge at second order as the step is halved (differences fall by ~4).
+    // The paper's tip scene with 4 and with 128 modes, uniform steps: first-contact duration
+    // and peak force converge at second order as the step is halved (differences fall by ~4).
     for modes in [4, 128] {
-        let first = |n| simulate(&paper_scene(modes, n, true)).unwrap().report.contacts[0].clone();
+        let first =
+            |n| simulate(&uniform(paper_scene(modes, n, true))).unwrap().report.contacts[0].clone();
         let (c1, c2, c3) = (first(100), first(200), first(400));
         let d = |f: fn(&Contact) -> f64| ((f(&c1) - f(&c2)).abs(), (f(&c2) - f(&c3)).abs());
         let (p1, p2) = d(|c| c.peak_force);
@@ -152,6 +191,19 @@ fn bad_inputs_name_the_field() {
             "not both",
         ),
         ("method = \"modal\"\nmodes = 128", "method = \"fe\"", "accepted"),
+        ("modes = 128", "modes = 128\nenergy_tolerance = 0.0", "solver.energy_tolerance = 0"),
+        ("modes = 128", "modes = 128\nenergy_tolerance = nan", "solver.energy_tolerance = NaN"),
+        (
+            "modes = 128",
+            "modes = 128\nadaptive_step = false\nenergy_tolerance = 1e-6",
+            "no use with adaptive_step = false",
+        ),
+        ("modes = 128", "modes = 128\nadaptive_step = false", "accepted"),
+        (
+            "method = \"modal\"\nmodes = 128",
+            "method = \"fe\"\nenergy_tolerance = 1e-6",
+            "belong to the modal method",
+        ),
         ("yield_stress = 3.4e8\n", "yield_stress = 3.4e8\nmodal_damping = 0.01\n", "accepted"),
         ("radius = 0.005", "radius = 0.0", "ball.radius = 0"),
         (

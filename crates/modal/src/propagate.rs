@@ -3,6 +3,7 @@
 use crate::beam::{Beam, Mode};
 use crate::error::{positive, ModalError};
 use num_complex::Complex64;
+use pulp::{Arch, Simd, WithSimd};
 
 /// The modes of a beam seen from one point x = c where a force F(t) acts (and where the
 /// displacement is observed): each mode is the oscillator
@@ -212,6 +213,8 @@ pub struct Transition {
     g1v: Vec<f64>,
     /// Participations g, to sum the displacement while advancing.
     gain: Vec<f64>,
+    /// omega^2, to sum the energy while advancing.
+    omega2: Vec<f64>,
     /// g E11 and g E12: the end displacement at the point from the start state.
     wq: Vec<f64>,
     wv: Vec<f64>,
@@ -219,8 +222,10 @@ pub struct Transition {
     compliance: f64,
 }
 
-/// sin(x)/x, (1 - cos x)/x^2, (x - sin x)/x^3, stable at small x (exact limits 1, 1/2, 1/6 at 0).
-fn undamped_kernels(x: f64) -> (f64, f64, f64) {
+/// cos x, sin(x)/x, (1 - cos x)/x^2, (x - sin x)/x^3, stable at small x (exact limits 1, 1, 1/2,
+/// 1/6 at 0), from one sine and one cosine of x/2 (sin x = 2 s c, 1 - cos x = 2 s^2): the
+/// transitions of the event search are built per trial time, and the trigonometry is their cost.
+fn undamped_kernels(x: f64) -> (f64, f64, f64, f64) {
     if x < 0.5 {
         // Taylor series; 9 terms reach round-off for x < 0.5 (x^18/21! < 1e-25).
         let x2 = x * x;
@@ -235,11 +240,11 @@ fn undamped_kernels(x: f64) -> (f64, f64, f64) {
             term *= -x2;
             fact *= (2.0 * kf + 2.0) * (2.0 * kf + 3.0);
         }
-        (c1, c2, c3)
+        (1.0 - x2 * c2, c1, c2, c3)
     } else {
-        let s = x.sin();
-        let half = (0.5 * x).sin();
-        (s / x, 2.0 * half * half / (x * x), (x - s) / (x * x * x))
+        let (s, c) = (0.5 * x).sin_cos();
+        let sin = 2.0 * s * c;
+        (1.0 - 2.0 * s * s, sin / x, 2.0 * s * s / (x * x), (x - sin) / (x * x * x))
     }
 }
 
@@ -259,6 +264,157 @@ fn phi_functions(z: Complex64) -> (Complex64, Complex64, Complex64) {
         term = term * z / (jf + 1.0);
     }
     (e, p1, p2)
+}
+
+/// One mode's exact transition over a step h for a unit participation:
+/// e = [E11, E12, E21, E22] and the load columns g0, g1 = [q, v] per newton of F0 and F1.
+struct ModeStep {
+    e: [f64; 4],
+    g0: [f64; 2],
+    g1: [f64; 2],
+}
+
+impl ModeStep {
+    fn new(w: f64, z: f64, h: f64, hold: Hold) -> Self {
+        // e = [e11, e12, e21, e22]; p1, p2 = h phi1(Ah) b and h phi2(Ah) b for b = [0, 1].
+        let (e, p1, p2) = if z == 0.0 || w == 0.0 {
+            let x = w * h;
+            let (cos, c1, c2, c3) = undamped_kernels(x);
+            ([cos, h * c1, -w * x * c1, cos], [h * h * c2, h * c1], [h * h * c3, h * c2])
+        } else {
+            // f(M) = 2 Re[f(mu) (M - conj(mu) I) / (mu - conj(mu))] for M = A h with the
+            // eigenvalues mu = h(-zeta omega +- i omega_d) (Sylvester's formula).
+            let wd = w * (1.0 - z * z).sqrt();
+            let mu = Complex64::new(-z * w * h, wd * h);
+            let mub = mu.conj();
+            let (f0, f1, f2) = phi_functions(mu);
+            let inv = Complex64::new(0.0, 2.0 * wd * h).inv();
+            let col2 = [Complex64::new(h, 0.0), Complex64::new(-2.0 * z * w * h, 0.0) - mub];
+            let m = |f: Complex64, a: Complex64| 2.0 * (f * a * inv).re;
+            (
+                [
+                    m(f0, -mub),
+                    m(f0, col2[0]),
+                    m(f0, Complex64::new(-w * w * h, 0.0)),
+                    m(f0, col2[1]),
+                ],
+                [h * m(f1, col2[0]), h * m(f1, col2[1])],
+                [h * m(f2, col2[0]), h * m(f2, col2[1])],
+            )
+        };
+        let (g0, g1) = match hold {
+            Hold::Zero => (p1, [0.0, 0.0]),
+            Hold::FirstOrder => ([p1[0] - p2[0], p1[1] - p2[1]], p2),
+        };
+        Self { e, g0, g1 }
+    }
+}
+
+/// sum a_i b_i with four running sums: independent chains the processor overlaps (and a fixed
+/// summation order, so results are reproducible).
+#[inline(always)]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut sums = [0.0; 4];
+    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ac.remainder().iter().zip(bc.remainder()).map(|(x, y)| x * y).sum();
+    for (x, y) in ac.zip(bc) {
+        for k in 0..4 {
+            sums[k] += x[k] * y[k];
+        }
+    }
+    (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
+}
+
+impl PointModes {
+    /// Displacement at the point after a force-free-at-the-end step tau from `state` with the
+    /// force going from `f0` to zero (m), without building a [`Transition`]: what event location
+    /// needs, at any trial tau.
+    ///
+    /// # Errors
+    /// `InvalidParameter` if tau is not finite and positive.
+    pub fn free_displacement_after(
+        &self,
+        state: &ModalState,
+        tau: f64,
+        f0: f64,
+    ) -> Result<f64, ModalError> {
+        let h = positive("time_step", tau, "s")?;
+        let mut w = 0.0;
+        for (i, (&omega, &zeta)) in self.omega.iter().zip(&self.damping_ratio).enumerate() {
+            let s = ModeStep::new(omega, zeta, h, Hold::FirstOrder);
+            let g = self.gain[i];
+            w += g * (s.e[0] * state.q[i] + s.e[1] * state.v[i] + g * s.g0[0] * f0);
+        }
+        Ok(w)
+    }
+}
+
+/// The step's update of every mode. The hot loops are compiled for the widest vector
+/// instructions the processor has (pulp checks at run time and inlines `with_simd` into a
+/// function built for them); the operations and their order are the same on every path, and
+/// Rust never fuses a multiply and an add on its own, so neither are the results.
+struct AdvanceKernel<'a> {
+    t: &'a Transition,
+    state: &'a mut ModalState,
+    f0: f64,
+    f1: f64,
+}
+
+impl WithSimd for AdvanceKernel<'_> {
+    /// (displacement at the point, beam energy).
+    type Output = (f64, f64);
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) -> (f64, f64) {
+        let Self { t, state, f0, f1 } = self;
+        // Every slice cut to one length, so the loops have no bounds checks and vectorise.
+        let n = t.e11.len();
+        let (q, v) = (&mut state.q[..n], &mut state.v[..n]);
+        let (e11, e12, e21, e22) = (&t.e11[..n], &t.e12[..n], &t.e21[..n], &t.e22[..n]);
+        let (g0q, g0v, g1q, g1v) = (&t.g0q[..n], &t.g0v[..n], &t.g1q[..n], &t.g1v[..n]);
+        for i in 0..n {
+            let (qi, vi) = (q[i], v[i]);
+            q[i] = e11[i] * qi + e12[i] * vi + g0q[i] * f0 + g1q[i] * f1;
+            v[i] = e21[i] * qi + e22[i] * vi + g0v[i] * f0 + g1v[i] * f1;
+        }
+        let (gain, omega2) = (&t.gain[..n], &t.omega2[..n]);
+        // Four running sums of each, in a fixed order: independent chains that vectorise.
+        let (mut w, mut e) = ([0.0; 4], [0.0; 4]);
+        let mut i = 0;
+        while i + 4 <= n {
+            for k in 0..4 {
+                let j = i + k;
+                w[k] += gain[j] * q[j];
+                e[k] += v[j] * v[j] + omega2[j] * q[j] * q[j];
+            }
+            i += 4;
+        }
+        let (mut w_tail, mut e_tail) = (0.0, 0.0);
+        for j in i..n {
+            w_tail += gain[j] * q[j];
+            e_tail += v[j] * v[j] + omega2[j] * q[j] * q[j];
+        }
+        ((w[0] + w[1]) + (w[2] + w[3]) + w_tail, 0.5 * ((e[0] + e[1]) + (e[2] + e[3]) + e_tail))
+    }
+}
+
+/// The free end displacement's sums (see [`AdvanceKernel`]).
+struct FreeKernel<'a> {
+    t: &'a Transition,
+    state: &'a ModalState,
+    f0: f64,
+}
+
+impl WithSimd for FreeKernel<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) -> f64 {
+        let Self { t, state, f0 } = self;
+        t.w0 * f0 + dot(&t.wq, &state.q) + dot(&t.wv, &state.v)
+    }
 }
 
 impl Transition {
@@ -281,56 +437,27 @@ impl Transition {
             g1q: Vec::with_capacity(n),
             g1v: Vec::with_capacity(n),
             gain: modes.gain.clone(),
+            omega2: modes.omega.iter().map(|w| w * w).collect(),
             wq: Vec::with_capacity(n),
             wv: Vec::with_capacity(n),
             w0: 0.0,
             compliance: 0.0,
         };
         for i in 0..n {
-            let (w, z, g) = (modes.omega[i], modes.damping_ratio[i], modes.gain[i]);
-            // e = [e11, e12, e21, e22]; p1, p2 = h phi1(Ah) b and h phi2(Ah) b for b = [0, 1].
-            let (e, p1, p2) = if z == 0.0 || w == 0.0 {
-                let x = w * h;
-                let (c1, c2, c3) = undamped_kernels(x);
-                let cos = x.cos();
-                ([cos, h * c1, -w * x * c1, cos], [h * h * c2, h * c1], [h * h * c3, h * c2])
-            } else {
-                // f(M) = 2 Re[f(mu) (M - conj(mu) I) / (mu - conj(mu))] for M = A h with the
-                // eigenvalues mu = h(-zeta omega +- i omega_d) (Sylvester's formula).
-                let wd = w * (1.0 - z * z).sqrt();
-                let mu = Complex64::new(-z * w * h, wd * h);
-                let mub = mu.conj();
-                let (f0, f1, f2) = phi_functions(mu);
-                let inv = Complex64::new(0.0, 2.0 * wd * h).inv();
-                let col2 = [Complex64::new(h, 0.0), Complex64::new(-2.0 * z * w * h, 0.0) - mub];
-                let m = |f: Complex64, a: Complex64| 2.0 * (f * a * inv).re;
-                (
-                    [
-                        m(f0, -mub),
-                        m(f0, col2[0]),
-                        m(f0, Complex64::new(-w * w * h, 0.0)),
-                        m(f0, col2[1]),
-                    ],
-                    [h * m(f1, col2[0]), h * m(f1, col2[1])],
-                    [h * m(f2, col2[0]), h * m(f2, col2[1])],
-                )
-            };
-            let (g0, g1) = match hold {
-                Hold::Zero => (p1, [0.0, 0.0]),
-                Hold::FirstOrder => ([p1[0] - p2[0], p1[1] - p2[1]], p2),
-            };
-            t.e11.push(e[0]);
-            t.e12.push(e[1]);
-            t.e21.push(e[2]);
-            t.e22.push(e[3]);
-            t.g0q.push(g * g0[0]);
-            t.g0v.push(g * g0[1]);
-            t.g1q.push(g * g1[0]);
-            t.g1v.push(g * g1[1]);
-            t.wq.push(g * e[0]);
-            t.wv.push(g * e[1]);
-            t.w0 += g * g * g0[0];
-            t.compliance += g * g * g1[0];
+            let g = modes.gain[i];
+            let s = ModeStep::new(modes.omega[i], modes.damping_ratio[i], h, hold);
+            t.e11.push(s.e[0]);
+            t.e12.push(s.e[1]);
+            t.e21.push(s.e[2]);
+            t.e22.push(s.e[3]);
+            t.g0q.push(g * s.g0[0]);
+            t.g0v.push(g * s.g0[1]);
+            t.g1q.push(g * s.g1[0]);
+            t.g1v.push(g * s.g1[1]);
+            t.wq.push(g * s.e[0]);
+            t.wv.push(g * s.e[1]);
+            t.w0 += g * g * s.g0[0];
+            t.compliance += g * g * s.g1[0];
         }
         Ok(t)
     }
@@ -342,28 +469,23 @@ impl Transition {
 
     /// Advances `state` over the step with the force going from `f0` to `f1` (N)
     /// (`f1` is ignored for a zero-order hold), and returns the new displacement at the point,
-    /// sum g q (m), summed in the same pass.
+    /// sum g q (m).
     pub fn advance(&self, state: &mut ModalState, f0: f64, f1: f64) -> f64 {
+        self.advance_with_energy(state, f0, f1).0
+    }
+
+    /// [`Transition::advance`], also returning the beam's energy after the step (J), summed in
+    /// the same pass: what an energy ledger needs at every step, for the cost of a few
+    /// multiplications per mode.
+    pub fn advance_with_energy(&self, state: &mut ModalState, f0: f64, f1: f64) -> (f64, f64) {
         let f1 = if self.hold == Hold::Zero { 0.0 } else { f1 };
-        let mut w = 0.0;
-        for i in 0..self.e11.len() {
-            let (q, v) = (state.q[i], state.v[i]);
-            let q1 = self.e11[i] * q + self.e12[i] * v + self.g0q[i] * f0 + self.g1q[i] * f1;
-            state.v[i] = self.e21[i] * q + self.e22[i] * v + self.g0v[i] * f0 + self.g1v[i] * f1;
-            state.q[i] = q1;
-            w += self.gain[i] * q1;
-        }
-        w
+        Arch::new().dispatch(AdvanceKernel { t: self, state, f0, f1 })
     }
 
     /// Displacement at the point at the end of the step if the end force were zero (m):
     /// the end displacement is `free_displacement + compliance * f1`.
     pub fn free_displacement(&self, state: &ModalState, f0: f64) -> f64 {
-        let mut w = self.w0 * f0;
-        for i in 0..self.wq.len() {
-            w += self.wq[i] * state.q[i] + self.wv[i] * state.v[i];
-        }
-        w
+        Arch::new().dispatch(FreeKernel { t: self, state, f0 })
     }
 
     /// d(end displacement)/d(end force) (m/N), sum g^2 G1_q >= 0.

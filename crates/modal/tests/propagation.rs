@@ -206,3 +206,29 @@ fn end_displacement_is_affine_in_end_force() {
     assert!((predicted - w).abs() < 1e-13 * w.abs().max(1e-9), "{predicted} vs {w}");
     assert!(t.compliance() > 0.0);
 }
+
+#[test]
+fn event_search_displacement_and_step_energy_match_the_transition() {
+    // free_displacement_after (no transition built) must give the transition's free end
+    // displacement, damped and undamped, for steps where omega h spans the Taylor branch
+    // (< 0.5) and the trigonometric one; advance_with_energy's energy must be the modes' own.
+    for damping in [0.0, 0.02] {
+        let tip = paper_tip(128, damping);
+        let s = ModalState {
+            q: (0..128).map(|i| 1e-6 / (1.0 + i as f64)).collect(),
+            v: (0..128).map(|i| 1e-3 * (i as f64).cos()).collect(),
+        };
+        for h in [1e-9, 3e-7, 1e-4] {
+            let t = Transition::new(&tip, h, Hold::FirstOrder).unwrap();
+            let a = t.free_displacement(&s, 40.0);
+            let b = tip.free_displacement_after(&s, h, 40.0).unwrap();
+            assert!((a - b).abs() < 1e-13 * a.abs(), "h {h}: {a} vs {b}");
+            let mut moved = s.clone();
+            let (w, energy) = t.advance_with_energy(&mut moved, 40.0, 55.0);
+            assert!((w - tip.displacement(&moved)).abs() < 1e-14 * w.abs());
+            let exact = tip.energy(&moved);
+            assert!((energy - exact).abs() < 1e-14 * exact, "h {h}: {energy} vs {exact}");
+        }
+        assert!(tip.free_displacement_after(&s, -1.0, 0.0).is_err());
+    }
+}
