@@ -367,7 +367,6 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             s.impact.drop_height = Some(h);
             s.solver.modes = Some(modes);
             s.solver.end_time = Some(end);
-            s.solver.samples_per_pulse = Some(200);
             Ok(s)
         })
         .collect::<anyhow::Result<Vec<_>>>()?;

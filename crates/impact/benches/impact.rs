@@ -1,4 +1,5 @@
-//! Whole simulations: the paper's tip scene (h = 0.2 m, 5 ms) with 4, 64 and 256 modes, its
+//! Whole simulations: the paper's tip scene (h = 0.2 m, 5 ms) with 4, 64 and 256 modes (and
+//! with 256 modes on uniform steps), its
 //! first contact with 256 modes, the same scene with the finite-element method (default graded mesh; first contact only, and
 //! 5 ms), and the half-space closed-form case.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
@@ -19,6 +20,15 @@ fn scenes(c: &mut Criterion) {
             b.iter(|| simulate(s))
         });
     }
+    // The scheme before the adaptive step: uniform steps, 1000 per pulse (energy balance
+    // 7e-7 on the 64-mode run, against 4e-7 for the adaptive default).
+    let mut uniform = Scene::from_toml(PAPER).expect("valid scene");
+    uniform.solver.modes = Some(256);
+    uniform.solver.samples_per_pulse = Some(1000);
+    uniform.solver.adaptive_step = Some(false);
+    group.bench_function("paper tip 5 ms uniform 1000 per pulse/256", |b| {
+        b.iter(|| simulate(&uniform))
+    });
     // The modal method at the FE default's accuracy on the first contact (256 modes: duration
     // 0.05 % from converged; the FE default mesh 0.17 %).
     let mut first = Scene::from_toml(PAPER).expect("valid scene");

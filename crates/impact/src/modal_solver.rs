@@ -4,7 +4,8 @@
 //! beam's displacement at the impact point and the ball's position at the end of the step are
 //! both affine in the unknown end force F1, so the approach is delta1 = d_free - C F1 and the
 //! step is the scalar monotone equation F1 = law(d_free - C F1), solved by safeguarded Newton.
-//! The step is set by the force pulse only (exact propagation has no stability limit).
+//! The step is set by the force pulse only (exact propagation has no stability limit): at most
+//! the plan's step, and by default adapted below it on the energy ledger (`contact_phase`).
 //! Out of contact the beam and ball move freely; the solver jumps ahead by conservative
 //! advancement: a jump is never longer than the gap allows given bounds on how fast the beam
 //! and the ball can close it, so no re-contact longer than a quarter contact step is missed.

@@ -224,7 +224,8 @@ pub struct Transition {
 
 /// cos x, sin(x)/x, (1 - cos x)/x^2, (x - sin x)/x^3, stable at small x (exact limits 1, 1, 1/2,
 /// 1/6 at 0), from one sine and one cosine of x/2 (sin x = 2 s c, 1 - cos x = 2 s^2): the
-/// transitions of the event search are built per trial time, and the trigonometry is their cost.
+/// event search evaluates them for every mode at every trial time, and the trigonometry is its
+/// cost.
 fn undamped_kernels(x: f64) -> (f64, f64, f64, f64) {
     if x < 0.5 {
         // Taylor series; 9 terms reach round-off for x < 0.5 (x^18/21! < 1e-25).
@@ -328,9 +329,9 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 impl PointModes {
-    /// Displacement at the point after a force-free-at-the-end step tau from `state` with the
-    /// force going from `f0` to zero (m), without building a [`Transition`]: what event location
-    /// needs, at any trial tau.
+    /// Displacement at the point after a step tau from `state` with the force going linearly
+    /// from `f0` to zero (m), without building a [`Transition`]: what event location needs, at
+    /// any trial tau.
     ///
     /// # Errors
     /// `InvalidParameter` if tau is not finite and positive.
