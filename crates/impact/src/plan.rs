@@ -134,7 +134,8 @@ pub struct Plan {
     pub gravity: f64,
     /// Simulated time (s).
     pub end_time: f64,
-    /// Time step in contact (s): the largest of the modal method's adaptive step.
+    /// Time step in contact (s): the largest of the modal method's adaptive step, the
+    /// smallest of the fe method's.
     pub time_step: f64,
     /// The modal method's adaptive contact step: its energy tolerance (see
     /// `DEFAULT_ENERGY_TOLERANCE`), or `None` for uniform steps.
