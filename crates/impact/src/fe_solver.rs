@@ -738,17 +738,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             beam_model.strain_energy(&q.beam) + beam_model.kinetic_energy(v.subrows(0, n - 3));
         let contact_stored = law.stored_energy(&self.model.law_state, delta);
         let dissipated = law.dissipated_energy(&self.model.law_state);
-        let balance_error =
-            initial - (ball_kinetic + ball_potential + beam + contact_stored + dissipated);
-        Energy {
-            initial,
-            ball_kinetic,
-            ball_potential,
-            beam,
-            contact_stored,
-            dissipated,
-            balance_error,
-        }
+        Energy::new(initial, ball_kinetic, ball_potential, beam, contact_stored, dissipated)
     }
 
     fn finish(self, wall_time: f64) -> Outcome {

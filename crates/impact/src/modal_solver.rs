@@ -165,16 +165,27 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         self.ball_position - self.beam_displacement()
     }
 
+    /// The energy ledger at the current state.
+    fn energy(&self) -> Energy {
+        let (m, speed) = (self.plan.ball_mass, self.plan.speed);
+        Energy::new(
+            0.5 * m * speed * speed,
+            0.5 * m * self.ball_velocity * self.ball_velocity,
+            -m * self.plan.gravity * self.ball_position,
+            self.beam_energy,
+            self.law.stored_energy(&self.law_state, self.approach()),
+            self.law.dissipated_energy(&self.law_state) + self.damping_work,
+        )
+    }
+
     fn record(&mut self) {
         let w = self.beam_displacement();
-        let m = self.plan.ball_mass;
-        let delta = self.ball_position - w;
+        let energy = self.energy();
         self.history.push(Sample {
-            ball_energy: 0.5 * m * self.ball_velocity * self.ball_velocity
-                - m * self.plan.gravity * self.ball_position,
-            beam_energy: self.beam_energy,
-            contact_energy: self.law.stored_energy(&self.law_state, delta),
-            dissipated_energy: self.law.dissipated_energy(&self.law_state) + self.damping_work,
+            ball_energy: energy.ball_kinetic + energy.ball_potential,
+            beam_energy: energy.beam,
+            contact_energy: energy.contact_stored,
+            dissipated_energy: energy.dissipated,
             time: self.t,
             force: self.force,
             approach: self.ball_position - w,
@@ -259,19 +270,6 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         Ok(tr)
     }
 
-    /// Energy held by the ball, the beam and the contact plus what has been dissipated (J),
-    /// from the state: constant in exact arithmetic, so its change over a step is the step's
-    /// contribution to the balance error.
-    fn ledger(&self) -> f64 {
-        let m = self.plan.ball_mass;
-        0.5 * m * self.ball_velocity * self.ball_velocity
-            - m * self.plan.gravity * self.ball_position
-            + self.beam_energy
-            + self.law.stored_energy(&self.law_state, self.approach())
-            + self.law.dissipated_energy(&self.law_state)
-            + self.damping_work
-    }
-
     /// Steps through one contact, from onset (force zero) to separation or the end time.
     ///
     /// With the plan's energy tolerance, the step is adapted on the energy ledger: over an
@@ -300,7 +298,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         // Uniform steps (no tolerance) stay at level 0 throughout.
         let tolerance = self.plan.energy_tolerance;
         let mut level = if tolerance.is_some() { FINEST_LEVEL } else { 0 };
-        let mut ledger = self.ledger();
+        let mut ledger = self.energy().held();
         // Allowed mismatch per second of contact (W).
         let allowed_rate = tolerance.unwrap_or(0.0)
             * 0.5
@@ -367,7 +365,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             impulse += 0.5 * h * (f0 + f1);
             self.law.commit(&mut self.law_state, delta1, a * delta1 + b);
             if tolerance.is_some() {
-                let ledger1 = self.ledger();
+                let ledger1 = self.energy().held();
                 let mismatch = (ledger1 - ledger).abs();
                 ledger = ledger1;
                 // Where the force is smooth the mismatch scales as h^3 against an allowance
@@ -619,17 +617,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
 
     fn finish(self, wall_time: f64) -> Outcome {
         let plan = self.plan;
-        let m = plan.ball_mass;
-        let delta = self.approach();
-        let initial = 0.5 * m * plan.speed * plan.speed;
-        let ball_kinetic = 0.5 * m * self.ball_velocity * self.ball_velocity;
-        let ball_potential = -m * plan.gravity * self.ball_position;
-        let beam = self.beam_energy;
-        let contact_stored = self.law.stored_energy(&self.law_state, delta);
-        let dissipated = self.law.dissipated_energy(&self.law_state) + self.damping_work;
-        let balance_error =
-            initial - (ball_kinetic + ball_potential + beam + contact_stored + dissipated);
-
+        let energy = self.energy();
         let mut warnings = plan.warnings.clone();
         let static_stiffness = match &plan.target {
             Target::Beam { beam, position, .. } => {
@@ -653,15 +641,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 contacts: self.contacts,
                 max_displacement: self.max_displacement,
                 static_stiffness,
-                energy: Energy {
-                    initial,
-                    ball_kinetic,
-                    ball_potential,
-                    beam,
-                    contact_stored,
-                    dissipated,
-                    balance_error,
-                },
+                energy,
                 wall_time,
             },
         );

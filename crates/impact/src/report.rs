@@ -48,6 +48,37 @@ pub struct Energy {
     pub balance_error: f64,
 }
 
+impl Energy {
+    /// The ledger from its terms (J); the balance error is what they leave of the initial
+    /// energy, never a term of its own.
+    pub(crate) fn new(
+        initial: f64,
+        ball_kinetic: f64,
+        ball_potential: f64,
+        beam: f64,
+        contact_stored: f64,
+        dissipated: f64,
+    ) -> Self {
+        let mut energy = Self {
+            initial,
+            ball_kinetic,
+            ball_potential,
+            beam,
+            contact_stored,
+            dissipated,
+            balance_error: 0.0,
+        };
+        energy.balance_error = initial - energy.held();
+        energy
+    }
+
+    /// What the ball, the beam and the contact hold plus what has been dissipated (J): constant
+    /// in exact arithmetic.
+    pub(crate) fn held(&self) -> f64 {
+        self.ball_kinetic + self.ball_potential + self.beam + self.contact_stored + self.dissipated
+    }
+}
+
 /// Everything a run reports (SI units; ball velocities positive toward the beam).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Report {
