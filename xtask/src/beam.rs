@@ -3,16 +3,15 @@
 
 use crate::plot::{Chart, Series};
 use anyhow::Context;
-use impact::beam_scene::AnalysisName;
 use indicatif::{ProgressBar, ProgressStyle};
+use simo_beam::scene::{AnalysisName, BeamScene};
 use std::path::Path;
 
 #[allow(clippy::print_stdout)]
-pub fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
+pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read the scene file {}", path.display()))?;
-    let scene =
-        impact::BeamScene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    let scene = BeamScene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})")

@@ -68,7 +68,7 @@ fn relative(value: f64, reference: f64) -> String {
 }
 
 #[allow(clippy::print_stdout)]
-pub fn run(
+pub(crate) fn run(
     path: &Path,
     modes: &[usize],
     elements: &[usize],

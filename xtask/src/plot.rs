@@ -6,13 +6,13 @@ use std::io::Write;
 use std::path::Path;
 
 /// One named curve.
-pub struct Series {
+pub(crate) struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
 }
 
 /// A chart: title, axis labels with units, curves, and whether to draw markers.
-pub struct Chart<'a> {
+pub(crate) struct Chart<'a> {
     pub title: &'a str,
     pub x_label: &'a str,
     pub y_label: &'a str,
@@ -41,7 +41,7 @@ fn bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
 
 impl Chart<'_> {
     /// Writes `stem.svg` and `stem.csv` (long format: series, x, y) into `dir`.
-    pub fn write(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
+    pub(crate) fn write(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
         let svg = dir.join(format!("{stem}.svg"));
         let all = self.series.iter().flat_map(|s| s.points.iter());
         anyhow::ensure!(

@@ -23,7 +23,7 @@ struct Figure {
 }
 
 /// Runs scenes in parallel with a progress bar; results in input order.
-pub fn run_all(label: &str, scenes: Vec<Scene>) -> anyhow::Result<Vec<impact::Outcome>> {
+pub(crate) fn run_all(label: &str, scenes: Vec<Scene>) -> anyhow::Result<Vec<impact::Outcome>> {
     let bar = ProgressBar::new(scenes.len() as u64);
     bar.set_style(
         ProgressStyle::with_template("{prefix:>28} [{bar:30}] {pos}/{len} {elapsed}")
@@ -57,7 +57,7 @@ fn displacement_series(label: String, o: &impact::Outcome) -> Series {
     }
 }
 
-pub fn run(out: &Path, quick: bool) -> anyhow::Result<bool> {
+pub(crate) fn run(out: &Path, quick: bool) -> anyhow::Result<bool> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let clock = std::time::Instant::now();
     let figures = [

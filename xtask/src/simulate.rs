@@ -1,10 +1,11 @@
 //! `cargo xtask simulate SCENE.toml`: one scene, a readable summary or JSON.
 
 use anyhow::Context;
+use impact::MethodKind;
 use std::path::Path;
 
 /// Reads and runs a scene file.
-pub fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
+pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read the scene file {}", path.display()))?;
     let scene =
@@ -13,7 +14,7 @@ pub fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
 }
 
 #[allow(clippy::print_stdout)]
-pub fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bool> {
+pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bool> {
     let outcome = load_and_run(path)?;
     if let Some(h) = history {
         let file =
@@ -25,13 +26,13 @@ pub fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bo
         println!("{}", serde_json::to_string_pretty(r)?);
         return Ok(true);
     }
-    let resolution = match r.plan.method.as_str() {
-        "fe" => format!("{} elements", r.plan.elements),
-        "modal" => format!("{} modes", r.plan.modes),
-        _ => "rigid block".to_string(),
+    let resolution = match r.plan.method {
+        MethodKind::Fe => format!("{} elements", r.plan.elements),
+        MethodKind::Modal => format!("{} modes", r.plan.modes),
+        MethodKind::HalfSpace => "rigid block".to_string(),
     };
     // The fe method's contact step grows from the plan's; the others' (adaptive) stays below.
-    let bound = if r.plan.method == "fe" { "from" } else { "up to" };
+    let bound = if r.plan.method == MethodKind::Fe { "from" } else { "up to" };
     println!(
         "{}: {} model, {resolution}, contact law {}, contact step {bound} {:.3e} s",
         r.name, r.plan.method, r.plan.contact_law, r.plan.time_step

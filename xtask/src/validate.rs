@@ -179,7 +179,7 @@ fn compute(case: &Case) -> anyhow::Result<f64> {
 }
 
 #[allow(clippy::print_stdout)]
-pub fn run(json: bool) -> anyhow::Result<bool> {
+pub(crate) fn run(json: bool) -> anyhow::Result<bool> {
     let path = root().join("cases.toml");
     let text = std::fs::read_to_string(&path)
         .with_context(|| format!("cannot read {}", path.display()))?;

@@ -21,9 +21,6 @@ pub enum ImpactError {
     /// A combination of fields that does not make a scene.
     #[error("{0}")]
     Inconsistent(String),
-    /// A method the scene asks for is not available.
-    #[error("{0}")]
-    Unsupported(String),
     /// A numerical failure in a run; carries the simulated time.
     #[error("the solver failed at t = {t} s: {reason}")]
     SolverFailed {
@@ -31,6 +28,16 @@ pub enum ImpactError {
         t: f64,
         /// What went wrong.
         reason: String,
+    },
+    /// The time integrator (HHT-alpha) of the finite-element method failed; the source says
+    /// how (Newton diverged, a singular matrix, ...).
+    #[error("the time integrator failed at t = {t} s")]
+    Integrator {
+        /// Simulated time at the start of the failed step (s).
+        t: f64,
+        /// What the integrator reported.
+        #[source]
+        source: hht::HhtError,
     },
     /// An error from the contact crate.
     #[error(transparent)]
@@ -53,4 +60,13 @@ pub(crate) fn positive(field: &str, value: f64, unit: &str) -> Result<f64, Impac
         });
     }
     Ok(value)
+}
+
+/// `field = value` is outside what is `allowed`.
+pub(crate) fn invalid(field: &str, value: impl ToString, allowed: &str) -> ImpactError {
+    ImpactError::InvalidField {
+        field: field.to_owned(),
+        value: value.to_string(),
+        allowed: allowed.to_owned(),
+    }
 }

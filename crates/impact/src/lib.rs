@@ -10,8 +10,17 @@
 //! delta = u - w (positive in compression) and the force F = law(delta, delta-dot). Each step
 //! holds F linear in time and propagates ball and modes exactly, so the end approach is affine
 //! in the end force and the step is one scalar monotone equation. Contact onset and separation
-//! are located by root finding; free flight jumps ahead by conservative advancement. See
-//! [`modal_solver`] for the scheme and its error (second order in the contact step).
+//! are located by root finding; free flight jumps ahead by conservative advancement; the
+//! scheme is second order in the contact step.
+//!
+//! **Model (fe path).** The ball on a geometrically exact Simo beam ([`BallOnBeam`]), one
+//! monolithic HHT-alpha system; for large deflections, where the modal beam does not hold.
+//!
+//! **Data path.** `scene` (what a user writes, serde only) -> [`Plan::new`] (validated, every
+//! choice made with its reason: [`Method`], [`Law`], steps) -> [`run`] (the solver of the
+//! method, generic over the contact law) -> [`Outcome`] ([`Report`] and [`History`]). The
+//! events module (onset and separation, refined peaks, the contact recorder) is shared by
+//! both solvers. ARCHITECTURE.md at the repository root draws the whole picture.
 //!
 //! **Conventions.** SI units. The impact direction is positive: ball velocities toward the
 //! beam and beam displacements away from the ball are positive; a rebounding ball has a
@@ -33,34 +42,28 @@
 //!     gravity = false
 //! "#)?;
 //! let outcome = impact::simulate(&scene)?;
-//! // REFERENCES.md 2.2: t_c = 69.1104 us.
+//! // validation/REFERENCES.md 2.2: t_c = 69.1104 us.
 //! assert!((outcome.report.contacts[0].duration - 6.91104e-5).abs() < 1e-9);
 //! # Ok::<(), impact::ImpactError>(())
 //! ```
 
-pub mod beam_scene;
 mod error;
-pub mod fe_solver;
-mod history;
-mod illinois;
-pub mod modal_solver;
-mod plan;
-mod report;
+mod events;
+mod law;
+mod outcome;
+pub mod plan;
 mod scene;
+mod solve;
 
-pub use beam_scene::{BeamRun, BeamScene};
 pub use error::ImpactError;
-pub use history::{History, Sample};
-pub use modal_solver::{run, Outcome};
-pub use plan::{
-    FeTarget, Law, Plan, PlanSummary, Target, DEFAULT_SAMPLES_PER_PULSE, FE_ALPHA,
-    FE_SAMPLES_PER_PULSE, GRAVITY, LARGE_DEFLECTION, MODE_CUTOFF,
-};
-pub use report::{Contact, Energy, Report};
+pub use law::Law;
+pub use outcome::{Contact, Energy, History, Outcome, Report, Sample};
+pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,
     SolverSpec, SupportName,
 };
+pub use solve::{run, BallOnBeam, BallOnBeamConfig};
 
 /// Plans and runs a scene.
 ///

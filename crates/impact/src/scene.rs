@@ -139,6 +139,23 @@ pub enum LawName {
     Thornton,
 }
 
+impl LawName {
+    /// The name as a scene file writes it.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LawName::Hertz => "hertz",
+            LawName::HuntCrossley => "hunt-crossley",
+            LawName::Thornton => "thornton",
+        }
+    }
+}
+
+impl std::fmt::Display for LawName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// The contact law and its parameters.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -4,7 +4,6 @@
 
 use faer::Col;
 use hht::{Model, NewtonWeights, Triplets};
-use impact::fe_solver::{BallOnBeam, Config};
 use impact::*;
 use nalgebra::Vector3;
 
@@ -18,12 +17,14 @@ fn dense(n: usize, t: &Triplets) -> Vec<Vec<f64>> {
 
 /// A bent, twisted 4-element strip with the ball pressed 20 um into its face over element 2,
 /// moving: every term of the contact (sliding point, turning normal, damping) is active.
-fn pressed<'a, L: hertz::ContactLaw>(law: &'a L) -> (BallOnBeam<'a, L>, Config, Col<f64>) {
+fn pressed<'a, L: hertz::ContactLaw>(
+    law: &'a L,
+) -> (BallOnBeam<'a, L>, BallOnBeamConfig, Col<f64>) {
     let beam = simo_beam::benchmarks::paper_cantilever(4).unwrap();
     let radius = 0.005;
     let model = BallOnBeam::new(beam, 0.009, 9.81, radius, 0.0025, law);
     let nb = model.beam().ndof();
-    let mut q = Config { beam: model.beam().reference_state(), ball: Vector3::zeros() };
+    let mut q = BallOnBeamConfig { beam: model.beam().reference_state(), ball: Vector3::zeros() };
     let mut dq = Col::<f64>::zeros(nb + 3);
     for i in 0..nb {
         // Displacements up to 2 cm and rotations up to 0.05 rad, varied along the beam.
@@ -50,7 +51,7 @@ fn check_newton_matrix<L: hertz::ContactLaw>(law: &L, damped: bool) {
     let (model, q, v) = pressed(law);
     let n = model.ndof();
     let zero = Col::<f64>::zeros(n);
-    let force = |q: &Config, v: &Col<f64>| {
+    let force = |q: &BallOnBeamConfig, v: &Col<f64>| {
         let mut f = Col::<f64>::zeros(n);
         model.net_force(0.0, q, v.as_ref(), f.as_mut());
         f
@@ -126,7 +127,7 @@ fn paper_tip_first_contact_fe_matches_converged_modal() {
     let fe = paper_tip("method = \"fe\"\nend_time = 6e-5");
     let (m, f) = (&modal.report.contacts[0], &fe.report.contacts[0]);
     assert!(m.complete && f.complete);
-    assert_eq!(fe.report.plan.method, "fe");
+    assert_eq!(fe.report.plan.method, MethodKind::Fe);
     let rel = |a: f64, b: f64| (a - b).abs() / b;
     assert!(rel(f.duration, m.duration) < 0.01, "{} vs {}", f.duration, m.duration);
     assert!(rel(f.peak_force, m.peak_force) < 0.01, "{} vs {}", f.peak_force, m.peak_force);
@@ -195,9 +196,9 @@ fn heavy_ball_is_planned_fe_and_the_modal_report_warns() {
     ))
     .unwrap();
     let plan = Plan::new(&Scene::from_toml(&text).unwrap()).unwrap();
-    assert_eq!(plan.summary.method, "fe");
+    assert_eq!(plan.summary().method, MethodKind::Fe);
     assert!(plan
-        .summary
+        .summary()
         .reasons
         .iter()
         .any(|r| r.contains("small-deflection theory does not hold")));

@@ -56,7 +56,7 @@ fn energy_balance_with_many_recontacts() {
     // Issue criterion: elastic Hertz, undamped beam, gravity off, paper's tip scene, 64 modes,
     // 5 ms, default settings: balance error below 1e-6 of the initial energy (measured 4.3e-7,
     // adaptive step, 6000 steps).
-    let mut s = paper_scene(64, DEFAULT_SAMPLES_PER_PULSE, false);
+    let mut s = paper_scene(64, plan::DEFAULT_SAMPLES_PER_PULSE, false);
     s.solver.samples_per_pulse = None;
     let out = simulate(&s).unwrap();
     let e = &out.report.energy;
@@ -84,7 +84,7 @@ fn adaptive_step_error_follows_its_tolerance() {
     // first contact agrees with the uniform-step limit (Richardson from 1600 and 3200 steps
     // per pulse: 35.3185225 us, 844.73994 N; measured 2e-8 and 1.2e-7 at 1e-6).
     let run = |tol: f64| {
-        let mut s = paper_scene(64, DEFAULT_SAMPLES_PER_PULSE, false);
+        let mut s = paper_scene(64, plan::DEFAULT_SAMPLES_PER_PULSE, false);
         s.solver.energy_tolerance = Some(tol);
         let out = simulate(&s).unwrap();
         let steps: usize = out.report.contacts.iter().map(|c| c.steps).sum();

@@ -15,6 +15,8 @@
 //!   [`Profile`].
 //! - [`solve_static`]: Newton with load steps and automatic step cutting.
 //! - [`natural_modes`]: linearised modes about the reference configuration (faer, dense).
+//! - `scene` (feature `scene`): beam-only scene files (TOML) under prescribed loads, static or
+//!   dynamic, as `cargo xtask beam` runs them.
 //! - [`benchmarks`]: the problems of REFERENCES.md section 3, as tested and validated.
 //!
 //! Units are SI; a rectangle's `width` lies along E2 and its `thickness` along E3, so bending
@@ -36,6 +38,8 @@ mod mesh;
 mod model;
 mod modes;
 pub mod rotation;
+#[cfg(feature = "scene")]
+pub mod scene;
 mod section;
 mod statics;
 

@@ -28,15 +28,70 @@
 //! A dynamic scene replaces `[static]` by `[dynamic]` (`duration`, `time_step` in s, optional
 //! HHT `alpha` in [-1/3, 0]) and may give each load a `profile` of (time (s), factor) points.
 
-use crate::error::{positive, ImpactError};
+use crate::{
+    solve_static, BeamError, BeamModel, BeamState, Load, Material, Mesh, Profile, Section,
+    StaticOptions, Support,
+};
 use faer::Col;
 use hht::{Integrator, Model, NewtonOptions, Scheme};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
-use simo_beam::{
-    solve_static, BeamModel, BeamState, Load, Material, Mesh, Profile, Section, StaticOptions,
-    Support,
-};
+
+/// What can go wrong when reading or running a beam scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// The file is not valid TOML or does not match the scene's keys (unknown key, missing
+    /// field, wrong type); the message names the key and the line.
+    #[error("beam scene file: {0}")]
+    Parse(String),
+    /// A field has a value outside what is allowed.
+    #[error("{field} = {value}: {allowed}")]
+    InvalidField {
+        /// Dotted path of the field as written in the file, e.g. `segment[0].elements`.
+        field: String,
+        /// The value as written.
+        value: String,
+        /// What would be accepted, with the unit.
+        allowed: String,
+    },
+    /// A combination of fields that does not make a beam scene.
+    #[error("{0}")]
+    Inconsistent(String),
+    /// The beam crate refused the model the scene describes.
+    #[error(transparent)]
+    Beam(#[from] BeamError),
+    /// The static analysis could not reach the full load.
+    #[error("the static analysis stopped at load factor {load_factor}")]
+    StaticFailed {
+        /// Fraction of the load reached (-).
+        load_factor: f64,
+        /// Why the last load step failed.
+        #[source]
+        source: BeamError,
+    },
+    /// The time integration failed.
+    #[error("the dynamic analysis failed at t = {t} s")]
+    DynamicFailed {
+        /// Simulated time reached (s).
+        t: f64,
+        /// What the integrator reported.
+        #[source]
+        source: hht::HhtError,
+    },
+}
+
+/// `field` must be finite and strictly positive.
+fn positive(field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
+    if !(value.is_finite() && value > 0.0) {
+        return Err(SceneError::InvalidField {
+            field: field.to_owned(),
+            value: value.to_string(),
+            allowed: format!("must be a finite number greater than 0 ({unit})"),
+        });
+    }
+    Ok(value)
+}
 
 /// Static or dynamic analysis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -252,18 +307,18 @@ pub struct BeamRun {
     pub wall_time: f64,
 }
 
-fn invalid(field: String, value: impl ToString, allowed: &str) -> ImpactError {
-    ImpactError::InvalidField { field, value: value.to_string(), allowed: allowed.to_owned() }
+fn invalid(field: String, value: impl ToString, allowed: &str) -> SceneError {
+    SceneError::InvalidField { field, value: value.to_string(), allowed: allowed.to_owned() }
 }
 
-fn vector(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, ImpactError> {
+fn vector(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, SceneError> {
     if v.iter().any(|x| !x.is_finite()) {
         return Err(invalid(field.to_owned(), format!("{v:?}"), "three finite numbers"));
     }
     Ok(Vector3::from(v))
 }
 
-fn direction(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, ImpactError> {
+fn direction(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, SceneError> {
     let d = vector(field, v)?;
     if d.norm() == 0.0 {
         return Err(invalid(field.to_owned(), format!("{v:?}"), "a non-zero direction"));
@@ -272,7 +327,7 @@ fn direction(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, ImpactError> {
 }
 
 impl SectionSpec {
-    fn build(&self) -> Result<Section, ImpactError> {
+    fn build(&self) -> Result<Section, SceneError> {
         let material_form = self.youngs_modulus.is_some()
             || self.poisson_ratio.is_some()
             || self.width.is_some()
@@ -286,17 +341,17 @@ impl SectionSpec {
             || self.bending_stiffness_3.is_some();
         let need = |name: &str, v: Option<f64>| {
             v.ok_or_else(|| {
-                ImpactError::Inconsistent(format!("section.{name} is missing (a number is needed)"))
+                SceneError::Inconsistent(format!("section.{name} is missing (a number is needed)"))
             })
         };
         match (material_form, stiffness_form) {
-            (true, true) => Err(ImpactError::Inconsistent(
+            (true, true) => Err(SceneError::Inconsistent(
                 "section: give either a material and a shape (youngs_modulus, poisson_ratio, \
                  density, width and thickness or radius) or the stiffnesses (axial_stiffness, \
                  shear_stiffness, torsional_stiffness, bending_stiffness), not both"
                     .into(),
             )),
-            (false, false) => Err(ImpactError::Inconsistent(
+            (false, false) => Err(SceneError::Inconsistent(
                 "section is empty: give a material and a shape or the stiffnesses".into(),
             )),
             (true, false) => {
@@ -306,7 +361,7 @@ impl SectionSpec {
                 positive("section.youngs_modulus", e, "Pa")?;
                 positive("section.density", rho, "kg/m^3")?;
                 if self.mass_per_length.is_some() || self.rotary_inertia.is_some() {
-                    return Err(ImpactError::Inconsistent(
+                    return Err(SceneError::Inconsistent(
                         "section: mass_per_length and rotary_inertia come from the density and \
                          the shape; remove them"
                             .into(),
@@ -330,14 +385,14 @@ impl SectionSpec {
                         positive("section.radius", r, "m")?;
                         Ok(Section::circle(&material, r)?)
                     }
-                    _ => Err(ImpactError::Inconsistent(
+                    _ => Err(SceneError::Inconsistent(
                         "section: give width and thickness (rectangle) or radius (circle)".into(),
                     )),
                 }
             }
             (false, true) => {
                 if self.density.is_some() {
-                    return Err(ImpactError::Inconsistent(
+                    return Err(SceneError::Inconsistent(
                         "section: with stiffnesses, give mass_per_length and rotary_inertia \
                          instead of density"
                             .into(),
@@ -360,7 +415,7 @@ impl SectionSpec {
                 )?;
                 let bending = |name: &str, own: Option<f64>| {
                     let v = own.or(self.bending_stiffness).ok_or_else(|| {
-                        ImpactError::Inconsistent(format!(
+                        SceneError::Inconsistent(format!(
                             "section.{name} is missing (or give bending_stiffness for both axes)"
                         ))
                     })?;
@@ -389,7 +444,7 @@ impl SegmentSpec {
         index: usize,
         previous_end: Option<Vector3<f64>>,
         section: Section,
-    ) -> Result<(Mesh, f64), ImpactError> {
+    ) -> Result<(Mesh, f64), SceneError> {
         let field = |name: &str| format!("segment[{index}].{name}");
         if self.elements == 0 {
             return Err(invalid(field("elements"), 0, "at least 1 element"));
@@ -446,7 +501,7 @@ impl SegmentSpec {
                     ));
                 }
                 if self.thickness_direction.is_some() {
-                    return Err(ImpactError::Inconsistent(format!(
+                    return Err(SceneError::Inconsistent(format!(
                         "{}: an arc's thickness direction is its normal",
                         field("thickness_direction")
                     )));
@@ -471,7 +526,7 @@ impl SegmentSpec {
                 )?;
                 Ok((mesh, radius * angle.to_radians().abs()))
             }
-            _ => Err(ImpactError::Inconsistent(format!(
+            _ => Err(SceneError::Inconsistent(format!(
                 "segment[{index}]: give `end` (straight) or `centre`, `normal` and `angle_degrees` \
                  (arc)"
             ))),
@@ -489,7 +544,7 @@ impl Stations {
     }
 
     /// The node at arc length `s`, which must be a node's.
-    fn node(&self, field: String, s: f64) -> Result<usize, ImpactError> {
+    fn node(&self, field: String, s: f64) -> Result<usize, SceneError> {
         let total = self.total();
         let mut node = 0;
         for (i, si) in self.0.iter().enumerate() {
@@ -511,7 +566,7 @@ impl Stations {
     }
 
     /// The mesh's chord arc length at the true arc length `s`, interpolated within its element.
-    fn to_mesh(&self, mesh: &Mesh, field: String, s: f64) -> Result<f64, ImpactError> {
+    fn to_mesh(&self, mesh: &Mesh, field: String, s: f64) -> Result<f64, SceneError> {
         let total = self.total();
         if !(s.is_finite() && (0.0..=total * (1.0 + 1e-12)).contains(&s)) {
             return Err(invalid(field, s, &format!("an arc length from 0 to {total} m")));
@@ -532,24 +587,22 @@ impl BeamScene {
     /// # Errors
     /// `Parse` with the key and line for invalid TOML, unknown keys, missing fields and wrong
     /// types.
-    pub fn from_toml(text: &str) -> Result<Self, ImpactError> {
-        toml::from_str(text).map_err(|e| ImpactError::Parse(e.to_string()))
+    pub fn from_toml(text: &str) -> Result<Self, SceneError> {
+        toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))
     }
 
     /// Builds the beam model: mesh, supports, loads.
     ///
     /// # Errors
     /// `InvalidField` or `Inconsistent` naming the field at fault.
-    pub fn model(&self) -> Result<BeamModel, ImpactError> {
+    pub fn model(&self) -> Result<BeamModel, SceneError> {
         Ok(self.build()?.0)
     }
 
-    fn build(&self) -> Result<(BeamModel, Stations), ImpactError> {
+    fn build(&self) -> Result<(BeamModel, Stations), SceneError> {
         let section = self.section.build()?;
         if self.segments.is_empty() {
-            return Err(ImpactError::Inconsistent(
-                "the beam needs at least one [[segment]]".into(),
-            ));
+            return Err(SceneError::Inconsistent("the beam needs at least one [[segment]]".into()));
         }
         let mut mesh: Option<Mesh> = None;
         let mut stations = vec![0.0];
@@ -565,7 +618,7 @@ impl BeamScene {
                 Some(m) => m.join(piece)?,
             });
         }
-        let mesh = mesh.ok_or_else(|| ImpactError::Inconsistent("no segment".into()))?;
+        let mesh = mesh.ok_or_else(|| SceneError::Inconsistent("no segment".into()))?;
         let stations = Stations(stations);
         let mut nodes = Vec::new();
         for (i, s) in self.supports.iter().enumerate() {
@@ -618,9 +671,10 @@ impl BeamScene {
     /// or time step.
     ///
     /// # Errors
-    /// Any validation error of [`BeamScene::model`]; `SolverFailed` when the static solver or
-    /// the integrator fails (with the load factor or time reached).
-    pub fn run(&self, mut progress: impl FnMut(f64)) -> Result<BeamRun, ImpactError> {
+    /// Any validation error of [`BeamScene::model`]; `StaticFailed` with the load factor reached
+    /// when the static solver fails, `DynamicFailed` with the time reached when the integrator
+    /// fails.
+    pub fn run(&self, mut progress: impl FnMut(f64)) -> Result<BeamRun, SceneError> {
         let (model, stations) = self.build()?;
         let mesh = model.mesh().clone();
         let track = match self.output.track {
@@ -640,12 +694,12 @@ impl BeamScene {
         let (last, newton_iterations, cuts) = match self.analysis {
             AnalysisName::Static => {
                 if self.dynamic.is_some() {
-                    return Err(ImpactError::Inconsistent(
+                    return Err(SceneError::Inconsistent(
                         "analysis = \"static\" takes a [static] table, not [dynamic]".into(),
                     ));
                 }
                 if self.supports.is_empty() {
-                    return Err(ImpactError::Inconsistent(
+                    return Err(SceneError::Inconsistent(
                         "a static analysis needs at least one [[support]] (a free beam has no \
                          equilibrium under load)"
                             .into(),
@@ -657,8 +711,8 @@ impl BeamScene {
                 }
                 let options = StaticOptions { load_steps, ..StaticOptions::default() };
                 let solution = solve_static(&model, options).map_err(|e| match e {
-                    simo_beam::BeamError::NotConverged { load_factor, .. } => {
-                        ImpactError::SolverFailed { t: load_factor, reason: e.to_string() }
+                    BeamError::NotConverged { load_factor, .. } => {
+                        SceneError::StaticFailed { load_factor, source: e }
                     }
                     other => other.into(),
                 })?;
@@ -670,13 +724,13 @@ impl BeamScene {
             }
             AnalysisName::Dynamic => {
                 let Some(spec) = self.dynamic else {
-                    return Err(ImpactError::Inconsistent(
+                    return Err(SceneError::Inconsistent(
                         "analysis = \"dynamic\" needs a [dynamic] table with duration and time_step"
                             .into(),
                     ));
                 };
                 if self.statics.is_some() {
-                    return Err(ImpactError::Inconsistent(
+                    return Err(SceneError::Inconsistent(
                         "analysis = \"dynamic\" takes a [dynamic] table, not [static]".into(),
                     ));
                 }
@@ -695,10 +749,7 @@ impl BeamScene {
                     invalid("dynamic.alpha".into(), alpha, "a number in [-1/3, 0] (HHT-alpha)")
                 })?;
                 let mut integrator = Integrator::new(scheme, NewtonOptions::default());
-                let fail = |e: hht::HhtError, t: f64| ImpactError::SolverFailed {
-                    t,
-                    reason: e.to_string(),
-                };
+                let fail = |source: hht::HhtError, t: f64| SceneError::DynamicFailed { t, source };
                 let mut state = integrator
                     .initial_state(&model, 0.0, reference.clone(), Col::zeros(model.ndof()))
                     .map_err(|e| fail(e, 0.0))?;

@@ -1,8 +1,7 @@
 //! Beam-only scene files: the standard benchmarks through the file format, and bad input.
 #![allow(clippy::unwrap_used, clippy::float_cmp)] // helpers stop on bad fixtures; exact zeros are part of the contract
 
-use impact::beam_scene::BeamScene;
-use impact::ImpactError;
+use simo_beam::scene::{BeamScene, SceneError};
 
 fn scene_text(path: &str) -> String {
     std::fs::read_to_string(format!(
@@ -92,7 +91,10 @@ fn error_of(text: &str) -> String {
     match scene.run(|_| {}) {
         Ok(_) => panic!("the scene should be refused:\n{text}"),
         Err(e) => {
-            assert!(!matches!(e, ImpactError::SolverFailed { .. }), "{e}");
+            assert!(
+                !matches!(e, SceneError::StaticFailed { .. } | SceneError::DynamicFailed { .. }),
+                "{e}"
+            );
             e.to_string()
         }
     }

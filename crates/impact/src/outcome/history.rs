@@ -59,6 +59,35 @@ pub struct Sample {
     pub dissipated_energy: f64,
 }
 
+impl Sample {
+    /// A row with the energy columns taken from the ledger `energy`.
+    #[allow(clippy::too_many_arguments)] // one per column; the call sites name each
+    pub(crate) fn with_energy(
+        time: f64,
+        force: f64,
+        approach: f64,
+        ball_position: f64,
+        ball_velocity: f64,
+        beam_displacement: f64,
+        contact_point: f64,
+        energy: &crate::outcome::Energy,
+    ) -> Self {
+        Self {
+            time,
+            force,
+            approach,
+            ball_position,
+            ball_velocity,
+            beam_displacement,
+            contact_point,
+            ball_energy: energy.ball_kinetic + energy.ball_potential,
+            beam_energy: energy.beam,
+            contact_energy: energy.contact_stored,
+            dissipated_energy: energy.dissipated,
+        }
+    }
+}
+
 impl History {
     /// Appends one row.
     pub fn push(&mut self, s: Sample) {

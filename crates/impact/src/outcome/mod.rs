@@ -1,7 +1,21 @@
-//! The per-run report.
+//! What a run produces: the [`Report`] (per-contact metrics, the energy ledger, the largest
+//! displacement, the equivalent static force) and the [`History`] (time series).
 
-use crate::plan::PlanSummary;
+mod history;
+
+pub use history::{History, Sample};
+
+use crate::plan::{Plan, PlanSummary};
 use serde::Serialize;
+
+/// What a run produces.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// Per-contact metrics and the energy ledger.
+    pub report: Report,
+    /// Time series.
+    pub history: History,
+}
 
 /// One contact between the ball and the beam.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -113,20 +127,20 @@ pub struct Report {
 
 /// What a solver knows at the end of a run, before the derived fields are filled in.
 pub(crate) struct Ending {
-    pub plan: crate::plan::PlanSummary,
-    pub warnings: Vec<String>,
-    pub contacts: Vec<Contact>,
+    pub(crate) plan: PlanSummary,
+    pub(crate) warnings: Vec<String>,
+    pub(crate) contacts: Vec<Contact>,
     /// (largest displacement at the impact point (m), when (s)).
-    pub max_displacement: (f64, f64),
-    pub static_stiffness: Option<f64>,
-    pub energy: Energy,
-    pub wall_time: f64,
+    pub(crate) max_displacement: (f64, f64),
+    pub(crate) static_stiffness: Option<f64>,
+    pub(crate) energy: Energy,
+    pub(crate) wall_time: f64,
 }
 
 impl Report {
     /// The report of a run of `plan`: restitution from the first complete contact, the
     /// equivalent static force from the static stiffness.
-    pub(crate) fn assemble(plan: &crate::plan::Plan, end: Ending) -> Self {
+    pub(crate) fn assemble(plan: &Plan, end: Ending) -> Self {
         let restitution = end
             .contacts
             .first()

@@ -12,41 +12,28 @@
 //! Onset and separation are located by root finding on the approach.
 
 use crate::error::ImpactError;
-use crate::history::{History, Sample};
-use crate::illinois::Illinois;
-use crate::plan::{Law, Plan, Target};
-use crate::report::{static_stiffness, Contact, Ending, Energy, Report};
+use crate::events::{ContactRecorder, Illinois};
+use crate::law::WithLaw;
+use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample};
+use crate::plan::{Method, Plan, FINEST_LEVEL, LARGE_DEFLECTION};
 use hertz::ContactLaw;
 use modal::{Hold, ModalState, PointModes, Transition};
 use std::rc::Rc;
 
-/// The adaptive contact step starts each contact at the plan's step / 2^FINEST_LEVEL.
-pub const FINEST_LEVEL: usize = 6;
 /// Onset and separation are located to this fraction of the approach scale (impact speed x
 /// estimated contact duration).
-pub const LOCATE_TOLERANCE: f64 = 1e-9;
+const LOCATE_TOLERANCE: f64 = 1e-9;
 
-/// What a run produces.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Outcome {
-    /// Per-contact metrics and the energy ledger.
-    pub report: Report,
-    /// Time series.
-    pub history: History,
+/// Runs a modal or half-space plan to its end time, with whichever law it holds.
+pub(super) struct ModalRun<'a> {
+    pub(super) plan: &'a Plan,
 }
 
-/// Runs a plan to its end time.
-///
-/// # Errors
-/// `SolverFailed` if a step produces a non-finite value (not expected for valid plans).
-pub fn run(plan: &Plan) -> Result<Outcome, ImpactError> {
-    if let Target::Fe(fe) = &plan.target {
-        return crate::fe_solver::run(plan, fe);
-    }
-    match &plan.law {
-        Law::Hertz(l) => Solver::new(plan, l)?.run(),
-        Law::HuntCrossley(l) => Solver::new(plan, l)?.run(),
-        Law::Thornton(l) => Solver::new(plan, l)?.run(),
+impl WithLaw for ModalRun<'_> {
+    type Output = Result<Outcome, ImpactError>;
+
+    fn apply<L: ContactLaw>(self, law: &L) -> Self::Output {
+        Solver::new(self.plan, law)?.run()
     }
 }
 
@@ -82,31 +69,6 @@ struct Solver<'a, L: ContactLaw> {
     horizon_scratch: Vec<f64>,
 }
 
-/// Largest of samples y(t), refined by the parabola through the largest and its two
-/// neighbours where it is interior and they are concave: O(h^3) for any spacing.
-pub(crate) fn refined_max(times: &[f64], values: &[f64]) -> f64 {
-    let Some((k, &best)) = values.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
-        return 0.0;
-    };
-    if k == 0 || k + 1 >= values.len() || k + 1 >= times.len() {
-        return best;
-    }
-    let (h1, h2) = (times[k] - times[k - 1], times[k + 1] - times[k]);
-    if h1 <= 0.0 || h2 <= 0.0 {
-        return best;
-    }
-    // p(u) = y_k + b u + c u^2 with u = t - t_k; c is the second divided difference. For the
-    // largest sample with c < 0 the vertex lies between the neighbours.
-    let (s1, s2) = ((best - values[k - 1]) / h1, (values[k + 1] - best) / h2);
-    let c = (s2 - s1) / (h1 + h2);
-    if c < 0.0 {
-        let b = s1 + c * h1;
-        (best - b * b / (4.0 * c)).max(best)
-    } else {
-        best
-    }
-}
-
 /// Largest tau >= 0 with a tau^2 + b tau <= gap on [0, tau], for a >= 0 and gap > 0.
 fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
     if a > 0.0 {
@@ -120,12 +82,12 @@ fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
 
 impl<'a, L: ContactLaw> Solver<'a, L> {
     fn new(plan: &'a Plan, law: &'a L) -> Result<Self, ImpactError> {
-        let modes = match &plan.target {
-            Target::Beam { beam, position, damping, modes } => {
-                let m = beam.modes(*modes)?;
-                PointModes::new(beam, &m, *position, *damping)?
+        let modes = match &plan.method {
+            Method::Modal(m) => {
+                let shapes = m.beam.modes(m.modes)?;
+                PointModes::new(&m.beam, &shapes, m.position, m.damping)?
             }
-            Target::HalfSpace | Target::Fe(_) => PointModes::from_parts(vec![], vec![], vec![])?,
+            Method::HalfSpace | Method::Fe(_) => PointModes::from_parts(vec![], vec![], vec![])?,
         };
         let n = modes.len();
         let damped = modes.damping_ratio().iter().any(|z| *z > 0.0);
@@ -143,9 +105,9 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             force: 0.0,
             displacement: 0.0,
             beam_energy: 0.0,
-            contact_point: match &plan.target {
-                Target::Beam { position, .. } => *position,
-                _ => 0.0,
+            contact_point: match &plan.method {
+                Method::Modal(m) => m.position,
+                Method::HalfSpace | Method::Fe(_) => 0.0,
             },
             damped,
             damping_work: 0.0,
@@ -180,20 +142,16 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
 
     fn record(&mut self) {
         let w = self.beam_displacement();
-        let energy = self.energy();
-        self.history.push(Sample {
-            ball_energy: energy.ball_kinetic + energy.ball_potential,
-            beam_energy: energy.beam,
-            contact_energy: energy.contact_stored,
-            dissipated_energy: energy.dissipated,
-            time: self.t,
-            force: self.force,
-            approach: self.ball_position - w,
-            ball_position: self.ball_position,
-            ball_velocity: self.ball_velocity,
-            beam_displacement: w,
-            contact_point: self.contact_point,
-        });
+        self.history.push(Sample::with_energy(
+            self.t,
+            self.force,
+            self.ball_position - w,
+            self.ball_position,
+            self.ball_velocity,
+            w,
+            self.contact_point,
+            &self.energy(),
+        ));
     }
 
     fn check_finite(&self, value: f64, what: &str) -> Result<(), ImpactError> {
@@ -286,15 +244,11 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
     /// default 1e-6 on the paper's run.
     fn contact_phase(&mut self) -> Result<(), ImpactError> {
         let end = self.plan.end_time;
-        let start = self.t;
-        let velocity_before = self.ball_velocity;
-        let mut times = vec![self.t];
-        let (mut forces, mut approaches) = (vec![self.force], vec![self.approach()]);
-        let mut impulse = 0.0;
+        let mut contact =
+            ContactRecorder::start(self.t, self.force, self.approach(), self.ball_velocity);
         // The step before and the approach at its start: the rate's three-point formula.
         let mut previous: Option<(f64, f64)> = None;
         let mut complete = false;
-        let mut steps = 0;
         // Uniform steps (no tolerance) stay at level 0 throughout.
         let tolerance = self.plan.energy_tolerance;
         let mut level = if tolerance.is_some() { FINEST_LEVEL } else { 0 };
@@ -332,6 +286,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 }
                 None => (1.0 / h, -delta0 / h),
             };
+            let forces = contact.forces();
             let guess = match (previous, forces.len().checked_sub(2)) {
                 (Some((h_prev, _)), Some(k)) => f0 + (f0 - forces[k]) * h / h_prev,
                 _ => f0,
@@ -344,25 +299,20 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 // approach with the force falling linearly to zero.
                 // A touch that carries no force on its first step is stepped over whole, so that
                 // time always advances by at least one contact step.
-                let tau = if d_free <= release && steps > 0 {
+                let tau = if d_free <= release && contact.steps() > 0 {
                     self.locate_separation(h, f0, release)?
                 } else {
                     h
                 };
                 self.advance(tau, f0, 0.0)?;
-                impulse += 0.5 * tau * f0;
                 let delta = self.approach();
                 self.law.commit(&mut self.law_state, delta, (delta - delta0) / tau);
-                times.push(self.t);
-                forces.push(0.0);
-                approaches.push(delta);
+                contact.step(self.t, tau, 0.0, delta);
                 complete = true;
-                steps += 1;
                 break;
             }
             let delta1 = d_free - compliance * f1;
             self.advance_with(&tr, f0, f1)?;
-            impulse += 0.5 * h * (f0 + f1);
             self.law.commit(&mut self.law_state, delta1, a * delta1 + b);
             if tolerance.is_some() {
                 let ledger1 = self.energy().held();
@@ -379,31 +329,15 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 }
             }
             previous = Some((h, delta0));
-            times.push(self.t);
-            forces.push(f1);
-            approaches.push(delta1);
-            steps += 1;
-            if steps % self.record_stride == 0 {
+            contact.step(self.t, h, f1, delta1);
+            if contact.steps() % self.record_stride == 0 {
                 self.record();
             }
         }
         self.record();
-        if forces.iter().all(|f| *f == 0.0) {
-            // A grazing touch that never carried force is not a contact.
-            return Ok(());
-        }
-        self.contacts.push(Contact {
-            start,
-            duration: self.t - start,
-            complete,
-            peak_force: refined_max(&times, &forces),
-            max_approach: refined_max(&times, &approaches),
-            impulse,
-            ball_velocity_before: velocity_before,
-            ball_velocity_after: self.ball_velocity,
-            print_radius: self.law.print_radius(&self.law_state),
-            steps,
-        });
+        let print_radius = self.law.print_radius(&self.law_state);
+        // A grazing touch that never carried force is not a contact.
+        self.contacts.extend(contact.finish(self.t, complete, self.ball_velocity, print_radius));
         Ok(())
     }
 
@@ -619,19 +553,19 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         let plan = self.plan;
         let energy = self.energy();
         let mut warnings = plan.warnings.clone();
-        let static_stiffness = match &plan.target {
-            Target::Beam { beam, position, .. } => {
-                let length = beam.length();
-                if self.max_displacement.0 > crate::plan::LARGE_DEFLECTION * length {
+        let static_stiffness = match &plan.method {
+            Method::Modal(m) => {
+                let length = m.beam.length();
+                if self.max_displacement.0 > LARGE_DEFLECTION * length {
                     warnings.push(format!(
                         "the largest displacement {:.4} m is {:.0} % of the beam length: small-deflection (modal) theory is exceeded",
                         self.max_displacement.0,
                         100.0 * self.max_displacement.0 / length
                     ));
                 }
-                static_stiffness(beam, *position, &mut warnings)
+                static_stiffness(&m.beam, m.position, &mut warnings)
             }
-            Target::HalfSpace | Target::Fe(_) => None,
+            Method::HalfSpace | Method::Fe(_) => None,
         };
         let report = Report::assemble(
             plan,
@@ -651,20 +585,10 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
 
 #[cfg(test)]
 mod tests {
-    #![allow(clippy::unwrap_used, clippy::float_cmp)] // the end sample is kept exactly
+    #![allow(clippy::unwrap_used)]
     use super::*;
+    use crate::law::Law;
     use crate::Scene;
-
-    #[test]
-    fn refined_max_is_exact_for_a_parabola_on_any_spacing() {
-        // y = 3 - 2 (t - 0.37)^2 sampled unevenly: the vertex value 3 is recovered.
-        let times = [0.0, 0.1, 0.3, 0.35, 0.5, 0.9];
-        let values: Vec<f64> = times.iter().map(|t| 3.0 - 2.0 * (t - 0.37) * (t - 0.37)).collect();
-        assert!((refined_max(&times, &values) - 3.0).abs() < 1e-14);
-        // On equal spacing it is the classical three-point vertex; a maximum at an end is kept.
-        let ramp = [1.0, 2.0, 3.0];
-        assert!(refined_max(&[0.0, 1.0, 2.0], &ramp) == 3.0);
-    }
 
     /// A cheap, deterministic pseudo-random sequence in [-1, 1].
     fn noise(seed: &mut u64) -> f64 {
@@ -681,7 +605,7 @@ mod tests {
         // release approach; and the horizon is not vacuous: it reaches a useful fraction of
         // the time the approach actually takes to get there (measured: 14 of the 40 touch
         // within 4 horizons, at 0.26 to 0.96 of the time, mean 0.57).
-        let text = include_str!("../../../validation/scenes/paper-tip.toml")
+        let text = include_str!("../../../../validation/scenes/paper-tip.toml")
             .replace("modes = 128", "modes = 64");
         let plan = Plan::new(&Scene::from_toml(&text).unwrap()).unwrap();
         let Law::Hertz(law) = plan.law else { panic!("hertz expected") };

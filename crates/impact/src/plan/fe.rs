@@ -1,0 +1,211 @@
+//! The finite-element method's plan: the mesh, HHT's alpha and the steps.
+
+use super::modal::MODE_CUTOFF;
+use super::Pulse;
+use crate::error::{invalid, positive, ImpactError};
+use crate::scene::{BeamSpec, SolverSpec, SupportName};
+use simo_beam::Support;
+use std::f64::consts::PI;
+
+/// Default steps per estimated contact duration for the finite-element method (each step is a
+/// Newton solve of the whole beam; see the convergence table in the FE tests).
+pub const FE_SAMPLES_PER_PULSE: usize = 200;
+/// Default HHT alpha of the finite-element method: a little numerical damping of the
+/// frequencies above the mesh's resolution (the contact excites them), spectral radius 0.9 at
+/// infinity, period and damping errors O((omega h)^2) below.
+pub const FE_ALPHA: f64 = -0.05;
+/// Default largest step out of contact, in contact steps.
+pub const FE_FREE_STEP_RATIO: f64 = 10.0;
+/// Elements per flexural wavelength at the impact point in the default graded mesh.
+pub const FE_ELEMENTS_PER_WAVELENGTH: f64 = 16.0;
+/// Growth of the element size away from the impact point in the default graded mesh.
+pub const FE_GROWTH: f64 = 1.15;
+/// The largest mesh a scene may ask for.
+const MAX_ELEMENTS: usize = 100_000;
+
+/// The finite-element model of a struck beam.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FePlan {
+    /// The same beam as an Euler-Bernoulli beam: its static stiffness defines the equivalent
+    /// static force (as in the modal method).
+    pub(crate) analytic: modal::Beam,
+    /// Beam material.
+    pub(crate) material: simo_beam::Material,
+    /// Section width (m), along y.
+    pub(crate) width: f64,
+    /// Section thickness (m), along z (the direction of impact).
+    pub(crate) thickness: f64,
+    /// How the first (x = 0) and the last node (x = L) are held.
+    pub(crate) ends: (Support, Support),
+    /// Impact point (m) from x = 0.
+    pub(crate) position: f64,
+    /// Node positions along x (m), from 0 to L.
+    pub(crate) nodes: Vec<f64>,
+    /// HHT alpha in [-1/3, 0].
+    pub(crate) alpha: f64,
+    /// Largest step out of contact (s).
+    pub(crate) free_time_step: f64,
+    /// Steps per estimated contact duration.
+    pub(crate) samples_per_pulse: usize,
+    /// Largest approach on a rigid support (m): the scale of the event tolerance.
+    pub(crate) approach_scale: f64,
+}
+
+impl FePlan {
+    /// Number of elements.
+    pub fn elements(&self) -> usize {
+        self.nodes.len() - 1
+    }
+
+    /// Node positions along the beam (m), from 0 to L.
+    pub fn nodes(&self) -> &[f64] {
+        &self.nodes
+    }
+
+    /// HHT alpha.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+}
+
+/// The finite-element model of `beam` (whose Euler-Bernoulli twin is `analytic`) struck at
+/// `position` (m): the mesh asked for or graded from the impact point, alpha and the steps.
+pub(super) fn plan(
+    beam: &BeamSpec,
+    s: &SolverSpec,
+    analytic: modal::Beam,
+    position: f64,
+    damping: f64,
+    pulse: &Pulse,
+    reasons: &mut Vec<String>,
+) -> Result<FePlan, ImpactError> {
+    if damping > 0.0 {
+        return Err(invalid("beam.modal_damping", damping, "must be 0 or absent with method = \"fe\" (the finite-element beam is undamped; HHT alpha adds numerical damping of high frequencies)"));
+    }
+    let samples = s.samples_per_pulse.unwrap_or(FE_SAMPLES_PER_PULSE);
+    if samples < 10 {
+        return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
+    }
+    let alpha = s.alpha.unwrap_or(FE_ALPHA);
+    if !(alpha.is_finite() && (-1.0 / 3.0..=0.0).contains(&alpha)) {
+        return Err(invalid(
+            "solver.alpha",
+            alpha,
+            "must be in [-1/3, 0] (HHT, the paper's eq. 9)",
+        ));
+    }
+    let estimated_duration = pulse.duration;
+    let contact_step = estimated_duration / samples as f64;
+    let free_time_step = match s.time_step {
+        Some(h) => positive("solver.time_step", h, "s")?.max(contact_step),
+        None => FE_FREE_STEP_RATIO * contact_step,
+    };
+    let nodes = mesh(s, &analytic, position, estimated_duration, reasons)?;
+    reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact"));
+    Ok(FePlan {
+        material: simo_beam::Material::new(beam.youngs_modulus, beam.poisson_ratio, beam.density)?,
+        analytic,
+        width: beam.width,
+        thickness: beam.thickness,
+        ends: ends(beam.support),
+        position,
+        nodes,
+        alpha,
+        free_time_step,
+        samples_per_pulse: samples,
+        approach_scale: pulse.max_approach,
+    })
+}
+
+/// How the two ends of a beam are held in the finite-element model.
+fn ends(support: SupportName) -> (Support, Support) {
+    match support {
+        SupportName::ClampedFree => (Support::Clamped, Support::Free),
+        SupportName::PinnedPinned => (Support::Pinned, Support::Pinned),
+        SupportName::ClampedClamped => (Support::Clamped, Support::Clamped),
+        SupportName::ClampedPinned => (Support::Clamped, Support::Pinned),
+        SupportName::FreeFree => (Support::Free, Support::Free),
+    }
+}
+
+/// The node positions (m): `solver.elements` equal elements, or a mesh graded from the impact
+/// point from `solver.element_size` or from the flexural wavelength the pulse excites.
+fn mesh(
+    s: &SolverSpec,
+    beam: &modal::Beam,
+    position: f64,
+    estimated_duration: f64,
+    reasons: &mut Vec<String>,
+) -> Result<Vec<f64>, ImpactError> {
+    let length = beam.length();
+    // Flexural wavelength at the fastest frequency the pulse excites (omega t_c = MODE_CUTOFF,
+    // as for the modes): lambda = 2 pi (EI / rho A)^(1/4) / sqrt(omega).
+    let omega = MODE_CUTOFF / estimated_duration;
+    let wavelength =
+        2.0 * PI * (beam.flexural_rigidity() / beam.mass_per_length()).powf(0.25) / omega.sqrt();
+    if s.elements.is_some() && s.element_size.is_some() {
+        return Err(ImpactError::Inconsistent("solver: give elements (a uniform mesh) or element_size (a mesh graded from the impact point), not both".into()));
+    }
+    match s.elements {
+        Some(0) => Err(invalid("solver.elements", 0, "must be at least 1")),
+        Some(n) if n > MAX_ELEMENTS => Err(invalid("solver.elements", n, "must be at most 100000")),
+        Some(n) => {
+            reasons.push(format!("{n} equal elements, as asked"));
+            Ok((0..=n).map(|i| length * i as f64 / n as f64).collect())
+        }
+        None => {
+            let h0 = match s.element_size {
+                Some(h) => positive("solver.element_size", h, "m")?.min(length),
+                None => (wavelength / FE_ELEMENTS_PER_WAVELENGTH).min(length / 16.0),
+            };
+            // Elements needed: about log(1 + L (r - 1) / h0) / log(r) per side.
+            let estimate =
+                2.0 * (1.0 + length * (FE_GROWTH - 1.0) / h0).ln() / FE_GROWTH.ln() + 32.0;
+            if estimate > MAX_ELEMENTS as f64 {
+                return Err(invalid(
+                    "solver.element_size",
+                    h0,
+                    "too small: the mesh would exceed 100000 elements",
+                ));
+            }
+            let nodes = graded_nodes(length, position, h0, FE_GROWTH, length / 16.0);
+            let why = if s.element_size.is_some() {
+                "as asked".to_string()
+            } else {
+                format!("1/{FE_ELEMENTS_PER_WAVELENGTH} of the flexural wavelength {wavelength:.3e} m at omega t_c = {MODE_CUTOFF}")
+            };
+            reasons.push(format!(
+                "{} elements graded from {h0:.3e} m at the impact point ({why}) growing by {FE_GROWTH} per element to at most L/16",
+                nodes.len() - 1
+            ));
+            Ok(nodes)
+        }
+    }
+}
+
+/// Nodes from 0 to `length` with a node at `centre`, element size `h0` there, growing by
+/// `growth` per element away from it up to `h_max`.
+fn graded_nodes(length: f64, centre: f64, h0: f64, growth: f64, h_max: f64) -> Vec<f64> {
+    let side = |span: f64| -> Vec<f64> {
+        // Offsets from the centre, the last exactly at `span`.
+        let mut out = Vec::new();
+        let (mut at, mut h) = (0.0, h0);
+        while span - at > 1.5 * h {
+            at += h;
+            out.push(at);
+            h = (h * growth).min(h_max);
+        }
+        if span > 0.0 {
+            out.push(span);
+        }
+        out
+    };
+    let mut nodes: Vec<f64> = side(centre).iter().rev().map(|d| centre - d).collect();
+    nodes.push(centre);
+    nodes.extend(side(length - centre).iter().map(|d| centre + d));
+    nodes[0] = 0.0;
+    if let Some(last) = nodes.last_mut() {
+        *last = length;
+    }
+    nodes
+}

@@ -1,0 +1,533 @@
+//! Planning: validate a scene and choose the model it needs, with the reasons.
+//!
+//! [`Plan::new`] reads the scene once, in order: the ball, the impact speed, the struck body,
+//! the contact law ([`crate::law`]), then the method ([`Method`]: a rigid half-space, the modal
+//! beam of [`ModalPlan`] or the finite elements of [`FePlan`]), the contact step, the end time and
+//! the output interval. Every choice leaves a reason in the [`PlanSummary`]. A plan is made only
+//! by [`Plan::new`], so a solver never meets an unvalidated one.
+//!
+//! The constants here are the defaults a scene gets when it leaves a setting out; each says
+//! where its value comes from.
+
+mod fe;
+mod modal;
+
+pub use fe::{
+    FePlan, FE_ALPHA, FE_ELEMENTS_PER_WAVELENGTH, FE_FREE_STEP_RATIO, FE_GROWTH,
+    FE_SAMPLES_PER_PULSE,
+};
+pub use modal::{ModalPlan, MODE_CUTOFF};
+
+use crate::error::{invalid, positive, ImpactError};
+use crate::law::{Law, LawContext};
+use crate::scene::{BallSpec, BeamSpec, ImpactSpec, LawName, MethodName, Scene, SolverSpec};
+use hertz::{HalfSpaceImpact, Hertz, Material};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// Standard gravity (m/s^2).
+pub const GRAVITY: f64 = 9.81;
+/// Default time steps per estimated contact duration: the modal method's largest contact
+/// step. With uniform steps the scheme is second order: on the paper's tip scene (64 modes,
+/// 5 ms, gravity off, 27 contacts) the energy balance error is 1.6e-5, 4.1e-6, 1.0e-6, 2.6e-7
+/// of the initial energy at 200, 400, 800, 1600 steps, almost all of it made in the first
+/// steps after onset. The adaptive step (the default) refines there and keeps the error at
+/// 4e-7 with 6000 steps in all where uniform steps needed 1000 per pulse (24000); see
+/// [`DEFAULT_ENERGY_TOLERANCE`] and the impact tests.
+pub const DEFAULT_SAMPLES_PER_PULSE: usize = 200;
+/// Default allowed energy mismatch of the modal method's adaptive contact step, as a fraction
+/// of the impact energy per estimated contact duration.
+pub const DEFAULT_ENERGY_TOLERANCE: f64 = 1e-6;
+/// The modal method's adaptive contact step starts each contact at the plan's step /
+/// 2^FINEST_LEVEL and stays within [step / 2^FINEST_LEVEL, step].
+pub const FINEST_LEVEL: usize = 6;
+/// The auto plan takes the finite-element method when the ball could bend the beam by more
+/// than this fraction of its length; the modal report warns beyond it.
+pub const LARGE_DEFLECTION: f64 = 0.1;
+
+/// How the struck body is modelled.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Method {
+    /// A massive half-space: no beam, a rigid-backed Hertz contact.
+    HalfSpace,
+    /// A beam by its Euler-Bernoulli modes (Goldsmith's method).
+    Modal(ModalPlan),
+    /// A beam by geometrically exact finite elements (Simo) and HHT-alpha.
+    Fe(FePlan),
+}
+
+/// Which method a plan chose, as the report names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MethodKind {
+    /// A massive half-space.
+    HalfSpace,
+    /// Goldsmith's modal method.
+    Modal,
+    /// The geometrically exact finite-element method.
+    Fe,
+}
+
+impl MethodKind {
+    /// The name the report and the scene file use.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            MethodKind::HalfSpace => "half-space",
+            MethodKind::Modal => "modal",
+            MethodKind::Fe => "fe",
+        }
+    }
+}
+
+impl std::fmt::Display for MethodKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl Method {
+    /// Which method this is.
+    pub fn kind(&self) -> MethodKind {
+        match self {
+            Method::HalfSpace => MethodKind::HalfSpace,
+            Method::Modal(_) => MethodKind::Modal,
+            Method::Fe(_) => MethodKind::Fe,
+        }
+    }
+}
+
+/// The plan's summary for the report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlanSummary {
+    /// The method chosen.
+    pub method: MethodKind,
+    /// Number of modes (0 unless modal).
+    pub modes: usize,
+    /// Number of finite elements (0 unless fe).
+    pub elements: usize,
+    /// Time step in contact (s): the largest of the modal method's adaptive step, the
+    /// smallest of the fe method's.
+    pub time_step: f64,
+    /// The contact law.
+    pub contact_law: LawName,
+    /// Why each choice was made.
+    pub reasons: Vec<String>,
+}
+
+/// A validated scene with every choice made; see [`Plan::new`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    pub(crate) name: String,
+    pub(crate) method: Method,
+    pub(crate) law: Law,
+    /// Ball mass (kg).
+    pub(crate) ball_mass: f64,
+    /// Ball radius (m).
+    pub(crate) ball_radius: f64,
+    /// Impact speed (m/s).
+    pub(crate) speed: f64,
+    /// Gravity on the ball toward the beam (m/s^2), 0 if off.
+    pub(crate) gravity: f64,
+    /// Simulated time (s).
+    pub(crate) end_time: f64,
+    /// Time step in contact (s), as in [`PlanSummary::time_step`].
+    pub(crate) time_step: f64,
+    /// The modal method's adaptive contact step: its energy tolerance, `None` for uniform
+    /// steps (and for the fe method).
+    pub(crate) energy_tolerance: Option<f64>,
+    /// History interval in free flight (s).
+    pub(crate) output_interval: f64,
+    /// Estimated duration of the first contact on a rigid support (s).
+    pub(crate) estimated_duration: f64,
+    pub(crate) summary: PlanSummary,
+    pub(crate) warnings: Vec<String>,
+}
+
+/// The first contact as if the struck body were rigid: the scale of steps and tolerances.
+#[derive(Debug, Clone, Copy)]
+struct Pulse {
+    /// Ball mass (kg).
+    ball_mass: f64,
+    /// Impact speed (m/s).
+    speed: f64,
+    /// Contact duration on a rigid support (s).
+    duration: f64,
+    /// Largest approach on a rigid support (m).
+    max_approach: f64,
+}
+
+/// A material from its fields under `prefix` (`ball`, `beam`, `half_space`).
+fn material(
+    prefix: &str,
+    e: f64,
+    nu: f64,
+    yield_stress: Option<f64>,
+) -> Result<Material, ImpactError> {
+    positive(&format!("{prefix}.youngs_modulus"), e, "Pa")?;
+    if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+        return Err(invalid(&format!("{prefix}.poisson_ratio"), nu, "must be in (-1, 0.5)"));
+    }
+    let m = Material::new(e, nu)?;
+    match yield_stress {
+        Some(y) => {
+            positive(&format!("{prefix}.yield_stress"), y, "Pa")?;
+            Ok(m.with_yield_stress(y)?)
+        }
+        None => Ok(m),
+    }
+}
+
+/// The ball's material, radius (m) and mass (kg); a mass that disagrees with the density is
+/// used as given, with a warning.
+fn ball(b: &BallSpec, warnings: &mut Vec<String>) -> Result<(Material, f64, f64), ImpactError> {
+    let radius = positive("ball.radius", b.radius, "m")?;
+    let density = positive("ball.density", b.density, "kg/m^3")?;
+    let ball_material = material("ball", b.youngs_modulus, b.poisson_ratio, b.yield_stress)?;
+    let volume = 4.0 / 3.0 * PI * radius.powi(3);
+    let mass = match b.mass {
+        Some(m) => {
+            positive("ball.mass", m, "kg")?;
+            let implied = m / volume;
+            if !(0.8..=1.25).contains(&(implied / density)) {
+                warnings.push(format!(
+                    "ball.mass = {m} kg with ball.radius = {radius} m implies a density of {implied:.0} kg/m^3, \
+                     not ball.density = {density} kg/m^3; the mass is used as given"
+                ));
+            }
+            m
+        }
+        None => density * volume,
+    };
+    Ok((ball_material, radius, mass))
+}
+
+/// Impact speed (m/s) from exactly one of `drop_height` and `speed`.
+fn impact_speed(impact: &ImpactSpec) -> Result<f64, ImpactError> {
+    match (impact.drop_height, impact.speed) {
+        (Some(h), None) => Ok((2.0 * GRAVITY * positive("impact.drop_height", h, "m")?).sqrt()),
+        (None, Some(v)) => positive("impact.speed", v, "m/s"),
+        (Some(_), Some(_)) => Err(ImpactError::Inconsistent(
+            "impact: give exactly one of drop_height (m) and speed (m/s), not both".into(),
+        )),
+        (None, None) => Err(ImpactError::Inconsistent(
+            "impact: give one of drop_height (m) or speed (m/s)".into(),
+        )),
+    }
+}
+
+/// The struck body's material, and the beam if it is one.
+fn struck_body(scene: &Scene) -> Result<(Material, Option<&BeamSpec>), ImpactError> {
+    match (&scene.beam, &scene.half_space) {
+        (Some(beam), None) => Ok((
+            material("beam", beam.youngs_modulus, beam.poisson_ratio, beam.yield_stress)?,
+            Some(beam),
+        )),
+        (None, Some(hs)) => Ok((
+            material("half_space", hs.youngs_modulus, hs.poisson_ratio, hs.yield_stress)?,
+            None,
+        )),
+        (Some(_), Some(_)) => {
+            Err(ImpactError::Inconsistent("give [beam] or [half_space], not both".into()))
+        }
+        (None, None) => Err(ImpactError::Inconsistent(
+            "the scene needs a [beam] or a [half_space] to strike".into(),
+        )),
+    }
+}
+
+/// Whether the scene sets a key of the fe method.
+fn fe_keys(s: &SolverSpec) -> bool {
+    s.elements.is_some() || s.element_size.is_some() || s.alpha.is_some() || s.time_step.is_some()
+}
+
+/// Keys of one method given with the other.
+fn check_method_keys(s: &SolverSpec) -> Result<(), ImpactError> {
+    if fe_keys(s) && s.method == MethodName::Modal {
+        return Err(ImpactError::Inconsistent(
+            "solver.elements, element_size, alpha and time_step belong to method = \"fe\"; the modal method takes solver.modes".into(),
+        ));
+    }
+    if s.method == MethodName::Fe && s.modes.is_some() {
+        return Err(ImpactError::Inconsistent(
+            "solver.modes belongs to method = \"modal\"; the fe method takes solver.elements"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// A half-space takes no beam resolution.
+fn half_space(s: &SolverSpec, reasons: &mut Vec<String>) -> Result<Method, ImpactError> {
+    if s.method == MethodName::Fe || fe_keys(s) || s.modes.is_some() {
+        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step nor modes: the block is rigid".into()));
+    }
+    reasons.push(
+        "massive half-space: no beam model, the ball meets a rigid-backed Hertz contact".into(),
+    );
+    Ok(Method::HalfSpace)
+}
+
+/// A beam: its checks, then the modal or the finite-element method, as asked or as the
+/// largest deflection the ball's energy could cause allows.
+fn beam_method(
+    scene: &Scene,
+    beam: &BeamSpec,
+    pulse: &Pulse,
+    reasons: &mut Vec<String>,
+) -> Result<Method, ImpactError> {
+    let s = &scene.solver;
+    let length = positive("beam.length", beam.length, "m")?;
+    positive("beam.width", beam.width, "m")?;
+    positive("beam.thickness", beam.thickness, "m")?;
+    positive("beam.density", beam.density, "kg/m^3")?;
+    let m = ::modal::Beam::rectangular(
+        beam.youngs_modulus,
+        beam.density,
+        beam.width,
+        beam.thickness,
+        length,
+        beam.support.into(),
+    )?;
+    let position = scene.impact.position.ok_or_else(|| {
+        ImpactError::Inconsistent("impact.position (m) is required with a [beam]".into())
+    })?;
+    if !(position.is_finite() && (0.0..=length).contains(&position)) {
+        return Err(invalid(
+            "impact.position",
+            position,
+            &format!("must be on the beam, 0 <= position <= beam.length = {length} (m)"),
+        ));
+    }
+    let damping = beam.modal_damping.unwrap_or(0.0);
+    if !(damping.is_finite() && (0.0..1.0).contains(&damping)) {
+        return Err(invalid("beam.modal_damping", damping, "must be a damping ratio in [0, 1)"));
+    }
+    // The deflection if the ball's whole kinetic energy went into static bending at the
+    // impact point, w = sqrt(m V^2 f): an upper bound that decides whether small-deflection
+    // theory can hold.
+    let flexibility = m.static_flexibility(position).unwrap_or(0.0);
+    let deflection = (pulse.ball_mass * pulse.speed * pulse.speed * flexibility).sqrt();
+    let large = deflection > LARGE_DEFLECTION * length;
+    let use_fe = match s.method {
+        MethodName::Fe => {
+            reasons
+                .push("method fe, as asked: geometrically exact Simo beam with HHT-alpha".into());
+            true
+        }
+        MethodName::Modal => {
+            reasons.push("method modal, as asked".into());
+            false
+        }
+        MethodName::Auto if large || fe_keys(s) => {
+            reasons.push(format!(
+                "method fe (auto): {}",
+                if large {
+                    format!("the ball's energy could bend the beam {deflection:.3e} m at the impact point, more than {:.0} % of its length (sqrt(m V^2 / k)): small-deflection theory does not hold", 100.0 * LARGE_DEFLECTION)
+                } else {
+                    "solver.elements, alpha or time_step given".into()
+                }
+            ));
+            true
+        }
+        MethodName::Auto => {
+            reasons.push(format!("method modal (auto): Goldsmith's modal series, exact between steps; the ball's energy bends the beam at most {deflection:.3e} m (sqrt(m V^2 / k)), small against its length"));
+            false
+        }
+    };
+    if use_fe {
+        let fe = fe::plan(beam, s, m, position, damping, pulse, reasons)?;
+        Ok(Method::Fe(fe))
+    } else {
+        Ok(Method::Modal(modal::plan(s, m, position, damping, pulse.duration, reasons)?))
+    }
+}
+
+/// The contact step (s) and the modal method's energy tolerance, with the reason.
+fn contact_step(
+    method: &Method,
+    s: &SolverSpec,
+    estimated_duration: f64,
+    reasons: &mut Vec<String>,
+) -> Result<(f64, Option<f64>), ImpactError> {
+    let samples = match method {
+        Method::Fe(fe) => fe.samples_per_pulse,
+        _ => s.samples_per_pulse.unwrap_or(DEFAULT_SAMPLES_PER_PULSE),
+    };
+    if samples < 10 {
+        return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
+    }
+    let time_step = estimated_duration / samples as f64;
+    let is_fe = matches!(method, Method::Fe(_));
+    let energy_tolerance = match (is_fe, s.adaptive_step, s.energy_tolerance) {
+        (true, None, None) => None,
+        (true, ..) => {
+            return Err(ImpactError::Inconsistent(
+                "solver.adaptive_step and energy_tolerance belong to the modal method; the fe method adapts its step on the ball's local error".into(),
+            ))
+        }
+        (_, Some(false), Some(_)) => {
+            return Err(ImpactError::Inconsistent(
+                "solver.energy_tolerance is the adaptive step's: it has no use with adaptive_step = false".into(),
+            ))
+        }
+        (_, Some(false), None) => None,
+        (_, _, tol) => {
+            let tol = tol.unwrap_or(DEFAULT_ENERGY_TOLERANCE);
+            if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
+                return Err(invalid(
+                    "solver.energy_tolerance",
+                    tol,
+                    "must be a fraction of the impact energy, 0 < tolerance < 1",
+                ));
+            }
+            Some(tol)
+        }
+    };
+    reasons.push(match (is_fe, energy_tolerance) {
+        (true, _) => format!(
+            "time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s (Hertz, rigid support)"
+        ),
+        (_, Some(tol)) => format!(
+            "adaptive step in contact, at most {time_step:.4e} s ({samples} per estimated contact duration {estimated_duration:.4e} s, Hertz, rigid support), halved down to 1/{} of it to keep the energy mismatch within {tol:.1e} of the impact energy per contact duration",
+            1usize << FINEST_LEVEL
+        ),
+        (_, None) => format!(
+            "uniform time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s (Hertz, rigid support)"
+        ),
+    });
+    Ok((time_step, energy_tolerance))
+}
+
+impl Plan {
+    /// Validates `scene` and makes every choice: the model, the modes or the mesh, the step,
+    /// the law.
+    ///
+    /// # Errors
+    /// `InvalidField` naming the first field with a bad value, `Inconsistent` for a combination
+    /// that is not a scene (both or neither of speed and drop height, a plastic law without a
+    /// yield stress, ...).
+    pub fn new(scene: &Scene) -> Result<Self, ImpactError> {
+        let mut reasons = Vec::new();
+        let mut warnings = Vec::new();
+        let (ball_material, radius, ball_mass) = ball(&scene.ball, &mut warnings)?;
+        let speed = impact_speed(&scene.impact)?;
+        let gravity = if scene.impact.gravity { GRAVITY } else { 0.0 };
+        let (counterface, beam_spec) = struck_body(scene)?;
+        let hertz =
+            Hertz::between(&ball_material, &counterface, hertz::geometry::sphere_on_flat(radius)?)?;
+        let rigid = HalfSpaceImpact::elastic(&hertz, ball_mass, speed)?;
+        let estimated_duration = rigid.duration;
+        let yield_stress = hertz::softer_yield_stress(&ball_material, &counterface);
+        let law = Law::resolve(
+            &scene.contact,
+            &LawContext { hertz, ball_mass, speed, yield_stress },
+            &mut reasons,
+            &mut warnings,
+        )?;
+
+        let s = &scene.solver;
+        check_method_keys(s)?;
+        let pulse = Pulse {
+            ball_mass,
+            speed,
+            duration: estimated_duration,
+            max_approach: rigid.max_approach,
+        };
+        let method = match beam_spec {
+            None => half_space(s, &mut reasons)?,
+            Some(beam) => beam_method(scene, beam, &pulse, &mut reasons)?,
+        };
+        let (time_step, energy_tolerance) =
+            contact_step(&method, s, estimated_duration, &mut reasons)?;
+
+        let default_end = match method {
+            Method::HalfSpace => 4.0 * estimated_duration,
+            Method::Modal(_) | Method::Fe(_) => 0.005,
+        };
+        let end_time = match s.end_time {
+            Some(t) => positive("solver.end_time", t, "s")?,
+            None => {
+                reasons.push(format!("end time {default_end:.4e} s (default)"));
+                default_end
+            }
+        };
+        let output_interval = match s.output_interval {
+            Some(dt) => positive("solver.output_interval", dt, "s")?,
+            None => end_time / 2000.0,
+        };
+
+        let (modes, elements) = match &method {
+            Method::Modal(m) => (m.modes, 0),
+            Method::Fe(fe) => (0, fe.elements()),
+            Method::HalfSpace => (0, 0),
+        };
+        Ok(Self {
+            name: scene.name.clone(),
+            summary: PlanSummary {
+                method: method.kind(),
+                modes,
+                elements,
+                time_step,
+                contact_law: law.name(),
+                reasons,
+            },
+            method,
+            law,
+            ball_mass,
+            ball_radius: radius,
+            speed,
+            gravity,
+            end_time,
+            time_step,
+            energy_tolerance,
+            output_interval,
+            estimated_duration,
+            warnings,
+        })
+    }
+
+    /// Scene name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// How the struck body is modelled.
+    pub fn method(&self) -> &Method {
+        &self.method
+    }
+
+    /// The contact law with its parameters.
+    pub fn law(&self) -> &Law {
+        &self.law
+    }
+
+    /// Ball mass (kg).
+    pub fn ball_mass(&self) -> f64 {
+        self.ball_mass
+    }
+
+    /// Impact speed (m/s).
+    pub fn speed(&self) -> f64 {
+        self.speed
+    }
+
+    /// Simulated time from first touch (s).
+    pub fn end_time(&self) -> f64 {
+        self.end_time
+    }
+
+    /// Estimated duration of the first contact on a rigid support (s).
+    pub fn estimated_duration(&self) -> f64 {
+        self.estimated_duration
+    }
+
+    /// What was chosen and why, as the report gives it.
+    pub fn summary(&self) -> &PlanSummary {
+        &self.summary
+    }
+
+    /// Warnings about the scene (accepted, but worth a look).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+}

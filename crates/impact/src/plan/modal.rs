@@ -1,0 +1,77 @@
+//! The modal method's plan: which modes carry the beam.
+
+use crate::error::{invalid, ImpactError};
+use crate::scene::SolverSpec;
+
+/// Modes are kept up to omega t_c = 20 for the estimated contact duration t_c
+/// (validation/REFERENCES.md 6.4): the force pulse does not excite faster modes.
+pub const MODE_CUTOFF: f64 = 20.0;
+
+/// A beam modelled by its first modes, struck at one point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalPlan {
+    /// The beam.
+    pub(crate) beam: modal::Beam,
+    /// Impact point (m) from x = 0.
+    pub(crate) position: f64,
+    /// Modal damping ratio of every elastic mode (-).
+    pub(crate) damping: f64,
+    /// Number of modes.
+    pub(crate) modes: usize,
+}
+
+impl ModalPlan {
+    /// The beam.
+    pub fn beam(&self) -> &modal::Beam {
+        &self.beam
+    }
+
+    /// Impact point (m) from x = 0.
+    pub fn position(&self) -> f64 {
+        self.position
+    }
+
+    /// Number of modes.
+    pub fn modes(&self) -> usize {
+        self.modes
+    }
+}
+
+/// The modes asked for, or all up to [`MODE_CUTOFF`] for the estimated contact duration (s).
+pub(super) fn plan(
+    s: &SolverSpec,
+    beam: modal::Beam,
+    position: f64,
+    damping: f64,
+    duration: f64,
+    reasons: &mut Vec<String>,
+) -> Result<ModalPlan, ImpactError> {
+    let needed = modes_needed(&beam, duration)?;
+    let modes = match s.modes {
+        Some(0) => return Err(invalid("solver.modes", 0, "must be at least 1")),
+        Some(n) if n > 20_000 => return Err(invalid("solver.modes", n, "must be at most 20000")),
+        Some(n) => {
+            reasons.push(format!(
+                "{n} modes, as asked (omega t_c <= {MODE_CUTOFF} would need {needed})"
+            ));
+            n
+        }
+        None => {
+            reasons.push(format!("{needed} modes: all with omega t_c <= {MODE_CUTOFF} for the estimated contact duration"));
+            needed
+        }
+    };
+    Ok(ModalPlan { beam, position, damping, modes })
+}
+
+/// Number of modes with omega_n t_c <= MODE_CUTOFF (at least 4, so the lowest modes that carry
+/// the beam's gross motion are always there).
+fn modes_needed(beam: &modal::Beam, duration: f64) -> Result<usize, ImpactError> {
+    let limit = MODE_CUTOFF / duration;
+    let rigid = beam.support().rigid_modes();
+    let mut n = 1;
+    while n < 20_000 && beam.omega(beam.support().eigenvalue(n)?) <= limit {
+        n += 1;
+    }
+    Ok((n - 1 + rigid).max(4))
+}
