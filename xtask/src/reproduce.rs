@@ -428,7 +428,7 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
 }
 
 /// Coefficient of restitution of the first contact vs speed, with Thornton's closed form for
-/// the same ball on a rigid flat (REFERENCES.md 2.4).
+/// the same ball on a rigid flat (validation/REFERENCES.md 2.4).
 fn restitution_figure(
     out: &Path,
     speeds: &[f64],

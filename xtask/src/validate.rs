@@ -71,7 +71,7 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../validation")
 }
 
-/// Euler-Bernoulli frequencies (Hz) of the paper's cantilever, REFERENCES.md 1.1, from the
+/// Euler-Bernoulli frequencies (Hz) of the paper's cantilever, validation/REFERENCES.md 1.1, from the
 /// modal crate's eigenvalues.
 fn euler_bernoulli_frequencies(count: usize) -> anyhow::Result<Vec<f64>> {
     let beam =

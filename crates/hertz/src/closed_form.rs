@@ -5,12 +5,12 @@ use crate::hertz::Hertz;
 use std::f64::consts::PI;
 
 /// I = integral_0^1 (1 - x^(5/2))^(-1/2) dx = (2/5) B(2/5, 1/2), the constant of the Hertz
-/// contact duration t_c = 2 I delta_max / V (REFERENCES.md 2.1, evaluated to 15 digits;
+/// contact duration t_c = 2 I delta_max / V (validation/REFERENCES.md 2.1, evaluated to 15 digits;
 /// checked by quadrature in the tests).
 pub const HERTZ_DURATION_INTEGRAL: f64 = 1.471_637_592_162_35;
 
 /// Elastic impact of a sphere of mass m on a massive half-space at normal speed V
-/// (Timoshenko & Goodier §140; Johnson §11.4; REFERENCES.md 2.1).
+/// (Timoshenko & Goodier §140; Johnson §11.4; validation/REFERENCES.md 2.1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HalfSpaceImpact {
     /// delta_max = (5 m V^2 / (4 K))^(2/5) (m).
@@ -49,7 +49,7 @@ impl HalfSpaceImpact {
 /// `limiting_pressure` p_y (Pa): (1/2) m V_y^2 = (2/5) K delta_y^(5/2), that is
 /// V_y^2 = 16 E* sqrt(R) delta_y^(5/2) / (15 m), with
 /// delta_y = R (pi p_y / (2 E*))^2. Equal to Thornton's V_y = (pi/(2E*))^2
-/// sqrt(8 pi R^3 p_y^5 / (15 m)) (REFERENCES.md 2.4).
+/// sqrt(8 pi R^3 p_y^5 / (15 m)) (validation/REFERENCES.md 2.4).
 ///
 /// # Errors
 /// `InvalidParameter` if the mass or the pressure is not finite and positive.
@@ -65,7 +65,7 @@ pub fn elastic_limit_velocity(
 }
 
 /// Johnson's yield-onset speed (m/s) of a sphere of density rho on a flat:
-/// rho V_Y^2 / Y = (4/(5 pi)) (0.8 pi)^5 (Y/E*)^4 = 25.54 (Y/E*)^4 (REFERENCES.md 2.3; Johnson
+/// rho V_Y^2 / Y = (4/(5 pi)) (0.8 pi)^5 (Y/E*)^4 = 25.54 (Y/E*)^4 (validation/REFERENCES.md 2.3; Johnson
 /// eq. 11.27 quotes the rounded 26), with Y the yield stress of the softer body.
 ///
 /// # Errors
@@ -84,7 +84,7 @@ pub fn johnson_yield_velocity(
 }
 
 /// Thornton's (1997) coefficient of restitution of an elastic-perfectly-plastic impact at speed
-/// V above the yield velocity V_y, with r = V_y / V (REFERENCES.md 2.4):
+/// V above the yield velocity V_y, with r = V_y / V (validation/REFERENCES.md 2.4):
 /// e = sqrt(6 sqrt(3)/5) sqrt(1 - r^2/6) (r / (r + 2 sqrt(6/5 - r^2/5)))^(1/4); e = 1 for V <= V_y.
 ///
 /// # Errors

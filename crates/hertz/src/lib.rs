@@ -14,7 +14,7 @@
 //!   plastic work (Thornton 1997, J. Appl. Mech. 64, 383);
 //! * closed forms for a sphere on a massive half-space ([`HalfSpaceImpact`]), the yield-onset
 //!   speed ([`johnson_yield_velocity`], [`elastic_limit_velocity`]) and Thornton's restitution
-//!   ([`thornton_restitution`]), REFERENCES.md sections 2.1-2.4.
+//!   ([`thornton_restitution`]), validation/REFERENCES.md sections 2.1-2.4.
 //!
 //! **History.** Laws implement [`ContactLaw`]: `force` is pure, so a Newton iteration can call
 //! it freely; the caller owns the law's `State` and calls `commit` once per accepted step.
@@ -28,7 +28,7 @@
 //! let contact = Hertz::between(&steel, &steel, geometry::sphere_on_flat(0.01)?)?;
 //! let mass = 7850.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.01f64.powi(3);
 //! let impact = HalfSpaceImpact::elastic(&contact, mass, 1.0)?;
-//! // REFERENCES.md 2.2: t_c = 69.11 us, F_max = 1750.5 N.
+//! // validation/REFERENCES.md 2.2: t_c = 69.11 us, F_max = 1750.5 N.
 //! assert!((impact.duration - 6.91104e-5).abs() < 1e-9);
 //! assert!((contact.force(&(), impact.max_approach, 0.0).force - impact.peak_force).abs() < 1e-9);
 //! # Ok::<(), hertz::HertzError>(())

@@ -50,7 +50,7 @@ impl Material {
 }
 
 /// Effective contact modulus E* (Pa): 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2
-/// (Johnson, *Contact Mechanics*, eq. 4.22; REFERENCES.md 2).
+/// (Johnson, *Contact Mechanics*, eq. 4.22; validation/REFERENCES.md 2).
 pub fn effective_modulus(a: &Material, b: &Material) -> f64 {
     1.0 / (a.plane_strain_compliance() + b.plane_strain_compliance())
 }

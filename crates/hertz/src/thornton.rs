@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 /// Ratio of the central contact pressure at first yield to the uniaxial yield stress,
 /// p0 = 1.60 Y (Johnson, *Contact Mechanics* §4.2, Tresca/von Mises with nu ~ 0.3;
-/// REFERENCES.md 2.3). With it, Thornton's yield velocity equals Johnson's V_Y.
+/// validation/REFERENCES.md 2.3). With it, Thornton's yield velocity equals Johnson's V_Y.
 pub const FIRST_YIELD_PRESSURE_RATIO: f64 = 1.6;
 
 /// Thornton (1997) elastic-perfectly-plastic law (J. Appl. Mech. 64, 383-386):

@@ -8,7 +8,7 @@ fn steel() -> Material {
     Material::new(2.1e11, 0.3).unwrap()
 }
 
-/// REFERENCES.md 2.2: steel sphere R = 10 mm, 7850 kg/m^3, on a steel half-space.
+/// validation/REFERENCES.md 2.2: steel sphere R = 10 mm, 7850 kg/m^3, on a steel half-space.
 fn reference_contact() -> (Hertz, f64) {
     let contact =
         Hertz::between(&steel(), &steel(), geometry::sphere_on_flat(0.01).unwrap()).unwrap();
@@ -21,7 +21,7 @@ fn rel(a: f64, b: f64) -> f64 {
 
 #[test]
 fn half_space_closed_form_matches_worked_example() {
-    // REFERENCES.md 2.2 prints 6 significant digits, so 1e-5 relative is half a unit of the
+    // validation/REFERENCES.md 2.2 prints 6 significant digits, so 1e-5 relative is half a unit of the
     // last printed digit with margin.
     let (c, m) = reference_contact();
     assert!(rel(c.effective_modulus(), 1.15385e11) < 1e-5);
@@ -74,7 +74,7 @@ fn paper_eq3_inverts_eq4() {
 
 #[test]
 fn yield_onset_speeds() {
-    // REFERENCES.md 2.3: steel on steel, E* = 1.154e11, rho = 7850: Y = 0.5/1.5/2.0 GPa gives
+    // validation/REFERENCES.md 2.3: steel on steel, E* = 1.154e11, rho = 7850: Y = 0.5/1.5/2.0 GPa gives
     // V_Y = 0.024/0.373/0.766 m/s, printed to 3 decimals (tolerance: half a unit, 5e-4).
     // Its 1.0 GPa row prints 0.136, which its own formula does not give (25.54 -> 0.1354,
     // Johnson's rounded 26 -> 0.1367): a slip in that row; we test the formula's 0.1354.
@@ -87,7 +87,7 @@ fn yield_onset_speeds() {
     let a = johnson_yield_velocity(7850.0, 1e9, c.effective_modulus()).unwrap();
     let b = elastic_limit_velocity(&c, m, FIRST_YIELD_PRESSURE_RATIO * 1e9).unwrap();
     assert!(rel(a, b) < 1e-12);
-    // And Thornton's form V_y = (pi/(2E*))^2 sqrt(8 pi R^3 p_y^5 / (15 m)) (REFERENCES.md 2.4).
+    // And Thornton's form V_y = (pi/(2E*))^2 sqrt(8 pi R^3 p_y^5 / (15 m)) (validation/REFERENCES.md 2.4).
     let py: f64 = 1.6e9;
     let t = (PI / (2.0 * c.effective_modulus())).powi(2)
         * (8.0 * PI * 1e-6 * py.powi(5) / (15.0 * m)).sqrt();
@@ -96,7 +96,7 @@ fn yield_onset_speeds() {
 
 #[test]
 fn thornton_restitution_limits() {
-    // REFERENCES.md 2.4: e = 1 at r = 1 and e -> 1.184993 r^(1/4) as r -> 0.
+    // validation/REFERENCES.md 2.4: e = 1 at r = 1 and e -> 1.184993 r^(1/4) as r -> 0.
     assert!((thornton_restitution(1.0, 1.0).unwrap() - 1.0).abs() < 1e-15);
     assert!((thornton_restitution(1.0, 1.0 + 1e-12).unwrap() - 1.0).abs() < 1e-6);
     let r: f64 = 1e-10;
@@ -229,7 +229,7 @@ fn bounce<L: ContactLaw>(law: &L, mass: f64, speed: f64, dt: f64) -> (f64, f64, 
 
 #[test]
 fn thornton_impact_reproduces_thornton_restitution() {
-    // The closed form of REFERENCES.md 2.4 is exact for this law (checked to 30 digits with
+    // The closed form of validation/REFERENCES.md 2.4 is exact for this law (checked to 30 digits with
     // mpmath), so a simulated bounce must match it up to the integrator's error: Verlet with
     // 2e5 steps per pulse gives ~1e-8; 1e-6 leaves margin for the force kink at yield.
     let (c, m) = reference_contact();

@@ -95,7 +95,7 @@ impl Triplets {
     }
 }
 
-/// A mechanical model `I(q, v, a) + g(t, q, v) = 0` for the integrator (ARCHITECTURE.md, HHT).
+/// A mechanical model `I(q, v, a) + g(t, q, v) = 0` for the integrator (ARCHITECTURE.md at the repository root, HHT).
 ///
 /// The configuration `q` may live on a manifold (positions and rotations): the model owns the
 /// update `q <- q (+) dq`, and velocities and accelerations are plain vectors in the tangent

@@ -11,7 +11,7 @@ use crate::error::{in_range, HhtError};
 /// `v_{n+1} = v_n + h ((1 - gamma) a_n + gamma a_{n+1})`.
 ///
 /// HHT-alpha (Hilber, Hughes & Taylor 1977; the paper's eq. 9) is `alpha_m = 0`,
-/// `alpha_f = -alpha` with `alpha` in `[-1/3, 0]` (REFERENCES.md 4.1): the force balance is
+/// `alpha_f = -alpha` with `alpha` in `[-1/3, 0]` (validation/REFERENCES.md 4.1): the force balance is
 /// weighted `(1 + alpha)` at the new time and `-alpha` at the old one.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scheme {
@@ -32,7 +32,7 @@ impl Scheme {
     ///
     /// # Errors
     /// [`HhtError::InvalidParameter`] when `alpha` is not a number in `[-1/3, 0]`. A positive
-    /// alpha with these beta and gamma is unconditionally unstable (REFERENCES.md 4.3), which is
+    /// alpha with these beta and gamma is unconditionally unstable (validation/REFERENCES.md 4.3), which is
     /// why it is refused rather than clamped.
     pub fn hht(alpha: f64) -> Result<Self, HhtError> {
         in_range(
@@ -51,7 +51,7 @@ impl Scheme {
     }
 
     /// Generalized-alpha with the optimal parameters of Chung & Hulbert (1993) for a spectral
-    /// radius `rho_inf` at infinite frequency (REFERENCES.md 4.4): `alpha_m = (2 rho - 1) /
+    /// radius `rho_inf` at infinite frequency (validation/REFERENCES.md 4.4): `alpha_m = (2 rho - 1) /
     /// (rho + 1)`, `alpha_f = rho / (rho + 1)`, `gamma = 1/2 - alpha_m + alpha_f`,
     /// `beta = (1 - alpha_m + alpha_f)^2 / 4`.
     ///

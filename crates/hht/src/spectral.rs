@@ -1,4 +1,4 @@
-//! Spectral analysis of a scheme on the undamped linear oscillator (REFERENCES.md 4.2).
+//! Spectral analysis of a scheme on the undamped linear oscillator (validation/REFERENCES.md 4.2).
 
 use crate::error::HhtError;
 use crate::integrator::{Integrator, NewtonOptions, State};

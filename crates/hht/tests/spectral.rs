@@ -1,4 +1,4 @@
-//! The scheme on a single undamped oscillator against REFERENCES.md 4.2-4.4.
+//! The scheme on a single undamped oscillator against validation/REFERENCES.md 4.2-4.4.
 #![allow(clippy::unwrap_used, clippy::float_cmp)]
 
 use faer::Col;
@@ -32,7 +32,7 @@ const ALPHAS: [f64; 6] = [0.0, -0.05, -0.1, -0.2, -0.3, -1.0 / 3.0];
 
 #[test]
 fn hht_spectral_radius_at_infinity() {
-    // REFERENCES.md 4.2: rho_inf = (1 + alpha)/(1 - alpha).
+    // validation/REFERENCES.md 4.2: rho_inf = (1 + alpha)/(1 - alpha).
     for alpha in ALPHAS {
         let (rho, tolerance) = rho_infinity(Scheme::hht(alpha).unwrap());
         let expected = (1.0 + alpha) / (1.0 - alpha);
@@ -42,7 +42,7 @@ fn hht_spectral_radius_at_infinity() {
 
 #[test]
 fn generalized_alpha_parameters_and_radius() {
-    // REFERENCES.md 4.4 table (6 printed digits) and rho(Omega = 1e7) = rho_inf.
+    // validation/REFERENCES.md 4.4 table (6 printed digits) and rho(Omega = 1e7) = rho_inf.
     let table = [
         (1.0, 0.5, 0.5, 0.5, 0.25),
         (0.9, 0.421053, 0.473684, 0.552632, 0.277008),
@@ -59,14 +59,14 @@ fn generalized_alpha_parameters_and_radius() {
         let (rho, tolerance) = rho_infinity(s);
         assert!((rho - rho_inf).abs() < tolerance, "rho_inf {rho_inf}: measured {rho}");
     }
-    // At rho_inf = 0.5 the optimum coincides with HHT alpha = -1/3 (REFERENCES.md 4.4).
+    // At rho_inf = 0.5 the optimum coincides with HHT alpha = -1/3 (validation/REFERENCES.md 4.4).
     let (hht, tolerance) = rho_infinity(Scheme::hht(-1.0 / 3.0).unwrap());
     assert!((hht - 0.5).abs() < tolerance);
 }
 
 #[test]
 fn hht_damping_ratio_is_third_order() {
-    // REFERENCES.md 4.2: xi = -(alpha/8)(1 + alpha)^2 Omega^3 + O(Omega^5). At Omega = 0.02 the
+    // validation/REFERENCES.md 4.2: xi = -(alpha/8)(1 + alpha)^2 Omega^3 + O(Omega^5). At Omega = 0.02 the
     // O(Omega^2) relative correction is below 1e-3; 2e-3 allows for it.
     for alpha in ALPHAS[1..].iter().copied() {
         let coefficient = -(alpha / 8.0) * (1.0 + alpha).powi(2);
@@ -79,7 +79,7 @@ fn hht_damping_ratio_is_third_order() {
             );
         }
     }
-    // The computed example values of REFERENCES.md 4.2, printed to 5 digits.
+    // The computed example values of validation/REFERENCES.md 4.2, printed to 5 digits.
     let (xi, period) = damping_and_period(Scheme::hht(-0.1).unwrap(), 0.1);
     assert!((xi / 1.0077e-5 - 1.0).abs() < 1e-4, "{xi}");
     assert!((period / 1.04458e-3 - 1.0).abs() < 1e-4, "{period}");
@@ -90,7 +90,7 @@ fn hht_damping_ratio_is_third_order() {
 
 #[test]
 fn hht_period_error_is_second_order() {
-    // REFERENCES.md 4.2: (T' - T)/T = (1/12 - alpha/4 - 3 alpha^2/8) Omega^2 + O(Omega^4).
+    // validation/REFERENCES.md 4.2: (T' - T)/T = (1/12 - alpha/4 - 3 alpha^2/8) Omega^2 + O(Omega^4).
     for alpha in ALPHAS {
         let coefficient = 1.0 / 12.0 - alpha / 4.0 - 3.0 * alpha * alpha / 8.0;
         let (_, period) = damping_and_period(Scheme::hht(alpha).unwrap(), 0.02);
@@ -104,7 +104,7 @@ fn hht_period_error_is_second_order() {
 
 #[test]
 fn mixed_sign_convention_is_detected() {
-    // REFERENCES.md 4.3: HHT's beta and gamma with alpha > 0 are unstable (rho -> 1.2222 at
+    // validation/REFERENCES.md 4.3: HHT's beta and gamma with alpha > 0 are unstable (rho -> 1.2222 at
     // alpha = 0.1); the constructor refuses them.
     for alpha in [0.1, 1.0 / 3.0, -0.34, f64::NAN] {
         assert!(matches!(

@@ -18,7 +18,7 @@ fn rel(a: f64, b: f64) -> f64 {
 
 #[test]
 fn half_space_matches_the_hertz_closed_form() {
-    // REFERENCES.md 2.2 via the hertz crate's closed form; the issue asks for 1e-4 relative.
+    // validation/REFERENCES.md 2.2 via the hertz crate's closed form; the issue asks for 1e-4 relative.
     // Onset and separation are located by root finding and the peak is refined by a parabola,
     // so the remaining error is the O(h^2) of the force interpolation (~4e-6 at 1000 steps).
     let s = scene("half-space-r10.toml");
@@ -125,7 +125,7 @@ fn first_contact_converges_with_the_step() {
 
 #[test]
 fn thornton_contact_on_a_block_matches_thornton_restitution() {
-    // REFERENCES.md 2.4: for this law Thornton's formula is exact, so the solver's restitution
+    // validation/REFERENCES.md 2.4: for this law Thornton's formula is exact, so the solver's restitution
     // must match it to the scheme's accuracy (O(h^2), ~1e-5 at 1000 steps; 1e-4 allowed).
     let mut s = scene("half-space-r10.toml");
     s.half_space.as_mut().unwrap().yield_stress = Some(3.4e8);

@@ -5,12 +5,12 @@
 //! the building blocks of Goldsmith's analytic impact method (the paper's eq. 1).
 //!
 //! **Eigenvalues.** beta_n L solves the characteristic equation written in a bounded form
-//! (cos x + sech x = 0 for a cantilever, REFERENCES.md 1.1), found by safeguarded Newton in a
+//! (cos x + sech x = 0 for a cantilever, validation/REFERENCES.md 1.1), found by safeguarded Newton in a
 //! bracket of half-width pi/4 around the asymptotic root, to a few ulps for any n.
 //! omega_n = (beta_n L)^2 sqrt(EI / (rho A L^4)).
 //!
 //! **Shapes.** [`ModeShape`] uses the textbook scaling (integral phi^2 dx = L) in a form without
-//! growing exponentials (REFERENCES.md 1.3), exact to round-off at mode 1000; the mass-normalised
+//! growing exponentials (validation/REFERENCES.md 1.3), exact to round-off at mode 1000; the mass-normalised
 //! shape is phi / sqrt(rho A L).
 //!
 //! **Propagation.** Each mode is the oscillator q'' + 2 zeta omega q' + omega^2 q = g F(t),

@@ -149,7 +149,7 @@ impl PointModes {
     }
 
     /// Velocity at the point, sum g v (m/s). The series does not converge as modes are added
-    /// (REFERENCES.md 1.2): use it for estimates, never in the contact condition.
+    /// (validation/REFERENCES.md 1.2): use it for estimates, never in the contact condition.
     pub fn velocity(&self, s: &ModalState) -> f64 {
         self.gain.iter().zip(&s.v).map(|(g, v)| g * v).sum()
     }
@@ -195,7 +195,7 @@ pub enum Hold {
 }
 
 /// The exact transition of every mode over a step h under a held force:
-/// [q, v](t + h) = E [q, v](t) + G0 F0 + G1 F1, with E = exp(A h),
+/// `[q, v](t + h) = E [q, v](t) + G0 F0 + G1 F1`, with `E = exp(A h)`,
 /// G0 + G1 = h phi1(A h) b and G1 = h phi2(A h) b for a first-order hold
 /// (phi1(z) = (e^z - 1)/z, phi2(z) = (e^z - 1 - z)/z^2; b = [0, g]).
 /// No step-size limit: exact for any h and any omega h.

@@ -9,7 +9,7 @@ use crate::support::Support;
 ///
 /// Every coefficient is of order one and no exponential grows, so there is no cancellation:
 /// the textbook cosh/sinh form loses about log10(exp(beta L)) digits and is wrong by 100 % past
-/// mode 14 (REFERENCES.md 1.3). The linear part carries the rigid-body modes of a free-free beam.
+/// mode 14 (validation/REFERENCES.md 1.3). The linear part carries the rigid-body modes of a free-free beam.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModeShape {
     beta: f64,

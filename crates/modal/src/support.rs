@@ -60,7 +60,7 @@ impl Support {
     }
 
     /// Asymptotic root (beta L) of elastic mode n >= 1, which is also the centre of a bracket
-    /// of half-width pi/4 that holds exactly that root (REFERENCES.md 1.1).
+    /// of half-width pi/4 that holds exactly that root (validation/REFERENCES.md 1.1).
     pub(crate) fn asymptotic_root(self, n: usize) -> f64 {
         let n = n as f64;
         match self {
@@ -73,7 +73,7 @@ impl Support {
 
     /// The characteristic function in a bounded form and its derivative. The textbook forms
     /// (e.g. 1 + cos x cosh x = 0) have derivatives ~cosh x ~ 1e13 at mode 10 and lose digits;
-    /// dividing by cosh x keeps every term of order one (REFERENCES.md 1.1):
+    /// dividing by cosh x keeps every term of order one (validation/REFERENCES.md 1.1):
     /// clamped-free cos x + sech x; clamped-clamped and free-free cos x - sech x;
     /// clamped-pinned sin x - cos x tanh x; pinned-pinned sin x.
     pub(crate) fn characteristic(self, x: f64) -> (f64, f64) {

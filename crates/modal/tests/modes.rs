@@ -1,10 +1,10 @@
-//! Eigenvalues, mode shapes and static identities against REFERENCES.md 1 and high-precision values.
+//! Eigenvalues, mode shapes and static identities against validation/REFERENCES.md 1 and high-precision values.
 #![allow(clippy::unwrap_used, clippy::float_cmp)] // helpers stop on bad fixtures; exact zeros are part of the contract
 
 use modal::*;
 use std::f64::consts::PI;
 
-/// REFERENCES.md 1.1, b_n L of the cantilever, 15 significant digits (mpmath, 40 digits).
+/// validation/REFERENCES.md 1.1, b_n L of the cantilever, 15 significant digits (mpmath, 40 digits).
 const CANTILEVER: [f64; 10] = [
     1.87510406871196,
     4.69409113297417,
@@ -46,7 +46,7 @@ fn other_supports_first_roots() {
 
 #[test]
 fn thousand_modes_to_round_off() {
-    // Past mode ~10 the roots equal their asymptotes up to 2 exp(-x) (REFERENCES.md 1.1), which
+    // Past mode ~10 the roots equal their asymptotes up to 2 exp(-x) (validation/REFERENCES.md 1.1), which
     // is below 1e-16 relative from mode 15 on; so the asymptote is an independent reference
     // to round-off there. Tolerance 1e-13 relative: ~100 ulps, far inside the 1e-10 asked.
     for s in Support::ALL {
@@ -65,7 +65,7 @@ fn thousand_modes_to_round_off() {
 
 #[test]
 fn cantilever_tip_value_is_two_for_every_mode() {
-    // REFERENCES.md 1.2: phi_n(L) = 2 (-1)^(n+1) exactly in the textbook scaling.
+    // validation/REFERENCES.md 1.2: phi_n(L) = 2 (-1)^(n+1) exactly in the textbook scaling.
     let beam = Beam::new(1.0, 1.0, 1.0, Support::ClampedFree).unwrap();
     for (i, m) in beam.modes(1000).unwrap().iter().enumerate() {
         let expected = if i % 2 == 0 { 2.0 } else { -2.0 };
@@ -152,7 +152,7 @@ fn modes_are_orthonormal() {
 
 #[test]
 fn static_compliance_identity() {
-    // sum phi_n(c)^2 / omega_n^2 / (rho A L) = static flexibility at c (REFERENCES.md 6.3 and
+    // sum phi_n(c)^2 / omega_n^2 / (rho A L) = static flexibility at c (validation/REFERENCES.md 6.3 and
     // beam tables). With 3000 modes the neglected tail is below sum_{n>3000} 4/((n-1/2) pi)^4 ~
     // 2e-13 of L^3/EI, i.e. < 1e-10 relative to any flexibility tested; tolerance 1e-9.
     for s in [
@@ -171,7 +171,7 @@ fn static_compliance_identity() {
             assert!((sum - exact).abs() / exact < 1e-9, "{s} at {c}: {sum} vs {exact}");
         }
     }
-    // REFERENCES.md 1.2: sum 4/(b_n L)^4 = 1/3 for the cantilever tip.
+    // validation/REFERENCES.md 1.2: sum 4/(b_n L)^4 = 1/3 for the cantilever tip.
     let s: f64 =
         (1..=3000).map(|n| 4.0 / Support::ClampedFree.eigenvalue(n).unwrap().powi(4)).sum();
     assert!((s - 1.0 / 3.0).abs() < 1e-10);

@@ -3,7 +3,7 @@
 
 use modal::*;
 
-/// The paper's cantilever (REFERENCES.md / paper: 25 x 5 mm steel, L = 1.15 m).
+/// The paper's cantilever (validation/REFERENCES.md / paper: 25 x 5 mm steel, L = 1.15 m).
 fn paper_tip(n: usize, damping: f64) -> PointModes {
     let beam = Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, Support::ClampedFree).unwrap();
     let modes = beam.modes(n).unwrap();

@@ -1,4 +1,4 @@
-//! The standard problems of REFERENCES.md section 3, set up once so that the tests, the
+//! The standard problems of validation/REFERENCES.md section 3, set up once so that the tests, the
 //! `cargo xtask validate` cases and the benches run exactly the same models.
 
 use crate::error::BeamError;
@@ -35,7 +35,7 @@ fn dead(node: usize, force: Vector3<f64>, moment: Vector3<f64>) -> Load {
     Load { node, force, moment, follower: false, profile: Profile::Constant }
 }
 
-/// Roll-up (REFERENCES.md 3.1): a cantilever (EI = 2, L = 1) under the end moment
+/// Roll-up (validation/REFERENCES.md 3.1): a cantilever (EI = 2, L = 1) under the end moment
 /// `M = turns 2 pi EI / L` about -y, which bends it into `turns` full circles, in one load
 /// step. Returns (tip position (m), total tip rotation (rad), Newton iterations).
 ///
@@ -65,7 +65,7 @@ pub fn roll_up(turns: f64, elements: usize) -> Result<(Vector3<f64>, f64, usize)
     Ok((s.state.positions[elements], rotation, s.iterations.iter().sum()))
 }
 
-/// Mattiasson's cantilever (REFERENCES.md 3.3): dead tip load with k = P L^2 / EI, slender
+/// Mattiasson's cantilever (validation/REFERENCES.md 3.3): dead tip load with k = P L^2 / EI, slender
 /// (EA = GA = 1e7 EI / L^2, so extension and shear stay below 1e-6), in `load_steps`
 /// increments. Returns [u/L, w/L, tip rotation (rad)].
 ///
@@ -83,7 +83,7 @@ pub fn mattiasson(k: f64, elements: usize, load_steps: usize) -> Result<[f64; 3]
     Ok([1.0 - tip.x, -tip.z, rotation])
 }
 
-/// The 45-degree bend (REFERENCES.md 3.2): arc of radius 100 from the clamp at the origin to
+/// The 45-degree bend (validation/REFERENCES.md 3.2): arc of radius 100 from the clamp at the origin to
 /// the undeformed tip (29.29, 70.71, 0), unit square section with the stiffness data of
 /// Bathe & Bolourchi as tabulated by kynema (EA = 1e7, kGA = 4.16667e6, GJ = EI = 8.333e5),
 /// dead tip load P along z in `load_steps` equal increments. Returns the tip position.
@@ -181,7 +181,7 @@ pub fn paper_cantilever_flexural_frequencies(
 /// Samples (t (s), tip z (m)) and the total energy (J) after the load is removed.
 pub type TipHistory = (Vec<(f64, f64)>, Vec<f64>);
 
-/// The right-angle cantilever of Simo & Vu-Quoc (1988), REFERENCES.md 3.4: legs of 10 (clamp
+/// The right-angle cantilever of Simo & Vu-Quoc (1988), validation/REFERENCES.md 3.4: legs of 10 (clamp
 /// at (0, 10, 0), elbow at (10, 10, 0), tip at (10, 0, 0)), EA = GA = 1e6, EI = GJ = 1e3,
 /// rho A = 1, rho I = diag(20, 10, 10) (SVQ's data), out-of-plane elbow force 50 t on [0, 1],
 /// 50 (2 - t) on [1, 2], trapezoidal rule (alpha = 0) with step `dt`. Returns samples

@@ -1,4 +1,4 @@
-//! The beam benchmarks of REFERENCES.md section 3 and 5 (the same set-ups `cargo xtask
+//! The beam benchmarks of validation/REFERENCES.md section 3 and 5 (the same set-ups `cargo xtask
 //! validate` reports). Mesh sizes are chosen so the whole file runs in a few seconds in the
 //! test profile.
 #![allow(clippy::unwrap_used, clippy::float_cmp)]
@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 
 #[test]
 fn roll_up_closes_a_circle_and_two_turns_in_one_step() {
-    // REFERENCES.md 3.1: constant curvature M/EI. With chord elements the nodes form a regular
+    // validation/REFERENCES.md 3.1: constant curvature M/EI. With chord elements the nodes form a regular
     // polygon whose sides keep their length, so a whole number of turns closes exactly: tip at
     // the clamp to Newton's tolerance, total rotation 2 pi turns to round-off. SVQ needed 2
     // Newton iterations; so do we.
@@ -27,7 +27,7 @@ fn roll_up_closes_a_circle_and_two_turns_in_one_step() {
     }
 }
 
-/// REFERENCES.md 3.3, computed to 15 digits (validation/reference/mattiasson.csv).
+/// validation/REFERENCES.md 3.3, computed to 15 digits (validation/reference/mattiasson.csv).
 fn mattiasson_reference(k: usize) -> [f64; 3] {
     let text = include_str!("../../../validation/reference/mattiasson.csv");
     let line = text.lines().filter(|l| !l.starts_with('#')).nth(k).unwrap();
@@ -68,7 +68,7 @@ fn mattiasson_converges_at_second_order() {
 
 #[test]
 fn bend45_is_path_independent_and_near_simo_vu_quoc() {
-    // REFERENCES.md 3.2 and 5.1: the strains depend only on the current rotations, so 8 and 10
+    // validation/REFERENCES.md 3.2 and 5.1: the strains depend only on the current rotations, so 8 and 10
     // equal load steps reach the same tip to Newton's tolerance.
     let tip8 = bend45(600.0, 8, 8).unwrap();
     let tip10 = bend45(600.0, 8, 10).unwrap();
@@ -84,7 +84,7 @@ fn bend45_is_path_independent_and_near_simo_vu_quoc() {
 
 #[test]
 fn no_shear_locking_with_reduced_integration() {
-    // REFERENCES.md 5.2: L/h = 1000, 10 linear elements, one-point integration: within 1 % of
+    // validation/REFERENCES.md 5.2: L/h = 1000, 10 linear elements, one-point integration: within 1 % of
     // PL^3/3EI + PL/kGA (the one-point element's own discretisation error is 1/(4 n^2) = 0.25 %).
     let ratio = shear_locking_ratio(10).unwrap();
     assert!((ratio - 1.0).abs() < 0.01, "ratio {ratio}");
@@ -92,7 +92,7 @@ fn no_shear_locking_with_reduced_integration() {
 
 #[test]
 fn paper_cantilever_frequencies_match_euler_bernoulli() {
-    // REFERENCES.md 1.1: f_n = (b_n L)^2 sqrt(EI / rho A) / (2 pi L^2). The FE beam is a
+    // validation/REFERENCES.md 1.1: f_n = (b_n L)^2 sqrt(EI / rho A) / (2 pi L^2). The FE beam is a
     // Timoshenko beam with rotary inertia, so its modes sit slightly below Euler-Bernoulli
     // (shear + rotary inertia ~ (b_n t / L)^2 (1 + E / kG) / 24: 1.7e-5 at n = 1, 0.2 % at
     // n = 10), and the 2-node elements sit above (second order in the element size, 0.8 % at
@@ -144,9 +144,9 @@ fn paper_cantilever_frequencies_converge_at_second_order() {
 
 #[test]
 fn right_angle_cantilever_against_simo_vu_quoc() {
-    // REFERENCES.md 3.4, hand-digitised: tip out-of-plane peak 8.32 near t = 6.6 and trough
+    // validation/REFERENCES.md 3.4, hand-digitised: tip out-of-plane peak 8.32 near t = 6.6 and trough
     // -9.21 near t = 14.5-15, +-0.5. Energy after the load is removed: the trapezoidal rule on
-    // rotations is not exactly conservative (REFERENCES.md 5.3); it must stay within 1 %.
+    // rotations is not exactly conservative (validation/REFERENCES.md 5.3); it must stay within 1 %.
     let (tip, energy) = right_angle_cantilever(10, 0.05, 30.0).unwrap();
     let peak = tip.iter().filter(|s| s.0 < 10.0).map(|s| s.1).fold(f64::MIN, f64::max);
     let trough =

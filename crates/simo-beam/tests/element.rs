@@ -1,4 +1,4 @@
-//! Finite-difference and objectivity checks of the element (ARCHITECTURE.md, Tests; REFERENCES.md 5.1).
+//! Finite-difference and objectivity checks of the element (ARCHITECTURE.md at the repository root, Tests; validation/REFERENCES.md 5.1).
 #![allow(clippy::unwrap_used, clippy::float_cmp)]
 
 use nalgebra::{UnitQuaternion, Vector3};

@@ -6,7 +6,7 @@ use hht::{Model, NewtonWeights, Triplets};
 use nalgebra::Vector3;
 use simo_beam::{BeamModel, BeamState, Load, Material, Mesh, Profile, Section, Support};
 
-/// The right-angle frame of REFERENCES.md 3.4 (two legs, a rigid corner), with a dead force,
+/// The right-angle frame of validation/REFERENCES.md 3.4 (two legs, a rigid corner), with a dead force,
 /// a follower force and a dead moment, in a deformed, moving state.
 fn frame() -> (BeamModel, BeamState, Col<f64>, Col<f64>) {
     let a2: f64 = 12e-3;

@@ -17,7 +17,7 @@ fn scene(path: &str) -> BeamScene {
 
 #[test]
 fn mattiasson_scene_file_matches_the_elastica() {
-    // REFERENCES.md 3.3, k = 10, reference from validation/reference/mattiasson.csv (elliptic
+    // validation/REFERENCES.md 3.3, k = 10, reference from validation/reference/mattiasson.csv (elliptic
     // integrals). With 32 elements the discretisation error is ~4x the 64-element one
     // (second order; 3e-5..5e-5 at 64, see the validate cases), so 5e-4 absolute on u/L, w/L
     // and the rotation (rad) leaves margin while still catching a wrong load or support.
@@ -42,7 +42,7 @@ fn bend45_scene_file_is_the_benchmark_model() {
     // The arc, its true arc length for the load position and the stiffness form must build
     // exactly the model of simo_beam::benchmarks::bend45, so the two tips agree to round-off;
     // against Simo & Vu-Quoc (15.79, 47.23, 53.37) the 8-element mesh is within 1e-3
-    // (REFERENCES.md 3.2; the validate case bend45-p600 measures 8.3e-4).
+    // (validation/REFERENCES.md 3.2; the validate case bend45-p600 measures 8.3e-4).
     let run = scene("beam-bend45.toml").run(|_| {}).unwrap();
     let tip = run.history.last().unwrap().position;
     let bench = simo_beam::benchmarks::bend45(600.0, 8, 6).unwrap();

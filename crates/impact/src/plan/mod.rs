@@ -1,7 +1,7 @@
 //! Planning: validate a scene and choose the model it needs, with the reasons.
 //!
 //! [`Plan::new`] reads the scene once, in order: the ball, the impact speed, the struck body,
-//! the contact law ([`crate::law`]), then the method ([`Method`]: a rigid half-space, the modal
+//! the contact law ([`crate::Law`]), then the method ([`Method`]: a rigid half-space, the modal
 //! beam of [`ModalPlan`] or the finite elements of [`FePlan`]), the contact step, the end time and
 //! the output interval. Every choice leaves a reason in the [`PlanSummary`]. A plan is made only
 //! by [`Plan::new`], so a solver never meets an unvalidated one.
