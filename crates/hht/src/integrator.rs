@@ -1,5 +1,6 @@
 //! Caller-driven stepping with Newton's method.
 
+use crate::banded::{Band, BandedLu};
 use crate::error::HhtError;
 use crate::linear::SparseLu;
 use crate::model::{Model, NewtonWeights, Triplets};
@@ -20,13 +21,33 @@ pub struct NewtonOptions {
     /// How many times a failed step may be halved (each half stepped separately) before
     /// [`HhtError::NewtonDiverged`] is returned.
     pub max_halvings: usize,
+    /// Keep the last factorised Newton matrix while it still converges (modified Newton):
+    /// a step whose weights (its h) equal those of the last factorisation starts with it, and
+    /// the matrix is rebuilt at the current iterate only when an iteration fails to reduce the
+    /// residual by [`STALE_CONTRACTION`]. Each step still converges to `rtol`; what changes is
+    /// the cost: a residual and a back-substitution instead of an assembly and a
+    /// factorisation, for a model whose tangent changes little from step to step (a beam in
+    /// small rotations). Default false: a fresh matrix every iteration.
+    pub reuse_factorisation: bool,
 }
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        Self { max_iterations: 20, rtol: 1e-10, atol: 0.0, max_halvings: 8 }
+        Self {
+            max_iterations: 20,
+            rtol: 1e-10,
+            atol: 0.0,
+            max_halvings: 8,
+            reuse_factorisation: false,
+        }
     }
 }
+
+/// A reused (stale) Newton matrix is rebuilt when an iteration with it leaves more than this
+/// fraction of the residual: modified Newton converges linearly at the rate of the matrix's
+/// error, and a rebuild (one assembly and factorisation) costs several residuals and
+/// back-substitutions.
+pub const STALE_CONTRACTION: f64 = 0.25;
 
 /// The state at one time: configuration, velocity, acceleration, and the force terms of the
 /// balance at that time (the next step weights them with `alpha_m` and `alpha_f`).
@@ -88,14 +109,59 @@ pub struct StepReport {
     pub substeps: usize,
 }
 
-/// HHT-alpha / generalized-alpha integrator. It owns the Newton work space and the sparse LU
-/// (symbolic analysis reused across steps); the caller owns the [`State`].
+/// The factorisation a model's Newton matrix gets: general sparse, or banded with a border
+/// when the model declares it ([`Model::band`]).
+#[derive(Debug)]
+enum LinearSolver {
+    Sparse(Box<SparseLu>),
+    Banded(Box<BandedLu>),
+}
+
+impl LinearSolver {
+    fn factor(
+        &mut self,
+        n: usize,
+        band: Option<Band>,
+        a: &Triplets,
+        t: f64,
+    ) -> Result<(), HhtError> {
+        match (band, &mut *self) {
+            (Some(band), LinearSolver::Banded(lu)) => lu.factor(n, band, a, t),
+            (None, LinearSolver::Sparse(lu)) => lu.factor(n, a, t),
+            (Some(band), LinearSolver::Sparse(_)) => {
+                let mut lu = Box::<BandedLu>::default();
+                let factored = lu.factor(n, band, a, t);
+                *self = LinearSolver::Banded(lu);
+                factored
+            }
+            (None, LinearSolver::Banded(_)) => {
+                let mut lu = Box::<SparseLu>::default();
+                let factored = lu.factor(n, a, t);
+                *self = LinearSolver::Sparse(lu);
+                factored
+            }
+        }
+    }
+
+    fn solve_in_place(&mut self, rhs: faer::ColMut<'_, f64>, t: f64) -> Result<(), HhtError> {
+        match self {
+            LinearSolver::Sparse(lu) => lu.solve_in_place(rhs, t),
+            LinearSolver::Banded(lu) => lu.solve_in_place(rhs, t),
+        }
+    }
+}
+
+/// HHT-alpha / generalized-alpha integrator. It owns the Newton work space and the
+/// factorisation (a sparse LU whose symbolic analysis is reused across steps, or a banded LU);
+/// the caller owns the [`State`].
 #[derive(Debug)]
 pub struct Integrator {
     scheme: Scheme,
     options: NewtonOptions,
-    lu: SparseLu,
+    lu: LinearSolver,
     triplets: Triplets,
+    /// The weights of the Newton matrix now factorised, if it may be reused.
+    factored: Option<NewtonWeights>,
     /// Newton matrices factorised so far.
     pub factorisations: usize,
 }
@@ -112,7 +178,14 @@ fn norm(x: &Col<f64>) -> f64 {
 impl Integrator {
     /// An integrator for `scheme` (see [`Scheme::hht`], [`Scheme::generalized_alpha`]).
     pub fn new(scheme: Scheme, options: NewtonOptions) -> Self {
-        Self { scheme, options, lu: SparseLu::new(), triplets: Triplets::new(), factorisations: 0 }
+        Self {
+            scheme,
+            options,
+            lu: LinearSolver::Sparse(Box::default()),
+            triplets: Triplets::new(),
+            factored: None,
+            factorisations: 0,
+        }
     }
 
     /// The scheme in use.
@@ -120,9 +193,13 @@ impl Integrator {
         self.scheme
     }
 
-    /// Symbolic factorisations done so far (1 for a model with a fixed pattern).
+    /// Symbolic factorisations done so far (1 for a model with a fixed pattern; 0 for a banded
+    /// model, which needs none).
     pub fn symbolic_factorisations(&self) -> usize {
-        self.lu.symbolic_count
+        match &self.lu {
+            LinearSolver::Sparse(lu) => lu.symbolic_count,
+            LinearSolver::Banded(_) => 0,
+        }
     }
 
     /// The state at time `t` with configuration `q` and velocity `v`; the acceleration solves
@@ -163,8 +240,11 @@ impl Integrator {
                 NewtonWeights::mass(),
                 &mut self.triplets,
             );
-            self.lu.factor(n, &self.triplets, t)?;
-            self.lu.solve(&rhs, t)?
+            self.lu.factor(n, model.band(), &self.triplets, t)?;
+            self.factored = None;
+            let mut a = rhs;
+            self.lu.solve_in_place(a.as_mut(), t)?;
+            a
         };
         model.inertial_force(&q, v.as_ref(), a.as_ref(), inertial.as_mut());
         Ok(State { t, q, v, a, inertial, net })
@@ -260,14 +340,28 @@ impl Integrator {
         let mut inertial = Col::<f64>::zeros(n);
         let mut net = Col::<f64>::zeros(n);
         let mut residual_norm = f64::INFINITY;
+        let reuse = self.options.reuse_factorisation;
+        let mut previous_residual = f64::INFINITY;
+        // Work vectors of the iteration, written in place (the same operations, in the same
+        // order, as the vector expressions they stand for).
+        let mut delta = Col::<f64>::zeros(n);
+        let mut v1 = Col::<f64>::zeros(n);
+        let mut r = Col::<f64>::zeros(n);
+        let mut q1 = old.q.clone();
+        let (da, v_old, v_new) = (s.beta * h * h, h * (1.0 - s.gamma), h * s.gamma);
+        let (weight_inertial, weight_net) = (1.0 - s.alpha_m, 1.0 - s.alpha_f);
         for iteration in 0..=self.options.max_iterations {
-            let delta = &base + (s.beta * h * h) * (&a1 - &old.a);
-            let v1 = &old.v + (h * (1.0 - s.gamma)) * &old.a + (h * s.gamma) * &a1;
-            let mut q1 = old.q.clone();
+            for i in 0..n {
+                delta[i] = base[i] + da * (a1[i] - old.a[i]);
+                v1[i] = old.v[i] + v_old * old.a[i] + v_new * a1[i];
+            }
+            q1.clone_from(&old.q);
             model.update(&mut q1, delta.as_ref());
             model.inertial_force(&q1, v1.as_ref(), a1.as_ref(), inertial.as_mut());
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
-            let mut r = (1.0 - s.alpha_m) * &inertial + (1.0 - s.alpha_f) * &net + &old_terms;
+            for i in 0..n {
+                r[i] = weight_inertial * inertial[i] + weight_net * net[i] + old_terms[i];
+            }
             residual_norm = norm(&r);
             let scale = norm(&inertial).max(norm(&net)).max(old_scale);
             if !residual_norm.is_finite() {
@@ -278,10 +372,20 @@ impl Integrator {
             let mut converged =
                 residual_norm <= self.options.atol + self.options.rtol * scale + floor;
             if !converged && iteration < self.options.max_iterations {
-                self.triplets.clear();
-                model.tangent(t1, &q1, v1.as_ref(), a1.as_ref(), w, &mut self.triplets);
-                self.lu.factor(n, &self.triplets, t1)?;
-                self.factorisations += 1;
+                // Full Newton rebuilds the matrix every iteration; with reuse, only for new
+                // weights or when the kept matrix stops contracting the residual.
+                let rebuild = !reuse
+                    || self.factored != Some(w)
+                    || residual_norm > STALE_CONTRACTION * previous_residual;
+                if rebuild {
+                    self.triplets.clear();
+                    model.tangent(t1, &q1, v1.as_ref(), a1.as_ref(), w, &mut self.triplets);
+                    self.factored = None;
+                    self.lu.factor(n, model.band(), &self.triplets, t1)?;
+                    self.factorisations += 1;
+                    self.factored = reuse.then_some(w);
+                }
+                previous_residual = residual_norm;
                 r *= -1.0 / (s.beta * h * h);
                 self.lu.solve_in_place(r.as_mut(), t1)?;
                 // A correction below the round-off of the quantities it corrects cannot improve

@@ -20,7 +20,9 @@
 //! The unknown is the configuration increment over the step. The Newton matrix is
 //! `(1 - alpha_m)(M/(beta h^2) + C_I gamma/(beta h) + K_I) + (1 - alpha_f)(C gamma/(beta h) + K)`,
 //! assembled by the model from [`NewtonWeights`] into a fixed sparsity pattern and factorised with
-//! faer's sparse LU, whose symbolic analysis is done once ([`SparseLu`]). The residual test is
+//! faer's sparse LU, whose symbolic analysis is done once ([`SparseLu`]), or, for a model that
+//! declares a banded matrix with a dense border ([`Model::band`]: a beam and a ball), with
+//! [`BandedLu`]. The residual test is
 //! relative to the size of the force terms, with a round-off floor set by the model's
 //! [`Model::force_scale`], so a beam
 //! with EA/EI ~ 1e6 converges without tuning. A failed step is halved (recursively), and
@@ -76,6 +78,7 @@
 //!
 //! [`Oscillator`] is the same for a linear oscillator, ready made.
 
+mod banded;
 mod error;
 mod integrator;
 mod linear;
@@ -84,8 +87,11 @@ mod oscillator;
 mod scheme;
 mod spectral;
 
+pub use banded::{Band, BandedLu};
 pub use error::HhtError;
-pub use integrator::{Integrator, NewtonOptions, State, StepReport, ROUND_OFF_FACTOR};
+pub use integrator::{
+    Integrator, NewtonOptions, State, StepReport, ROUND_OFF_FACTOR, STALE_CONTRACTION,
+};
 pub use linear::SparseLu;
 pub use model::{Model, NewtonWeights, Triplets};
 pub use oscillator::Oscillator;

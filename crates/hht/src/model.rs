@@ -153,4 +153,12 @@ pub trait Model {
     fn configuration_scale(&self, _q: &Self::Config) -> f64 {
         0.0
     }
+
+    /// The shape of the Newton matrix when it is banded with a small dense border (a chain of
+    /// elements plus a few unknowns coupled to anything): the integrator then factorises it
+    /// with [`crate::BandedLu`] instead of the general sparse LU. The default, `None`, means
+    /// a general sparse matrix.
+    fn band(&self) -> Option<crate::Band> {
+        None
+    }
 }

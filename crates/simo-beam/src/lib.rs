@@ -13,6 +13,9 @@
 //!   rotation increment); consistent translational mass, lumped rotary inertia with the
 //!   gyroscopic term; dead and follower point loads with their load stiffness, in time through a
 //!   [`Profile`].
+//! - [`PlanarBeam`]: the same rod restricted to the x-z plane (three unknowns a node, analytic
+//!   tangent, banded Newton matrix), for motions that stay in a plane, such as a ball striking
+//!   the beam's face.
 //! - [`solve_static`]: Newton with load steps and automatic step cutting.
 //! - [`natural_modes`]: linearised modes about the reference configuration (faer, dense).
 //! - `scene` (feature `scene`): beam-only scene files (TOML) under prescribed loads, static or
@@ -60,6 +63,7 @@ mod error;
 mod mesh;
 mod model;
 mod modes;
+mod planar;
 pub mod rotation;
 #[cfg(feature = "scene")]
 pub mod scene;
@@ -71,5 +75,6 @@ pub use error::BeamError;
 pub use mesh::Mesh;
 pub use model::{BeamModel, BeamState, Load, Profile, Support};
 pub use modes::{natural_frequencies, natural_modes, Mode};
+pub use planar::{PlanarBeam, PlanarState};
 pub use section::{Material, Section, SHEAR_FACTOR_CIRCLE, SHEAR_FACTOR_RECTANGLE};
 pub use statics::{solve_static, StaticOptions, StaticSolution};

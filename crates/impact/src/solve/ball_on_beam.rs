@@ -1,29 +1,32 @@
-//! The ball on the Simo beam as one [`hht::Model`]: the beam's unknowns, the ball centre's
-//! three, and the contact force between them.
+//! The ball on the geometrically exact beam as one [`hht::Model`]: the planar beam's unknowns
+//! (x, z, theta a node), the ball centre's two (x, z), and the contact force between them.
 //!
-//! **Model.** The beam (`simo-beam`) lies along x from the first support, its thickness along
-//! z; the ball is a rigid sphere of mass m with three translational unknowns, starting at first
-//! touch above the top face at the impact point and moving along -z. Gravity acts on the ball
-//! only (the beam's own sag is the reference state, as in the modal method).
+//! **Why planar.** The ball strikes the beam's face along its thickness (z) and nothing pushes
+//! either out of the x-z plane, so the motion stays in it: [`simo_beam::PlanarBeam`] carries it
+//! with three unknowns a node instead of the 3D beam's six, with the same discrete equations
+//! (the simo-beam tests compare the two), an analytic tangent and a banded Newton matrix.
+//!
+//! **Model.** The beam lies along x from the first support, its thickness along z; the ball is
+//! a rigid sphere of mass m, starting at first touch above the top face at the impact point
+//! and moving along -z. Gravity acts on the ball only (the beam's own sag is the reference
+//! state, as in the modal method).
 //!
 //! **Contact.** Frictionless, node-to-segment style: for the ball centre c the contact element
 //! is the element whose chord (x_a, x_b) passes nearest to c; on it the contact point is the
 //! projection `xi = (c - x_a).t / t.t`, `x = x_a + xi t`, the face normal is the interpolated
-//! section axis `n = normalise((1 - xi) d3_a + xi d3_b)` (d3 = Lambda E3, so it turns with the
-//! sections) and the approach is
+//! section normal `n = normalise((1 - xi) n_a + xi n_b)` (`n_i = (-sin theta_i, cos theta_i)`,
+//! so it turns with the sections) and the approach is
 //!
 //! `delta = R + h/2 - (c - x).n`
 //!
 //! (positive in compression; the struck face is half the thickness h from the centre line).
 //! The contact force F = law(delta, delta-dot) does the virtual work `-F d(delta)`: its
-//! generalised force is `F grad(delta)` over the 15 unknowns it touches (ball, and the
-//! displacements and rotation increments of both nodes), and its Newton matrix is
-//! `k grad grad^T + F Hess(delta)` (+ the damping term `c grad grad^T` times dv/dq), where
-//! gradient and Hessian come from second-order forward differentiation (num-dual) of the
-//! formula above, so the geometric terms of the sliding contact point and turning normal are
-//! all in it. (The Hessian is taken for `Lambda exp(theta^)` with one increment; composing two
-//! increments adds a skew term of size F |c - x| |theta|^2 that vanishes when the ball sits
-//! on the normal: Newton stays quadratic in practice.)
+//! generalised force is `F grad(delta)` over the 8 unknowns it touches (ball, and x, z, theta
+//! of both nodes), and its Newton matrix is `k grad grad^T + F Hess(delta)` (+ the damping
+//! term `c grad grad^T` times dv/dq), where gradient and Hessian come from second-order
+//! forward differentiation (num-dual) of the formula above, so the geometric terms of the
+//! sliding contact point and turning normal are all in it. The rotations are additive in the
+//! plane, so the Hessian is exact.
 //!
 //! **Contact element.** The element found at the last accepted step is kept while the ball
 //! projects on it (within [`STICKY_REACH`] past its ends), so a ball over a node does not switch
@@ -31,18 +34,30 @@
 
 use faer::{ColMut, ColRef};
 use hertz::ContactLaw;
-use hht::{Model, NewtonWeights, Triplets};
-use nalgebra::{SMatrix, SVector, UnitQuaternion, Vector3};
+use hht::{Band, Model, NewtonWeights, Triplets};
+use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::{Dual2SVec64, DualSVec64};
-use simo_beam::{BeamModel, BeamState};
+use simo_beam::{PlanarBeam, PlanarState};
 
-/// BallOnBeamConfiguration of the coupled model: the beam's and the ball centre's (m).
-#[derive(Debug, Clone)]
+/// Configuration of the coupled model: the beam's and the ball centre's (x, z) (m).
+#[derive(Debug)]
 pub struct BallOnBeamConfig {
     /// The beam.
-    pub beam: BeamState,
-    /// Ball centre (m).
-    pub ball: Vector3<f64>,
+    pub beam: PlanarState,
+    /// Ball centre (x, z) (m).
+    pub ball: Vector2<f64>,
+}
+
+impl Clone for BallOnBeamConfig {
+    fn clone(&self) -> Self {
+        Self { beam: self.beam.clone(), ball: self.ball }
+    }
+
+    /// Reuses the beam's allocations (see [`PlanarState`]'s `clone_from`).
+    fn clone_from(&mut self, source: &Self) {
+        self.beam.clone_from(&source.beam);
+        self.ball = source.ball;
+    }
 }
 
 /// How many derivatives of the approach to compute.
@@ -53,11 +68,11 @@ pub(crate) enum Order {
     Hessian,
 }
 
-/// Unknowns of one contact element: ball (3), node a (6), node b (6).
-const LOCAL: usize = 15;
+/// Unknowns of one contact element: ball (2), node a (3), node b (3).
+const LOCAL: usize = 8;
 
 /// The contact kinematics at a configuration: which element, where, and delta with its
-/// gradient and Hessian over the element's 15 local unknowns.
+/// gradient and Hessian over the element's 8 local unknowns.
 #[derive(Debug, Clone)]
 pub(crate) struct ContactPoint {
     pub(crate) element: usize,
@@ -69,7 +84,7 @@ pub(crate) struct ContactPoint {
 
 /// The coupled ball-beam-contact model for [`hht`].
 pub struct BallOnBeam<'a, L: ContactLaw> {
-    beam: BeamModel,
+    beam: PlanarBeam,
     nb: usize,
     mass: f64,
     gravity: f64,
@@ -78,7 +93,7 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
     pub(crate) law: &'a L,
     /// The law's history, committed after every accepted step.
     pub law_state: L::State,
-    /// Global equation numbers of each element's 15 local unknowns.
+    /// Global equation numbers of each element's 8 local unknowns.
     local_dofs: Vec<[Option<usize>; LOCAL]>,
     /// The contact element of the last accepted step, kept while the projection stays on it
     /// (see [`BallOnBeam::nearest_element`]).
@@ -91,46 +106,34 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
 /// derivatives): Newton then oscillated with the residual's sign and halved the step.
 pub(crate) const STICKY_REACH: f64 = 0.05;
 
-/// delta = R + h/2 - (c - x).n for local unknowns `u` = (ball displacement, node a
-/// displacement and rotation increment, node b likewise) about the configuration given.
-#[allow(clippy::too_many_arguments)]
+/// delta = R + h/2 - (c - x).n for local unknowns `u` = (ball x, z; node a x, z, theta; node b
+/// likewise) added to the configuration given (`c0` the ball, `a0` and `b0` the nodes).
 fn approach_of<T: nalgebra::RealField + Copy>(
     u: &SVector<T, LOCAL>,
-    c0: &Vector3<f64>,
-    xa0: &Vector3<f64>,
-    xb0: &Vector3<f64>,
-    ra: &UnitQuaternion<f64>,
-    rb: &UnitQuaternion<f64>,
+    c0: &Vector2<f64>,
+    a0: [f64; 3],
+    b0: [f64; 3],
     reach: f64,
 ) -> T {
-    let lift = |v: &Vector3<f64>| v.map(nalgebra::convert::<f64, T>);
-    let part = |k: usize| Vector3::new(u[k], u[k + 1], u[k + 2]);
-    let c = lift(c0) + part(0);
-    let xa = lift(xa0) + part(3);
-    let xb = lift(xb0) + part(9);
-    // d3 = Lambda exp(theta^) E3 to second order in theta (all a Hessian at theta = 0 needs).
-    let d3 = |r: &UnitQuaternion<f64>, th: Vector3<T>| {
-        let e3 = Vector3::new(T::zero(), T::zero(), T::one());
-        let turned =
-            e3 + th.cross(&e3) + th.cross(&th.cross(&e3)) * nalgebra::convert::<f64, T>(0.5);
-        let m = r.to_rotation_matrix().into_inner().map(nalgebra::convert::<f64, T>);
-        m * turned
-    };
-    let da = d3(ra, part(6));
-    let db = d3(rb, part(12));
+    let lift = nalgebra::convert::<f64, T>;
+    let c = Vector2::new(lift(c0.x) + u[0], lift(c0.y) + u[1]);
+    let xa = Vector2::new(lift(a0[0]) + u[2], lift(a0[1]) + u[3]);
+    let xb = Vector2::new(lift(b0[0]) + u[5], lift(b0[1]) + u[6]);
+    let normal = |theta: T| Vector2::new(-theta.sin(), theta.cos());
+    let (na, nb) = (normal(lift(a0[2]) + u[4]), normal(lift(b0[2]) + u[7]));
     let t = xb - xa;
     let xi = (c - xa).dot(&t) / t.dot(&t);
     let x = xa + t * xi;
-    let d = da * (T::one() - xi) + db * xi;
+    let d = na * (T::one() - xi) + nb * xi;
     let n = d / d.norm();
-    nalgebra::convert::<f64, T>(reach) - (c - x).dot(&n)
+    lift(reach) - (c - x).dot(&n)
 }
 
 impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
     /// The coupled model: `beam`, a ball of `mass` (kg) and `radius` (m) under `gravity`
     /// (m/s^2, along -z), a struck face `half_thickness` (m) above the centre line, and `law`.
     pub fn new(
-        beam: BeamModel,
+        beam: PlanarBeam,
         mass: f64,
         gravity: f64,
         radius: f64,
@@ -138,18 +141,14 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
         law: &'a L,
     ) -> Self {
         let nb = beam.ndof();
-        let local_dofs = beam
-            .mesh()
-            .elements
-            .iter()
+        let local_dofs = (0..beam.elements())
             .map(|e| {
                 let mut d = [None; LOCAL];
-                for (k, slot) in d.iter_mut().take(3).enumerate() {
-                    *slot = Some(nb + k);
-                }
-                for (end, node) in e.nodes.iter().enumerate() {
-                    for k in 0..6 {
-                        d[3 + 6 * end + k] = beam.dof(*node, k);
+                d[0] = Some(nb);
+                d[1] = Some(nb + 1);
+                for (end, node) in [e, e + 1].into_iter().enumerate() {
+                    for k in 0..3 {
+                        d[2 + 3 * end + k] = beam.dof(node, k);
                     }
                 }
                 d
@@ -170,7 +169,7 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
     }
 
     /// The beam model.
-    pub fn beam(&self) -> &BeamModel {
+    pub fn beam(&self) -> &PlanarBeam {
         &self.beam
     }
 
@@ -179,23 +178,26 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
         self.sticky_element = Some(self.nearest_element(q).0);
     }
 
+    /// Chord of element `e`: its first node and the vector to its second (m).
+    fn chord(q: &PlanarState, e: usize) -> (Vector2<f64>, Vector2<f64>) {
+        let xa = Vector2::new(q.x[e], q.z[e]);
+        (xa, Vector2::new(q.x[e + 1], q.z[e + 1]) - xa)
+    }
+
     /// The contact element and the clamped projection on it: the sticky element while the
     /// ball centre projects within [`STICKY_REACH`] of it, otherwise the element whose chord
     /// passes nearest to the ball centre.
     fn nearest_element(&self, q: &BallOnBeamConfig) -> (usize, f64) {
         if let Some(i) = self.sticky_element {
-            let e = &self.beam.mesh().elements[i];
-            let (xa, xb) = (q.beam.positions[e.nodes[0]], q.beam.positions[e.nodes[1]]);
-            let t = xb - xa;
+            let (xa, t) = Self::chord(&q.beam, i);
             let xi = (q.ball - xa).dot(&t) / t.dot(&t);
             if (-STICKY_REACH..=1.0 + STICKY_REACH).contains(&xi) {
                 return (i, xi.clamp(0.0, 1.0));
             }
         }
         let mut best = (0, 0.0, f64::INFINITY);
-        for (i, e) in self.beam.mesh().elements.iter().enumerate() {
-            let (xa, xb) = (q.beam.positions[e.nodes[0]], q.beam.positions[e.nodes[1]]);
-            let t = xb - xa;
+        for i in 0..self.beam.elements() {
+            let (xa, t) = Self::chord(&q.beam, i);
             let xi = ((q.ball - xa).dot(&t) / t.dot(&t)).clamp(0.0, 1.0);
             let distance = (q.ball - (xa + t * xi)).norm();
             if distance < best.2 {
@@ -214,27 +216,24 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
     /// needs the gradient, only the Newton matrix in contact needs the Hessian.
     pub(crate) fn contact_point(&self, q: &BallOnBeamConfig, order: Order) -> ContactPoint {
         let (element, xi) = self.nearest_element(q);
-        let e = &self.beam.mesh().elements[element];
-        let (a, b) = (e.nodes[0], e.nodes[1]);
+        let node = |i: usize| [q.beam.x[i], q.beam.z[i], q.beam.theta[i]];
+        let (a0, b0) = (node(element), node(element + 1));
         let reach = self.radius + self.half_thickness;
-        let (c, xa, xb) = (&q.ball, &q.beam.positions[a], &q.beam.positions[b]);
-        let (ra, rb) = (&q.beam.rotations[a], &q.beam.rotations[b]);
+        let c = &q.ball;
         let zero = SVector::<f64, LOCAL>::zeros();
         let (delta, gradient, hessian) = match order {
             Order::Value => {
-                (approach_of(&zero, c, xa, xb, ra, rb, reach), SVector::zeros(), SMatrix::zeros())
+                (approach_of(&zero, c, a0, b0, reach), SVector::zeros(), SMatrix::zeros())
             }
             Order::Gradient => {
                 let (d, g) = num_dual::gradient(
-                    |u: SVector<DualSVec64<LOCAL>, LOCAL>| {
-                        approach_of(&u, c, xa, xb, ra, rb, reach)
-                    },
+                    |u: SVector<DualSVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, reach),
                     &zero,
                 );
                 (d, g, SMatrix::zeros())
             }
             Order::Hessian => num_dual::hessian(
-                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, xa, xb, ra, rb, reach),
+                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, reach),
                 &zero,
             ),
         };
@@ -267,8 +266,8 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
         (p.delta, rate, self.law.force(&self.law_state, p.delta, rate))
     }
 
-    fn ball(&self, x: ColRef<'_, f64>) -> Vector3<f64> {
-        Vector3::new(x[self.nb], x[self.nb + 1], x[self.nb + 2])
+    fn ball(&self, x: ColRef<'_, f64>) -> Vector2<f64> {
+        Vector2::new(x[self.nb], x[self.nb + 1])
     }
 }
 
@@ -276,7 +275,7 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
     type Config = BallOnBeamConfig;
 
     fn ndof(&self) -> usize {
-        self.nb + 3
+        self.nb + 2
     }
 
     fn update(&self, q: &mut BallOnBeamConfig, dq: ColRef<'_, f64>) {
@@ -298,7 +297,7 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
             a.subrows(0, nb),
             out.as_mut().subrows_mut(0, nb),
         );
-        for k in 0..3 {
+        for k in 0..2 {
             out[nb + k] = self.mass * a[nb + k];
         }
     }
@@ -314,8 +313,7 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
         // Gravity pulls the ball along -z: net force = -(external) = +m g e_z.
         out[nb] = 0.0;
-        out[nb + 1] = 0.0;
-        out[nb + 2] = self.mass * self.gravity;
+        out[nb + 1] = self.mass * self.gravity;
         let Some(p) = self.touching(q, Order::Gradient) else {
             return;
         };
@@ -338,23 +336,20 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
     ) {
         let nb = self.nb;
         self.beam.tangent(t, &q.beam, v.subrows(0, nb), a.subrows(0, nb), w, out);
-        for k in 0..3 {
+        for k in 0..2 {
             out.push(nb + k, nb + k, w.inertia * w.da * self.mass);
         }
-        // The contact block is pushed for the element nearest to the ball, in or out of
-        // contact (zeros), so the sparsity changes only when the ball moves to another element
-        // (one symbolic LU analysis then), and the ball is coupled to one element, not to the
-        // whole beam.
-        let (element, _) = self.nearest_element(q);
-        let mut block = SMatrix::<f64, LOCAL, LOCAL>::zeros();
-        if let Some(p) = self.touching(q, Order::Hessian) {
-            let rate = self.rate(&p, v);
-            let cf = self.law.force(&self.law_state, p.delta, rate);
-            let gg = p.gradient * p.gradient.transpose();
-            block = (gg * cf.stiffness + p.hessian * cf.force) * (w.force * w.dq)
-                + gg * (cf.damping * w.force * w.dv);
-        }
-        let dofs = &self.local_dofs[element];
+        // The contact block couples the ball to the element nearest to it, the border of the
+        // banded Newton matrix; it is pushed only in contact.
+        let Some(p) = self.touching(q, Order::Hessian) else {
+            return;
+        };
+        let rate = self.rate(&p, v);
+        let cf = self.law.force(&self.law_state, p.delta, rate);
+        let gg = p.gradient * p.gradient.transpose();
+        let block = (gg * cf.stiffness + p.hessian * cf.force) * (w.force * w.dq)
+            + gg * (cf.damping * w.force * w.dv);
+        let dofs = &self.local_dofs[p.element];
         for (r, dr) in dofs.iter().enumerate() {
             let Some(i) = dr else { continue };
             for (c, dc) in dofs.iter().enumerate() {
@@ -371,5 +366,9 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
 
     fn configuration_scale(&self, q: &BallOnBeamConfig) -> f64 {
         self.beam.configuration_scale(&q.beam).max(q.ball.amax())
+    }
+
+    fn band(&self) -> Option<Band> {
+        self.beam.band().map(|b| Band { half_bandwidth: b.half_bandwidth, border: 2 })
     }
 }
