@@ -1,7 +1,8 @@
 //! Whole simulations: the paper's tip scene (h = 0.2 m, 5 ms) with 4, 64 and 256 modes (and
 //! with 256 modes on uniform steps), its
-//! first contact with 256 modes, the same scene with the finite-element method (default graded mesh; first contact only, and
-//! 5 ms), and the half-space closed-form case.
+//! first contact with 256 modes, the same scene with the finite-element method (default graded
+//! mesh; first contact only, and 5 ms; 256 equal elements over 1 ms, gravity off, the peer
+//! comparison), and the half-space closed-form case.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -42,6 +43,14 @@ fn scenes(c: &mut Criterion) {
         scene.solver.end_time = Some(end);
         group.bench_function(label, |b| b.iter(|| simulate(&scene)));
     }
+    // The peer comparison: 256 equal elements, 1 ms, gravity off (validation/peers/).
+    let mut peer = Scene::from_toml(PAPER).expect("valid scene");
+    peer.solver.method = impact::MethodName::Fe;
+    peer.solver.modes = None;
+    peer.solver.elements = Some(256);
+    peer.solver.end_time = Some(1e-3);
+    peer.impact.gravity = false;
+    group.bench_function("fe paper tip 1 ms 256 equal elements", |b| b.iter(|| simulate(&peer)));
     let hs = Scene::from_toml(HALF_SPACE).expect("valid scene");
     group.bench_function("half-space", |b| b.iter(|| simulate(&hs)));
     group.finish();

@@ -1,6 +1,8 @@
 //! Element force + tangent, assembly + factorisation of a 64-element cantilever, one HHT step
 //! of it, the Mattiasson k = 10 static solve with 32 elements, and 50 ms of the paper's
-//! cantilever with 64 elements at 10 us steps (the comparison run of issue 3).
+//! cantilever with 64 elements at 10 us steps (the comparison run of issue 3); the planar
+//! beam's tangent, banded factorisation, back-substitution and HHT step at 64, 256 and 1024
+//! elements.
 #![allow(clippy::expect_used, missing_docs)]
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -93,5 +95,56 @@ fn comparison_run(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, element, assembly, statics, comparison_run);
+/// The planar beam the impact's fe method runs on, at 64, 256 and 1024 elements: one tangent
+/// assembly, one banded factorisation, one back-substitution and one HHT step (with the
+/// factorisation reused, as the impact solver runs it).
+fn planar(c: &mut Criterion) {
+    use hht::BandedLu;
+    use simo_beam::{Material, PlanarBeam, Section, Support};
+    let steel = Material::new(2.1e11, 0.3, 7850.0).expect("material");
+    let section = Section::rectangle(&steel, 0.025, 0.005).expect("section");
+    let mut group = c.benchmark_group("simo_beam/planar");
+    for elements in [64usize, 256, 1024] {
+        let nodes: Vec<f64> = (0..=elements).map(|i| 1.15 * i as f64 / elements as f64).collect();
+        let beam = PlanarBeam::new(&nodes, &section)
+            .and_then(|b| b.support(0, Support::Clamped))
+            .expect("beam");
+        let mut q = beam.reference_state();
+        for (i, z) in q.z.iter_mut().enumerate() {
+            *z = 1e-4 * (i as f64 / elements as f64).powi(2);
+        }
+        let n = beam.ndof();
+        let zero = Col::<f64>::zeros(n);
+        let w = NewtonWeights { inertia: 1.0, force: 1.05, da: 1e13, dv: 1e6, dq: 1.0 };
+        let mut t = Triplets::new();
+        group.bench_function(format!("tangent_{elements}"), |b| {
+            b.iter(|| {
+                t.clear();
+                beam.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), w, &mut t);
+            })
+        });
+        let band = beam.band().expect("banded");
+        let mut lu = BandedLu::new();
+        group.bench_function(format!("factor_{elements}"), |b| {
+            b.iter(|| lu.factor(n, band, &t, 0.0).expect("factor"))
+        });
+        let mut rhs = Col::<f64>::from_fn(n, |i| (i % 7) as f64 - 3.0);
+        group.bench_function(format!("solve_{elements}"), |b| {
+            b.iter(|| lu.solve_in_place(rhs.as_mut(), 0.0).expect("solve"))
+        });
+        let options = NewtonOptions { reuse_factorisation: true, ..NewtonOptions::default() };
+        let mut integrator = Integrator::new(Scheme::hht(-0.05).expect("alpha"), options);
+        let start = integrator.initial_state(&beam, 0.0, q.clone(), zero.clone()).expect("state");
+        group.bench_function(format!("hht_step_{elements}"), |b| {
+            b.iter(|| {
+                let mut state = start.clone();
+                integrator.step(&beam, &mut state, 2e-7).expect("step");
+                state.t
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, element, assembly, statics, comparison_run, planar);
 criterion_main!(benches);
