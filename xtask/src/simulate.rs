@@ -88,8 +88,8 @@ pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Re
     }
     let e = &r.energy;
     println!(
-        "energy (J): initial {:.6e}; ball kinetic {:.6e}, potential {:.6e}; beam {:.6e}; contact {:.6e}; dissipated {:.6e}; balance error {:.2e} ({:.1e} of initial)",
-        e.initial, e.ball_kinetic, e.ball_potential, e.beam, e.contact_stored, e.dissipated, e.balance_error, e.balance_error / e.initial
+        "energy (J): initial {:.6e}; ball kinetic {:.6e}, potential {:.6e}; beam {:.6e}; contact {:.6e}; dissipated {:.6e}; numerical dissipation {:.6e}; balance error {:.2e} ({:.1e} of initial)",
+        e.initial, e.ball_kinetic, e.ball_potential, e.beam, e.contact_stored, e.dissipated, e.numerical_dissipation, e.balance_error, e.balance_error / e.initial
     );
     println!("wall time {:.4} s", r.wall_time);
     Ok(true)

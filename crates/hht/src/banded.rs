@@ -41,6 +41,9 @@ pub struct BandedLu {
     /// L's multipliers of column `i` (rows i + 1 ..= i + kd) at `i * kd ..`, contiguous for
     /// the forward substitution.
     lower: Vec<f64>,
+    /// Super-diagonals of U that may hold non-zeros: kd without a row interchange (a
+    /// diagonally dominant Newton matrix, the usual case), 2 kd with.
+    upper: usize,
     /// Border size.
     k: usize,
     /// `C`, then `B^-1 C` after factorising: column `c` at `c * n ..`.
@@ -136,6 +139,7 @@ impl BandedLu {
     fn factor_band(&mut self, t: f64) -> Result<(), HhtError> {
         let (n, kd, w) = (self.n, self.kd, self.width);
         let ab = &mut self.ab;
+        self.upper = kd;
         for col in 0..n {
             let last_row = (col + kd).min(n - 1);
             let mut pivot = col;
@@ -157,6 +161,7 @@ impl BandedLu {
             // Columns col ..= col + span take part in this step.
             let span = (col + 2 * kd).min(n - 1) - col;
             if pivot != col {
+                self.upper = 2 * kd;
                 let (p, q) = (col * w + kd, pivot * w + kd + col - pivot);
                 for j in 0..=span {
                     ab.swap(p + j, q + j);
@@ -199,7 +204,7 @@ impl BandedLu {
             }
         }
         for row in (0..n).rev() {
-            let span = (row + 2 * kd).min(n - 1) - row;
+            let span = (row + self.upper).min(n - 1) - row;
             let base = row * w + kd;
             let u = &self.ab[base + 1..=base + span];
             let x = &b[row + 1..=row + span];
@@ -268,9 +273,27 @@ impl BandedLu {
                 n + k
             )));
         }
+        // A contiguous right-hand side is solved where it lies; another is copied.
+        if let Some(slice) = rhs.as_mut().try_as_col_major_mut() {
+            let b = slice.as_slice_mut();
+            self.solve_all(b);
+            return finite(b, t);
+        }
         let mut b: Vec<f64> = std::mem::take(&mut self.scratch);
         b.clear();
         b.extend((0..n + k).map(|i| rhs[i]));
+        self.solve_all(&mut b);
+        for (i, v) in b.iter().enumerate() {
+            rhs[i] = *v;
+        }
+        let result = finite(&b, t);
+        self.scratch = b;
+        result
+    }
+
+    /// Overwrites `b` (length n + k) with `A^-1 b`.
+    fn solve_all(&self, b: &mut [f64]) {
+        let (n, k) = (self.n, self.k);
         let (top, border) = b.split_at_mut(n);
         self.solve_band(top);
         // z = S^-1 (r2 - D y)
@@ -299,15 +322,15 @@ impl BandedLu {
                 *yi -= xi * z;
             }
         }
-        for (i, v) in b.iter().enumerate() {
-            rhs[i] = *v;
-        }
-        let finite = b.iter().all(|x| x.is_finite());
-        self.scratch = b;
-        if !finite {
-            return Err(HhtError::Singular { t, reason: "the solution is not finite".into() });
-        }
+    }
+}
+
+/// `Singular` unless every entry of the solution is finite.
+fn finite(b: &[f64], t: f64) -> Result<(), HhtError> {
+    if b.iter().all(|x| x.is_finite()) {
         Ok(())
+    } else {
+        Err(HhtError::Singular { t, reason: "the solution is not finite".into() })
     }
 }
 

@@ -107,6 +107,18 @@ pub struct StepReport {
     pub error_estimate: f64,
     /// Substeps taken: 1 unless Newton failed and the step was halved.
     pub substeps: usize,
+    /// Energy the scheme removed over the step (J in SI models), summed over substeps:
+    ///
+    /// `D = -dq . (M a_gamma + (g_n + g_{n+1}) / 2) + (beta - gamma / 2) h^2 (a_{n+1} - a_n) . M a_gamma`
+    ///
+    /// with `M a_gamma = (1 - gamma) I_n + gamma I_{n+1}`. Newmark's kinematics give the change
+    /// of kinetic energy exactly as `(dq - (beta - gamma/2) h^2 da) . M a_gamma`, so `D` is
+    /// minus that change minus the trapezoidal work of the net force: the energy a step loses
+    /// beyond the forces' work (Krenk 2006, the Newmark energy balance). It is zero for the
+    /// trapezoidal rule (alpha = 0) and positive for HHT's damping of high frequencies. Exact
+    /// for a constant mass matrix (`I = M a`) and a linear net force; for a nonlinear force the
+    /// trapezoidal rule's error over the step is what remains in a caller's energy balance.
+    pub dissipation: f64,
 }
 
 /// The factorisation a model's Newton matrix gets: general sparse, or banded with a border
@@ -162,6 +174,8 @@ pub struct Integrator {
     triplets: Triplets,
     /// The weights of the Newton matrix now factorised, if it may be reused.
     factored: Option<NewtonWeights>,
+    /// Set while a step that failed with a kept matrix is retried with full Newton.
+    full_newton: bool,
     /// Newton matrices factorised so far.
     pub factorisations: usize,
 }
@@ -184,6 +198,7 @@ impl Integrator {
             lu: LinearSolver::Sparse(Box::default()),
             triplets: Triplets::new(),
             factored: None,
+            full_newton: false,
             factorisations: 0,
         }
     }
@@ -285,6 +300,17 @@ impl Integrator {
                 *state = next;
                 Ok(report)
             }
+            // A kept matrix can lead Newton astray where the tangent changed fast (a contact
+            // closing): the step is tried again with a fresh matrix every iteration, and so
+            // are its halves if it still fails.
+            Err(HhtError::NewtonDiverged { .. } | HhtError::Singular { .. })
+                if self.options.reuse_factorisation && !self.full_newton =>
+            {
+                self.full_newton = true;
+                let result = self.step_split(model, state, h, depth);
+                self.full_newton = false;
+                result
+            }
             Err(e @ (HhtError::NewtonDiverged { .. } | HhtError::Singular { .. }))
                 if depth < self.options.max_halvings =>
             {
@@ -301,6 +327,7 @@ impl Integrator {
                             residual_norm: r1.residual_norm.max(r2.residual_norm),
                             error_estimate: r1.error_estimate.max(r2.error_estimate),
                             substeps: r1.substeps + r2.substeps,
+                            dissipation: r1.dissipation + r2.dissipation,
                         })
                     }
                     Err(_) => Err(e),
@@ -340,7 +367,7 @@ impl Integrator {
         let mut inertial = Col::<f64>::zeros(n);
         let mut net = Col::<f64>::zeros(n);
         let mut residual_norm = f64::INFINITY;
-        let reuse = self.options.reuse_factorisation;
+        let reuse = self.options.reuse_factorisation && !self.full_newton;
         let mut previous_residual = f64::INFINITY;
         // Work vectors of the iteration, written in place (the same operations, in the same
         // order, as the vector expressions they stand for).
@@ -407,9 +434,21 @@ impl Integrator {
                 break;
             }
             let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * norm(&(&a1 - &old.a));
+            let kinematic = (s.beta - 0.5 * s.gamma) * h * h;
+            let mut dissipation = 0.0;
+            for i in 0..n {
+                let m_a = (1.0 - s.gamma) * old.inertial[i] + s.gamma * inertial[i];
+                let work = 0.5 * (old.net[i] + net[i]);
+                dissipation += kinematic * (a1[i] - old.a[i]) * m_a - delta[i] * (m_a + work);
+            }
             let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net };
-            let report =
-                StepReport { iterations: iteration, residual_norm, error_estimate, substeps: 1 };
+            let report = StepReport {
+                iterations: iteration,
+                residual_norm,
+                error_estimate,
+                substeps: 1,
+                dissipation,
+            };
             return Ok((next, report));
         }
         Err(HhtError::NewtonDiverged {

@@ -213,7 +213,7 @@ pub struct SolverSpec {
     pub element_size: Option<f64>,
     /// HHT alpha in [-1/3, 0] (fe method); default -0.05.
     pub alpha: Option<f64>,
-    /// Largest time step out of contact (s) (fe method); default 16 contact steps.
+    /// Largest time step out of contact (s) (fe method); default 32 contact steps.
     pub time_step: Option<f64>,
 }
 

@@ -141,11 +141,16 @@ fn paper_tip_first_contact_fe_matches_converged_modal() {
     let e_coarse = rel(coarse.report.contacts[0].duration, m.duration);
     let e_fine = rel(fine.report.contacts[0].duration, m.duration);
     assert!(e_fine < e_coarse / 6.0, "{e_coarse} -> {e_fine}");
-    // The history is finite and the energy ledger closes to the numerical dissipation of
-    // HHT (alpha = -0.05) over one pulse: measured 1e-3 of the initial energy.
+    // The history is finite and the energy ledger closes: HHT (alpha = -0.05) removes 5e-3
+    // of the initial energy over the pulse and the free flight after it (measured 5.1e-3),
+    // reported as numerical_dissipation from the Newmark energy identity step by step; what
+    // is left is the trapezoidal rule's error on the nonlinear contact and beam forces,
+    // measured 3.2e-5 of the initial energy, 0.6 % of the term it was part of.
     assert!(fe.history.force.iter().all(|x| x.is_finite()));
     let e = &fe.report.energy;
-    assert!(e.balance_error.abs() < 5e-3 * e.initial, "{e:?}");
+    assert!(e.numerical_dissipation > 1e-3 * e.initial, "{e:?}");
+    assert!(e.balance_error.abs() < 1e-4 * e.initial, "{e:?}");
+    assert!(e.balance_error.abs() < 0.02 * e.numerical_dissipation, "{e:?}");
 }
 
 #[test]
@@ -241,4 +246,35 @@ fn heavy_ball_first_contact_converges_in_the_step() {
     // The adaptive step grows above the plan's contact step over part of the contact.
     let fixed = f.duration / fine.report.plan.time_step;
     assert!((f.steps as f64) < 0.8 * fixed, "{} steps, {fixed} at the fixed step", f.steps);
+}
+
+#[test]
+fn paper_tip_256_elements_matches_the_peer_contact_for_contact() {
+    // validation/reference/exudyn_tip_256.csv: Exudyn's planar geometrically exact beam at the
+    // same mesh (256 equal elements, 1 ms, gravity off). Both discretise the same rod; they
+    // differ in the time integrator (generalized-alpha at 1 us against HHT with located events
+    // and adaptive contact steps) and in the contact (a sphere on the tip node against the
+    // face). Measured: first contact 36.875 us / 790.09 N (0.01 % / 0.09 % from Exudyn's
+    // 36.88 us / 789.4 N), second start 382.78 us (0.07 % from 383.04 us). The first contact
+    // is also within 1.5 % of the converged modal value 37.214 us / 782.14 N.
+    let text = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/paper-tip.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let mut scene = Scene::from_toml(&text).unwrap();
+    scene.solver.method = MethodName::Fe;
+    scene.solver.modes = None;
+    scene.solver.elements = Some(256);
+    scene.solver.end_time = Some(1e-3);
+    scene.impact.gravity = false;
+    let out = simulate(&scene).unwrap();
+    let c = &out.report.contacts;
+    assert!(c.len() >= 3, "{} contacts", c.len());
+    let rel = |a: f64, b: f64| (a - b).abs() / b;
+    assert!(rel(c[0].duration, 36.88e-6) < 2e-3, "{}", c[0].duration);
+    assert!(rel(c[0].peak_force, 789.4) < 5e-3, "{}", c[0].peak_force);
+    assert!(rel(c[0].duration, 37.214e-6) < 0.015 && rel(c[0].peak_force, 782.14) < 0.015);
+    assert!(rel(c[1].start, 383.04e-6) < 0.01, "{}", c[1].start);
+    assert!(rel(c[2].start, 651.37e-6) < 0.01, "{}", c[2].start);
 }

@@ -71,6 +71,9 @@ struct Run<'a, L: ContactLaw> {
     rejected: usize,
     /// The approach (m) and its rate (m/s) at the current state, from its acceptance.
     approach_and_rate: Option<(f64, f64)>,
+    /// HHT's numerical dissipation (J) of the last trial step, and summed over accepted steps.
+    trial_dissipation: f64,
+    numerical_dissipation: f64,
 }
 
 impl<'a, L: ContactLaw> Run<'a, L> {
@@ -118,6 +121,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             halvings: 0,
             rejected: 0,
             approach_and_rate: None,
+            trial_dissipation: 0.0,
+            numerical_dissipation: 0.0,
         })
     }
 
@@ -160,13 +165,17 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     ) -> Result<State<BallOnBeamConfig>, ImpactError> {
         let mut s = from.clone();
         let report = self.integrator.step(&self.model, &mut s, h).map_err(|e| fail(from.t, e))?;
+        self.trial_dissipation = report.dissipation;
         self.newton_iterations += report.iterations;
         self.halvings += report.substeps.saturating_sub(1);
         Ok(s)
     }
 
     /// Accepts a state reached by one step: commits the law, updates the force, counters.
+    /// The state must come from the last trial (every caller accepts the trial it just made,
+    /// or the last one of the event location), whose numerical dissipation is then counted.
     fn accept(&mut self, s: State<BallOnBeamConfig>) -> Result<(), ImpactError> {
+        self.numerical_dissipation += self.trial_dissipation;
         let (delta, rate, cf) = self.model.contact(&s.q, s.v.as_ref());
         self.approach_and_rate = Some((delta, rate));
         if !(delta.is_finite() && cf.force.is_finite()) {
@@ -362,7 +371,15 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             beam_model.strain_energy(&q.beam) + beam_model.kinetic_energy(v.subrows(0, n - 2));
         let contact_stored = law.stored_energy(&self.model.law_state, delta);
         let dissipated = law.dissipated_energy(&self.model.law_state);
-        Energy::new(initial, ball_kinetic, ball_potential, beam, contact_stored, dissipated)
+        Energy::new(
+            initial,
+            ball_kinetic,
+            ball_potential,
+            beam,
+            contact_stored,
+            dissipated,
+            self.numerical_dissipation,
+        )
     }
 
     fn finish(self, wall_time: f64) -> Outcome {

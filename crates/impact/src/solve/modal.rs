@@ -137,6 +137,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             self.beam_energy,
             self.law.stored_energy(&self.law_state, self.approach()),
             self.law.dissipated_energy(&self.law_state) + self.damping_work,
+            0.0,
         )
     }
 
