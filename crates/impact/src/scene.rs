@@ -215,6 +215,10 @@ pub struct SolverSpec {
     pub alpha: Option<f64>,
     /// Largest time step out of contact (s) (fe method); default 32 contact steps.
     pub time_step: Option<f64>,
+    /// Relative error accepted on every significant contact (start, duration, peak force) and
+    /// on the largest displacement (fe method, instead of `elements` or `element_size`): the
+    /// uniform mesh is refined until two successive meshes agree within it.
+    pub tolerance: Option<f64>,
 }
 
 impl Scene {

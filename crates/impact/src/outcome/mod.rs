@@ -127,6 +127,10 @@ pub struct Report {
     pub equivalent_static_force: Option<f64>,
     /// Energy ledger at the end of the run.
     pub energy: Energy,
+    /// The relative error the run's contacts and largest displacement are expected to carry,
+    /// where the run estimated it (`solver.tolerance`: the Richardson estimate from the last
+    /// two meshes); null otherwise.
+    pub estimated_error: Option<f64>,
     /// Wall-clock time of the run (s).
     pub wall_time: f64,
 }
@@ -165,6 +169,7 @@ impl Report {
             static_stiffness: end.static_stiffness,
             equivalent_static_force: end.static_stiffness.map(|k| k * end.max_displacement.0),
             energy: end.energy,
+            estimated_error: None,
             wall_time: end.wall_time,
         }
     }

@@ -12,9 +12,10 @@
 mod fe;
 mod modal;
 
+pub(crate) use fe::uniform;
 pub use fe::{
-    FePlan, FE_ALPHA, FE_ELEMENTS_PER_WAVELENGTH, FE_FREE_STEP_RATIO, FE_GROWTH,
-    FE_SAMPLES_PER_PULSE,
+    FePlan, FE_ALPHA, FE_ELEMENTS_PER_WAVELENGTH, FE_FREE_STEP_RATIO, FE_GROWTH, FE_LADDER_END,
+    FE_LADDER_START, FE_SAMPLES_PER_PULSE,
 };
 pub use modal::{ModalPlan, MODE_CUTOFF};
 
@@ -235,16 +236,21 @@ fn struck_body(scene: &Scene) -> Result<(Material, Option<&BeamSpec>), ImpactErr
     }
 }
 
-/// Whether the scene sets a key of the fe method.
+/// Whether the scene sets a key of the fe method (`tolerance` too: so far only the fe method
+/// chooses its resolution from it).
 fn fe_keys(s: &SolverSpec) -> bool {
-    s.elements.is_some() || s.element_size.is_some() || s.alpha.is_some() || s.time_step.is_some()
+    s.elements.is_some()
+        || s.element_size.is_some()
+        || s.alpha.is_some()
+        || s.time_step.is_some()
+        || s.tolerance.is_some()
 }
 
 /// Keys of one method given with the other.
 fn check_method_keys(s: &SolverSpec) -> Result<(), ImpactError> {
     if fe_keys(s) && s.method == MethodName::Modal {
         return Err(ImpactError::Inconsistent(
-            "solver.elements, element_size, alpha and time_step belong to method = \"fe\"; the modal method takes solver.modes".into(),
+            "solver.elements, element_size, alpha, time_step and tolerance belong to method = \"fe\" (the modal method does not yet choose its modes from a tolerance); the modal method takes solver.modes".into(),
         ));
     }
     if s.method == MethodName::Fe && s.modes.is_some() {
@@ -259,7 +265,7 @@ fn check_method_keys(s: &SolverSpec) -> Result<(), ImpactError> {
 /// A half-space takes no beam resolution.
 fn half_space(s: &SolverSpec, reasons: &mut Vec<String>) -> Result<Method, ImpactError> {
     if s.method == MethodName::Fe || fe_keys(s) || s.modes.is_some() {
-        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step nor modes: the block is rigid".into()));
+        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step, tolerance nor modes: the block is rigid".into()));
     }
     reasons.push(
         "massive half-space: no beam model, the ball meets a rigid-backed Hertz contact".into(),
@@ -324,7 +330,7 @@ fn beam_method(
                 if large {
                     format!("the ball's energy could bend the beam {deflection:.3e} m at the impact point, more than {:.0} % of its length (sqrt(m V^2 / k)): small-deflection theory does not hold", 100.0 * LARGE_DEFLECTION)
                 } else {
-                    "solver.elements, alpha or time_step given".into()
+                    "solver.elements, element_size, alpha, time_step or tolerance given".into()
                 }
             ));
             true

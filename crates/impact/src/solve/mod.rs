@@ -2,13 +2,15 @@
 //!
 //! - `modal`: the ball, the beam's modes at the impact point (none on a half-space) and the
 //!   law, one scalar implicit equation per contact step, exact propagation between.
-//! - `fe`: the ball on the geometrically exact beam ([`BallOnBeam`]), monolithic HHT-alpha.
+//! - `fe`: the ball on the geometrically exact beam ([`BallOnBeam`]), monolithic HHT-alpha;
+//!   `refine`: the same on doubling meshes until two agree within `solver.tolerance`.
 //!
 //! A new method is one module here and one arm in [`run`].
 
 mod ball_on_beam;
 mod fe;
 mod modal;
+mod refine;
 
 pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};
 
@@ -25,6 +27,9 @@ use crate::plan::{Method, Plan};
 pub fn run(plan: &Plan) -> Result<Outcome, ImpactError> {
     match &plan.method {
         Method::HalfSpace | Method::Modal(_) => plan.law.with(modal::ModalRun { plan }),
-        Method::Fe(target) => plan.law.with(fe::FeRun { plan, target }),
+        Method::Fe(target) => match target.tolerance {
+            Some(tolerance) => refine::run(plan, target, tolerance),
+            None => plan.law.with(fe::FeRun { plan, target }),
+        },
     }
 }
