@@ -106,14 +106,33 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
 /// derivatives): Newton then oscillated with the residual's sign and halved the step.
 pub(crate) const STICKY_REACH: f64 = 0.05;
 
-/// delta = R + h/2 - (c - x).n for local unknowns `u` = (ball x, z; node a x, z, theta; node b
-/// likewise) added to the configuration given (`c0` the ball, `a0` and `b0` the nodes).
+/// The surface an element offers the ball: its face, and at an end of the beam also the
+/// corner where the face meets the end.
+#[derive(Debug, Clone, Copy)]
+struct Surface {
+    /// Ball radius R (m).
+    radius: f64,
+    /// Half the thickness h/2 (m): the face's distance from the centre line.
+    half_thickness: f64,
+    /// Whether the element's first node is the beam's first, and its second the beam's last.
+    ends: (bool, bool),
+}
+
+/// The approach for local unknowns `u` = (ball x, z; node a x, z, theta; node b likewise) added
+/// to the configuration given (`c0` the ball, `a0` and `b0` the nodes). On a face it is
+/// `delta = R + h/2 - |(c - x).n|`: the struck face (+n) at first, the other (-n) where the
+/// ball has got below the beam, as a heavy ball does once it has slid off the end and the
+/// beam swings back onto it (a one-sided face would read that ball as pressed metres deep).
+/// Past an end of the beam (the projection beyond a first or last node) the ball can only
+/// touch a corner, `p = x_end +- (h/2) n_end` on its side, and `delta = R - |c - p|`: the two
+/// agree where the ball is right above the corner, so the approach is continuous as the ball
+/// slides off the end, where extrapolating the face would meet a beam that is not there.
 fn approach_of<T: nalgebra::RealField + Copy>(
     u: &SVector<T, LOCAL>,
     c0: &Vector2<f64>,
     a0: [f64; 3],
     b0: [f64; 3],
-    reach: f64,
+    surface: Surface,
 ) -> T {
     let lift = nalgebra::convert::<f64, T>;
     let c = Vector2::new(lift(c0.x) + u[0], lift(c0.y) + u[1]);
@@ -123,10 +142,21 @@ fn approach_of<T: nalgebra::RealField + Copy>(
     let (na, nb) = (normal(lift(a0[2]) + u[4]), normal(lift(b0[2]) + u[7]));
     let t = xb - xa;
     let xi = (c - xa).dot(&t) / t.dot(&t);
+    let half = lift(surface.half_thickness);
+    let corner = |x: Vector2<T>, n: Vector2<T>| {
+        let side = if (c - x).dot(&n) < T::zero() { -half } else { half };
+        lift(surface.radius) - (c - (x + n * side)).norm()
+    };
+    if surface.ends.0 && xi < T::zero() {
+        return corner(xa, na);
+    }
+    if surface.ends.1 && xi > T::one() {
+        return corner(xb, nb);
+    }
     let x = xa + t * xi;
     let d = na * (T::one() - xi) + nb * xi;
     let n = d / d.norm();
-    lift(reach) - (c - x).dot(&n)
+    lift(surface.radius) + half - (c - x).dot(&n).abs()
 }
 
 impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
@@ -218,22 +248,26 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
         let (element, xi) = self.nearest_element(q);
         let node = |i: usize| [q.beam.x[i], q.beam.z[i], q.beam.theta[i]];
         let (a0, b0) = (node(element), node(element + 1));
-        let reach = self.radius + self.half_thickness;
+        let surface = Surface {
+            radius: self.radius,
+            half_thickness: self.half_thickness,
+            ends: (element == 0, element + 1 == self.beam.elements()),
+        };
         let c = &q.ball;
         let zero = SVector::<f64, LOCAL>::zeros();
         let (delta, gradient, hessian) = match order {
             Order::Value => {
-                (approach_of(&zero, c, a0, b0, reach), SVector::zeros(), SMatrix::zeros())
+                (approach_of(&zero, c, a0, b0, surface), SVector::zeros(), SMatrix::zeros())
             }
             Order::Gradient => {
                 let (d, g) = num_dual::gradient(
-                    |u: SVector<DualSVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, reach),
+                    |u: SVector<DualSVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, surface),
                     &zero,
                 );
                 (d, g, SMatrix::zeros())
             }
             Order::Hessian => num_dual::hessian(
-                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, reach),
+                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, surface),
                 &zero,
             ),
         };
@@ -370,5 +404,41 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
 
     fn band(&self) -> Option<Band> {
         self.beam.band().map(|b| Band { half_bandwidth: b.half_bandwidth, border: 2 })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat last element from x = 0 to 1 (m), 5 mm thick, a 5 mm ball.
+    fn approach(ball: Vector2<f64>) -> f64 {
+        let surface = Surface { radius: 0.005, half_thickness: 0.0025, ends: (false, true) };
+        approach_of(
+            &SVector::<f64, LOCAL>::zeros(),
+            &ball,
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            surface,
+        )
+    }
+
+    #[test]
+    fn the_approach_is_continuous_off_the_end_and_two_sided() {
+        // Sliding over the end at 1 um into the face: the face and the corner give the same
+        // approach where the ball is right above the corner (to round-off), and it falls
+        // smoothly past it (a 0.1 mm slide beyond the end lowers it by ~R (0.1/R)^2/2 = 1 um).
+        let z = 0.0025 + 0.005 - 1e-6;
+        let on = approach(Vector2::new(1.0 - 1e-12, z));
+        let off = approach(Vector2::new(1.0 + 1e-12, z));
+        assert!((on - 1e-6).abs() < 1e-15 && (off - 1e-6).abs() < 1e-15, "{on:e} {off:e}");
+        let beyond = approach(Vector2::new(1.0 + 1e-4, z));
+        assert!((beyond - (1e-6 - 1e-6)).abs() < 2e-7, "{beyond:e}");
+        // Far past the end there is no contact, however low the ball (the face extrapolated
+        // would have read the ball below it as pressed in).
+        assert!(approach(Vector2::new(1.2, -0.01)) < -0.1);
+        // Below the beam, the lower face.
+        let under = approach(Vector2::new(0.5, -(0.0025 + 0.005 - 2e-6)));
+        assert!((under - 2e-6).abs() < 1e-15, "{under:e}");
     }
 }
