@@ -2,9 +2,12 @@
 //! few unknowns coupled to anything (a ball).
 //!
 //! The matrix is `A = [B C; D E]`: `B` (n x n) banded with half-bandwidth `kd` (entries only
-//! where `|i - j| <= kd`), `E` (k x k) dense, `C` and `D` the couplings. `B = P L U` by Gaussian
-//! elimination with partial pivoting inside the band (LAPACK's `gbtrf` scheme: the interchanges
-//! widen `U` to `2 kd` super-diagonals), then the Schur complement `S = E - D B^-1 C` (k x k) is
+//! where `|i - j| <= kd`), `E` (k x k) dense, `C` and `D` the couplings. `B = L U` by Gaussian
+//! elimination without row interchanges while the pivots stay positive (a symmetric positive
+//! definite Newton matrix, mass plus stiffness, needs none; a beam's rotation rows have small
+//! diagonals against their shear coupling, and partial pivoting would swap them needlessly),
+//! otherwise `B = P L U` with partial pivoting inside the band (LAPACK's `gbtrf` scheme: the
+//! interchanges widen `U` to `2 kd` super-diagonals), then the Schur complement `S = E - D B^-1 C` (k x k) is
 //! factorised densely. A solve is `y = B^-1 r1`, `z = S^-1 (r2 - D y)`, `x1 = y - (B^-1 C) z`.
 //! The work is O(n kd^2 + n kd k) per factorisation and O(n (kd + k)) per solve, against the
 //! general sparse LU's analysis, fill and indirection: for a beam of 256 elements (kd = 5 with
@@ -83,6 +86,36 @@ impl BandedLu {
         self.kd = kd;
         self.k = k;
         self.width = 3 * kd + 1;
+        self.assemble(a)?;
+        // No row interchanges first: the Newton matrix of a beam is symmetric positive
+        // definite (mass plus stiffness), for which elimination without pivoting is stable
+        // (it is LDL^T) and keeps U at kd super-diagonals. A pivot that is not positive and
+        // clear of round-off says otherwise: then again with partial pivoting.
+        if !self.factor_band(false, t)? {
+            self.assemble(a)?;
+            self.factor_band(true, t)?;
+        }
+        // B^-1 C, column by column, then S = E - D (B^-1 C).
+        let mut columns = std::mem::take(&mut self.border_columns);
+        for col in columns.chunks_mut(n.max(1)).take(k) {
+            self.solve_band(col);
+        }
+        self.border_columns = columns;
+        for r in 0..k {
+            let d = &self.border_rows[r * n..(r + 1) * n];
+            for c in 0..k {
+                let x = &self.border_columns[c * n..(c + 1) * n];
+                let dot: f64 = d.iter().zip(x).map(|(p, q)| p * q).sum();
+                self.corner[r * k + c] -= dot;
+            }
+        }
+        self.factor_corner(t)
+    }
+
+    /// Scatters the triplets into the band, the border and the corner.
+    fn assemble(&mut self, a: &Triplets) -> Result<(), HhtError> {
+        let (n, k, kd) = (self.n, self.k, self.kd);
+        let total = n + k;
         self.ab.clear();
         self.ab.resize(n * self.width, 0.0);
         self.pivots.resize(n, 0);
@@ -115,28 +148,15 @@ impl BandedLu {
                 (false, false) => self.corner[(r - n) * k + (c - n)] += v,
             }
         }
-        self.factor_band(t)?;
-        // B^-1 C, column by column, then S = E - D (B^-1 C).
-        let mut columns = std::mem::take(&mut self.border_columns);
-        for col in columns.chunks_mut(n.max(1)).take(k) {
-            self.solve_band(col);
-        }
-        self.border_columns = columns;
-        for r in 0..k {
-            let d = &self.border_rows[r * n..(r + 1) * n];
-            for c in 0..k {
-                let x = &self.border_columns[c * n..(c + 1) * n];
-                let dot: f64 = d.iter().zip(x).map(|(p, q)| p * q).sum();
-                self.corner[r * k + c] -= dot;
-            }
-        }
-        self.factor_corner(t)
+        Ok(())
     }
 
-    /// Gaussian elimination with partial pivoting inside the band (`gbtrf`). Entry (i, j)
-    /// lives at `i * width + j + kd - i`, so row i's columns are contiguous and the update of
-    /// a row by the pivot row is one slice operation.
-    fn factor_band(&mut self, t: f64) -> Result<(), HhtError> {
+    /// Gaussian elimination inside the band, with partial pivoting (`gbtrf`) or without. Entry
+    /// (i, j) lives at `i * width + j + kd - i`, so row i's columns are contiguous and the
+    /// update of a row by the pivot row is one slice operation. Without pivoting it returns
+    /// `false` (and leaves the band spoilt) at the first pivot that is not positive or is
+    /// below `1e-8` of its column's largest entry.
+    fn factor_band(&mut self, pivoting: bool, t: f64) -> Result<bool, HhtError> {
         let (n, kd, w) = (self.n, self.kd, self.width);
         let ab = &mut self.ab;
         self.upper = kd;
@@ -150,6 +170,13 @@ impl BandedLu {
                     largest = v;
                     pivot = row;
                 }
+            }
+            if !pivoting {
+                let diagonal = ab[col * w + kd];
+                if !(diagonal > 1e-8 * largest && diagonal.is_finite()) {
+                    return Ok(false);
+                }
+                pivot = col;
             }
             if !(largest > 0.0 && largest.is_finite()) {
                 return Err(HhtError::Singular {
@@ -184,11 +211,61 @@ impl BandedLu {
                 }
             }
         }
-        Ok(())
+        Ok(true)
     }
 
     /// Overwrites `b` (length n) with `B^-1 b`.
     fn solve_band(&self, b: &mut [f64]) {
+        // Without row interchanges (the usual, diagonally dominant Newton matrix) a beam of
+        // three unknowns a node (kd = 5) takes the fixed-width path, which keeps the moving
+        // window of the substitutions in registers.
+        if self.kd == 5 && self.upper == 5 {
+            return self.solve_band_fixed::<5>(b);
+        }
+        self.solve_band_general(b);
+    }
+
+    /// `solve_band` for half-bandwidth `KD` and no row interchanges. Forward: the window
+    /// `w[j] = b[col + j]` is shifted one row a column, `w[j] <- w[j + 1] - l_j b[col]`, so
+    /// from column to column the chain is one multiply-add in a register instead of a store and
+    /// a load. Backward likewise with the last KD values solved. Entries past the end of the
+    /// band are zero (never assembled), so the window runs off the end on zeros.
+    fn solve_band_fixed<const KD: usize>(&self, b: &mut [f64]) {
+        let (n, w) = (self.n, self.width);
+        let at = |i: usize| if i < n { b[i] } else { 0.0 };
+        let mut window = [0.0; KD];
+        for (j, x) in window.iter_mut().enumerate() {
+            *x = at(j + 1);
+        }
+        let mut current = at(0);
+        for col in 0..n {
+            let l = &self.lower[col * KD..col * KD + KD];
+            b[col] = current;
+            current = window[0] - l[0] * b[col];
+            for j in 1..KD {
+                window[j - 1] = window[j] - l[j] * b[col];
+            }
+            window[KD - 1] = if col + KD + 1 < n { b[col + KD + 1] } else { 0.0 };
+        }
+        // Backward: solved[j] = b[row + 1 + j].
+        let mut solved = [0.0; KD];
+        for row in (0..n).rev() {
+            let base = row * w + self.kd;
+            let u = &self.ab[base + 1..base + 1 + KD];
+            let mut far = 0.0;
+            for j in (1..KD).rev() {
+                far += u[j] * solved[j];
+            }
+            let x = (b[row] - far - u[0] * solved[0]) * self.inverse_diagonal[row];
+            b[row] = x;
+            for j in (1..KD).rev() {
+                solved[j] = solved[j - 1];
+            }
+            solved[0] = x;
+        }
+    }
+
+    fn solve_band_general(&self, b: &mut [f64]) {
         let (n, kd, w) = (self.n, self.kd, self.width);
         for col in 0..n {
             let p = self.pivots[col];
@@ -397,6 +474,41 @@ mod tests {
             let tol = if weak { 1e-10 } else { 1e-13 };
             assert!(err < tol, "n {n} kd {kd} k {k} weak {weak}: error {err:e}");
         }
+    }
+
+    #[test]
+    fn symmetric_positive_definite_bands_need_no_interchange() {
+        // A = G^T G + 1e-6 I with G random and upper-banded (two super-diagonals, so A's band is
+        // within kd = 5): symmetric positive definite with diagonals no larger than many of
+        // their off-diagonals, as a beam's rotation rows. Elimination without interchanges
+        // keeps U at kd super-diagonals and solves to round-off of the condition (1e-9).
+        let (n, kd): (usize, usize) = (60, 5);
+        let mut seed = 11;
+        let g: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n).map(|j| if j >= i && j - i <= 2 { noise(&mut seed) } else { 0.0 }).collect()
+            })
+            .collect();
+        let mut t = Triplets::new();
+        for i in 0..n {
+            for j in 0..n {
+                if i.abs_diff(j) <= kd {
+                    let v: f64 = (0..n).map(|m| g[m][i] * g[m][j]).sum::<f64>()
+                        + if i == j { 1e-6 } else { 0.0 };
+                    t.push(i, j, v);
+                }
+            }
+        }
+        let x: Vec<f64> = (0..n).map(|_| noise(&mut seed)).collect();
+        let mut b = vec![0.0; n];
+        t.mul_vec(&x, &mut b);
+        let mut lu = BandedLu::new();
+        lu.factor(n, Band { half_bandwidth: kd, border: 0 }, &t, 0.0).unwrap();
+        assert_eq!(lu.upper, kd, "a row interchange was made");
+        let mut rhs = Col::<f64>::from_fn(n, |i| b[i]);
+        lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
+        let err = (0..n).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
+        assert!(err < 1e-9, "error {err:e}");
     }
 
     #[test]
