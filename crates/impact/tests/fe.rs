@@ -254,6 +254,21 @@ fn heavy_ball_first_contact_converges_in_the_step() {
     assert!((f.steps as f64) < 0.8 * fixed, "{} steps, {fixed} at the fixed step", f.steps);
 }
 
+/// The paper's tip scene by the fe method, gravity off, over `end_time` (s).
+fn paper_tip_fe_without_gravity(end_time: f64) -> Scene {
+    let text = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/paper-tip.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let mut scene = Scene::from_toml(&text).unwrap();
+    scene.solver.method = MethodName::Fe;
+    scene.solver.modes = None;
+    scene.solver.end_time = Some(end_time);
+    scene.impact.gravity = false;
+    scene
+}
+
 #[test]
 fn paper_tip_256_elements_matches_the_peer_contact_for_contact() {
     // validation/reference/exudyn_tip_256.csv: Exudyn's planar geometrically exact beam at the
@@ -263,17 +278,8 @@ fn paper_tip_256_elements_matches_the_peer_contact_for_contact() {
     // face). Measured: first contact 36.875 us / 790.09 N (0.01 % / 0.09 % from Exudyn's
     // 36.88 us / 789.4 N), second start 382.78 us (0.07 % from 383.04 us). The first contact
     // is also within 1.5 % of the converged modal value 37.214 us / 782.14 N.
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-tip.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let mut scene = Scene::from_toml(&text).unwrap();
-    scene.solver.method = MethodName::Fe;
-    scene.solver.modes = None;
+    let mut scene = paper_tip_fe_without_gravity(1e-3);
     scene.solver.elements = Some(256);
-    scene.solver.end_time = Some(1e-3);
-    scene.impact.gravity = false;
     let out = simulate(&scene).unwrap();
     let c = &out.report.contacts;
     assert!(c.len() >= 3, "{} contacts", c.len());
@@ -291,17 +297,8 @@ fn a_tolerance_chooses_the_mesh_for_every_contact() {
     // 3 (Richardson from 1024 and 2048 elements). With tolerance = 0.01 the refinement stops
     // at 512 elements (measured: estimated 8.2e-3; contacts 2 and 3 start 0.72 % and 0.75 %
     // late, durations within 0.15 %), and the estimate is not optimistic.
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-tip.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let mut scene = Scene::from_toml(&text).unwrap();
-    scene.solver.method = MethodName::Fe;
-    scene.solver.modes = None;
+    let mut scene = paper_tip_fe_without_gravity(8e-4);
     scene.solver.tolerance = Some(0.01);
-    scene.solver.end_time = Some(8e-4);
-    scene.impact.gravity = false;
     let out = simulate(&scene).unwrap();
     let r = &out.report;
     let estimated = r.estimated_error.unwrap();
