@@ -115,7 +115,8 @@ pub struct StepReport {
     /// of kinetic energy exactly as `(dq - (beta - gamma/2) h^2 da) . M a_gamma`, so `D` is
     /// minus that change minus the trapezoidal work of the net force: the energy a step loses
     /// beyond the forces' work (Krenk 2006, the Newmark energy balance). It is zero for the
-    /// trapezoidal rule (alpha = 0) and positive for HHT's damping of high frequencies. Exact
+    /// trapezoidal rule (alpha = 0) and positive over many steps for HHT's damping of high
+    /// frequencies (a single step may be negative: HHT decreases a weighted energy). Exact
     /// for a constant mass matrix (`I = M a`) and a linear net force; for a nonlinear force the
     /// trapezoidal rule's error over the step is what remains in a caller's energy balance.
     pub dissipation: f64,
