@@ -5,6 +5,7 @@ mod compare;
 mod plot;
 mod reproduce;
 mod simulate;
+mod sweep;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -64,6 +65,28 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Run a scene over a grid of values of its keys, in parallel: sweep.csv (one row a point,
+    /// the report's scalars with units) and sweep.svg; or merge the shards of a sweep.
+    Sweep {
+        /// Scene file (TOML, SI units); not with --merge.
+        scene: Option<PathBuf>,
+        /// KEY=START:STOP:COUNT or KEY=v1,v2,... with KEY a dotted scene key such as
+        /// impact.drop_height; several make a grid.
+        #[arg(long)]
+        set: Vec<String>,
+        /// Space this swept key's range geometrically instead of evenly.
+        #[arg(long)]
+        log: Vec<String>,
+        /// Run only the K-th of N interleaved parts of the grid (K/N, 1 <= K <= N).
+        #[arg(long)]
+        shard: Option<String>,
+        /// Join the sweep.csv of these shard folders (in point order) into --out.
+        #[arg(long, num_args = 1..)]
+        merge: Vec<PathBuf>,
+        /// Output folder; default target/sweep/NAME (or target/sweep/merged).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Run every case under validation/ against its reference; non-zero exit on a failure.
     Validate {
         /// Print the results as a JSON list.
@@ -83,6 +106,14 @@ fn main() -> std::process::ExitCode {
             compare::run(&scene, &modes, &elements, out.as_deref())
         }
         Command::Beam { scene, out } => beam::run(&scene, out.as_deref()),
+        Command::Sweep { scene, set, log, shard, merge, out } => match (scene, merge.is_empty()) {
+            (Some(scene), true) => sweep::run(&scene, &set, &log, out.as_deref(), shard.as_deref()),
+            (None, false) => sweep::merge(
+                &merge,
+                out.as_deref().unwrap_or_else(|| std::path::Path::new("target/sweep/merged")),
+            ),
+            _ => Err(anyhow::anyhow!("give a scene file to sweep, or --merge DIR... without one")),
+        },
         Command::Validate { json } => validate::run(json),
     };
     match result {
