@@ -1,10 +1,9 @@
 //! `cargo xtask reproduce`: the paper's figures that the modal method makes, with an index page.
 
 use crate::plot::{Chart, Series};
+use crate::sweep::Axis;
 use anyhow::Context;
 use impact::{LawName, Scene};
-use indicatif::{ProgressBar, ProgressStyle};
-use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -22,25 +21,32 @@ struct Figure {
     caption: String,
 }
 
-/// Runs scenes in parallel with a progress bar; results in input order.
+/// Runs scenes in parallel with a progress bar (the sweep's runner); results in input order.
 pub(crate) fn run_all(label: &str, scenes: Vec<Scene>) -> anyhow::Result<Vec<impact::Outcome>> {
-    let bar = ProgressBar::new(scenes.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{prefix:>28} [{bar:30}] {pos}/{len} {elapsed}")
-            .map_err(|e| anyhow::anyhow!("{e}"))?
-            .progress_chars("=> "),
-    );
-    bar.set_prefix(label.to_owned());
-    let out: Result<Vec<_>, _> = scenes
-        .into_par_iter()
-        .map(|s| {
-            let r = impact::simulate(&s).with_context(|| format!("scene {}", s.name));
-            bar.inc(1);
-            r
-        })
-        .collect();
-    bar.finish();
-    out
+    crate::sweep::par_run(label, &scenes, |s| {
+        impact::simulate(s).with_context(|| format!("scene {}", s.name))
+    })
+    .into_iter()
+    .collect()
+}
+
+/// The paper's tip scene without the keys in `remove`, with `fixed` keys set, over the grid of
+/// `axes`: the sweep's machinery.
+fn paper_sweep(
+    remove: &[&str],
+    fixed: &[(&str, toml::Value)],
+    axes: &[Axis],
+) -> anyhow::Result<Vec<Scene>> {
+    let mut base: toml::Table = toml::from_str(PAPER_SCENE)?;
+    for key in remove {
+        let (table, name) = key.split_once('.').context("a dotted key")?;
+        if let Some(t) = base.get_mut(table).and_then(toml::Value::as_table_mut) {
+            t.remove(name);
+        }
+    }
+    let mut axes = axes.to_vec();
+    axes.splice(0..0, fixed.iter().map(|(k, v)| Axis::new(k, [v.clone()])));
+    crate::sweep::scenes(&base, &axes)
 }
 
 /// The displacement at the impact point of a run, in mm against ms.
@@ -264,19 +270,18 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     } else {
         (0..16).map(|k| 0.25 * (k + 1) as f64).collect()
     };
-    let modes = if quick { 16 } else { 64 };
-    let mut scenes = Vec::new();
-    for law in [LawName::Hertz, LawName::Thornton] {
-        for &v in &speeds {
-            let mut s = paper()?;
-            s.impact.drop_height = None;
-            s.impact.speed = Some(v);
-            s.contact.law = law;
-            s.solver.modes = Some(modes);
-            s.solver.end_time = Some(3e-4);
-            scenes.push(s);
-        }
-    }
+    let modes: usize = if quick { 16 } else { 64 };
+    let scenes = paper_sweep(
+        &["impact.drop_height"],
+        &[
+            ("solver.modes", toml::Value::Integer(modes as i64)),
+            ("solver.end_time", toml::Value::Float(3e-4)),
+        ],
+        &[
+            Axis::new("contact.law", ["hertz", "thornton"].map(|l| toml::Value::String(l.into()))),
+            Axis::new("impact.speed", speeds.iter().map(|v| toml::Value::Float(*v))),
+        ],
+    )?;
     let runs = run_all("4: speed sweep", scenes)?;
     let (elastic, plastic) = runs.split_at(speeds.len());
     let first = |o: &impact::Outcome| o.report.contacts[0].clone();
@@ -360,16 +365,14 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     let mut heights = heights;
     heights.sort_by(f64::total_cmp);
     let (modes, end) = if quick { (8, 0.02) } else { (16, 0.1) };
-    let scenes = heights
-        .iter()
-        .map(|&h| {
-            let mut s = paper()?;
-            s.impact.drop_height = Some(h);
-            s.solver.modes = Some(modes);
-            s.solver.end_time = Some(end);
-            Ok(s)
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?;
+    let scenes = paper_sweep(
+        &[],
+        &[
+            ("solver.modes", toml::Value::Integer(modes as i64)),
+            ("solver.end_time", toml::Value::Float(end)),
+        ],
+        &[Axis::new("impact.drop_height", heights.iter().map(|h| toml::Value::Float(*h)))],
+    )?;
     let runs = run_all("5-6: drop heights", scenes)?;
     let disp = vec![Series {
         label: format!("modal, {modes} modes, {} ms", end * 1e3),

@@ -23,6 +23,44 @@ pub(crate) struct Axis {
 /// A point of the grid: its number and the value of each swept key.
 type Point = (usize, Vec<(String, toml::Value)>);
 
+impl Axis {
+    /// The key `key` (dotted) over `values`.
+    pub(crate) fn new(key: &str, values: impl IntoIterator<Item = toml::Value>) -> Self {
+        Self { key: key.to_string(), values: values.into_iter().collect() }
+    }
+}
+
+/// The scenes of every point of the grid of `axes` over `base` (validated), in grid order.
+pub(crate) fn scenes(base: &toml::Table, axes: &[Axis]) -> anyhow::Result<Vec<Scene>> {
+    grid(axes).iter().map(|p| point_scene(base, p)).collect()
+}
+
+/// `work` on every item in parallel (rayon), with a progress bar labelled `label` on standard
+/// error; the results in the items' order. The one way the toolkit runs many scenes.
+pub(crate) fn par_run<I: Sync, T: Send>(
+    label: &str,
+    items: &[I],
+    work: impl Fn(&I) -> T + Sync,
+) -> Vec<T> {
+    let bar = ProgressBar::new(items.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{prefix:>28} [{bar:30}] {pos}/{len} {elapsed} (eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_prefix(label.to_owned());
+    let out = items
+        .par_iter()
+        .map(|item| {
+            let result = work(item);
+            bar.inc(1);
+            result
+        })
+        .collect();
+    bar.finish_and_clear();
+    out
+}
+
 /// `KEY=START:STOP:COUNT` (COUNT values, evenly spaced, or geometrically for a key in `log`)
 /// or `KEY=v1,v2,...` (numbers, true/false, or names).
 pub(crate) fn parse_set(spec: &str, log: &[String]) -> anyhow::Result<Axis> {
@@ -221,21 +259,7 @@ pub(crate) fn run_points(
     points: &[(Point, Scene)],
     run: impl Fn(&Scene) -> anyhow::Result<Report> + Sync,
 ) -> Vec<String> {
-    let bar = ProgressBar::new(points.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("sweep {bar:40} {pos}/{len} points {elapsed} (eta {eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    let rows = points
-        .par_iter()
-        .map(|(p, scene)| {
-            let result = run(scene);
-            bar.inc(1);
-            row(p, &result)
-        })
-        .collect();
-    bar.finish_and_clear();
-    rows
+    par_run("sweep", points, |(p, scene)| row(p, &run(scene)))
 }
 
 /// Writes `sweep.csv` and `sweep.svg` into `dir`.
