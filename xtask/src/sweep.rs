@@ -287,9 +287,10 @@ fn write(dir: &Path, header: &str, rows: &[String]) -> anyhow::Result<()> {
         .collect::<Vec<_>>();
     if !series.is_empty() && keys.len() > 1 {
         let title = format!("sweep over {}", keys[x_index]);
+        let x_label = format!("{} (SI, as in the scene file)", keys[x_index]);
         Chart {
             title: &title,
-            x_label: keys[x_index],
+            x_label: &x_label,
             y_label: "value / its largest (-)",
             series,
             markers: true,
