@@ -50,7 +50,9 @@ pub use closed_form::{
 };
 pub use error::HertzError;
 pub use hertz::Hertz;
-pub use hunt_crossley::{HuntCrossley, HuntCrossleyState};
+pub use hunt_crossley::{
+    damping_for_restitution, restitution_relation, HuntCrossley, HuntCrossleyState,
+};
 pub use law::{ContactForce, ContactLaw};
 pub use material::{effective_modulus, softer_yield_stress, Material};
 pub use stress::{max_subsurface_shear, ContactStress};

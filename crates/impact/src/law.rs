@@ -81,8 +81,9 @@ impl Law {
                     if !(e.is_finite() && e > 0.0 && e <= 1.0) {
                         return Err(invalid("contact.restitution", e, "must be in (0, 1]"));
                     }
-                    reasons.push(format!("Hunt-Crossley damping chi = 3(1 - e)/(2 V) = {:.4} s/m from restitution {e} at {speed:.4} m/s", 1.5 * (1.0 - e) / speed));
-                    Law::HuntCrossley(HuntCrossley::from_restitution(hertz, e, speed)?)
+                    let law = HuntCrossley::from_restitution(hertz, e, speed)?;
+                    reasons.push(format!("Hunt-Crossley damping chi = {:.4} s/m for restitution {e} at {speed:.4} m/s: the exact half-space relation chi V - ln(1 + chi V) = -e chi V - ln(1 - e chi V) (the small-damping 3(1 - e)/(2 V) = {:.4} s/m gives less loss); on a beam the beam's vibration takes more", law.damping_factor(), 1.5 * (1.0 - e) / speed));
+                    Law::HuntCrossley(law)
                 }
                 _ => return Err(ImpactError::Inconsistent("contact.law = \"hunt-crossley\" needs exactly one of damping (s/m) or restitution".into())),
             },
