@@ -258,3 +258,41 @@ fn hunt_crossley_on_a_block_gives_the_restitution_asked_for() {
         assert!(out.report.plan.reasons.iter().any(|r| r.contains("exact half-space relation")));
     }
 }
+
+#[test]
+fn the_output_interval_does_not_change_the_physics() {
+    // An output interval of 1e10 s (or 1e300 s) once let free flight jump by it: 28 contacts
+    // became 27, then 9, and the ledger created energy. The jumps now stop at 1024 contact
+    // durations: the same contacts as the default run and the same ledger. Different jumps
+    // locate onsets from different brackets (to 1e-9 of the pulse scale each), which moves
+    // later starts by ~1e-8 (measured 1.9e-8); 1e-6 still catches a lost or extra contact.
+    let reference = simulate(&paper_scene(64, 200, false)).unwrap().report;
+    for interval in [1e-3, 1e10, 1e300] {
+        let mut s = paper_scene(64, 200, false);
+        s.solver.output_interval = Some(interval);
+        let r = simulate(&s).unwrap().report;
+        assert_eq!(r.contact_count, reference.contact_count, "output_interval {interval}");
+        for (c, c0) in r.contacts.iter().zip(&reference.contacts).skip(1) {
+            assert!(rel(c.start, c0.start) < 1e-6, "{interval}: {} vs {}", c.start, c0.start);
+        }
+        assert!(r.energy.balance_error.abs() < 1e-6 * r.energy.initial, "{:?}", r.energy);
+    }
+}
+
+#[test]
+fn a_history_or_a_step_count_the_machine_cannot_hold_is_refused_up_front() {
+    // An output interval of 1e-10 s over 5 ms once grew the history until the allocator
+    // aborted; 1e9 samples per pulse hung. Both are refused before anything runs, with the
+    // field, the value and the limit.
+    let mut s = scene("paper-tip.toml");
+    s.solver.output_interval = Some(1e-10);
+    let message = Plan::new(&s).unwrap_err().to_string();
+    assert!(
+        message.contains("solver.output_interval = 1e-10") && message.contains("rows"),
+        "{message}"
+    );
+    let mut s = scene("paper-tip.toml");
+    s.solver.samples_per_pulse = Some(1_000_000_000);
+    let message = Plan::new(&s).unwrap_err().to_string();
+    assert!(message.contains("solver.samples_per_pulse = 1000000000"), "{message}");
+}

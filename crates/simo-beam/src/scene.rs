@@ -81,6 +81,11 @@ pub enum SceneError {
     },
 }
 
+/// The most elements a piece of a beam scene may have.
+const MAX_ELEMENTS: usize = 100_000;
+/// The most load steps of a static analysis (each is a Newton solve).
+const MAX_LOAD_STEPS: usize = 1_000_000;
+
 /// `field` must be finite and strictly positive.
 fn positive(field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
     if !(value.is_finite() && value > 0.0) {
@@ -446,8 +451,12 @@ impl SegmentSpec {
         section: Section,
     ) -> Result<(Mesh, f64), SceneError> {
         let field = |name: &str| format!("segment[{index}].{name}");
-        if self.elements == 0 {
-            return Err(invalid(field("elements"), 0, "at least 1 element"));
+        if !(1..=MAX_ELEMENTS).contains(&self.elements) {
+            return Err(invalid(
+                field("elements"),
+                self.elements,
+                "at least 1 element and at most 100000",
+            ));
         }
         let start = match (self.start, previous_end) {
             (Some(s), None) => vector(&field("start"), s)?,
@@ -706,8 +715,12 @@ impl BeamScene {
                     ));
                 }
                 let load_steps = self.statics.and_then(|s| s.load_steps).unwrap_or(10);
-                if load_steps == 0 {
-                    return Err(invalid("static.load_steps".into(), 0, "at least 1"));
+                if !(1..=MAX_LOAD_STEPS).contains(&load_steps) {
+                    return Err(invalid(
+                        "static.load_steps".into(),
+                        load_steps,
+                        "at least 1 and at most 1000000",
+                    ));
                 }
                 let options = StaticOptions { load_steps, ..StaticOptions::default() };
                 let solution = solve_static(&model, options).map_err(|e| match e {

@@ -115,6 +115,8 @@ fn bad_beam_scenes_name_the_field() {
         ("at = 1.0\n", "at = 1.5\n", "load[0].at"),
         ("force = [0.0, 0.0, -10.0]", "force = [0.0, inf, -10.0]", "load[0].force"),
         ("load_steps = 10", "load_steps = 0", "static.load_steps"),
+        ("load_steps = 10", "load_steps = 1000000000", "static.load_steps = 1000000000"),
+        ("elements = 32", "elements = 1000000000", "segment[0].elements = 1000000000"),
         ("analysis = \"static\"", "analysis = \"quasi\"", "analysis"),
         ("kind = \"clamped\"", "kind = \"welded\"", "kind"),
         ("[static]", "[static]\nload_step = 3", "load_step"),

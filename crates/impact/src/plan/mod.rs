@@ -42,6 +42,15 @@ pub const DEFAULT_ENERGY_TOLERANCE: f64 = 1e-6;
 /// The modal method's adaptive contact step starts each contact at the plan's step /
 /// 2^FINEST_LEVEL and stays within [step / 2^FINEST_LEVEL, step].
 pub const FINEST_LEVEL: usize = 6;
+/// The most rows a history may hold in free flight (end time / output interval): 1e7 rows of
+/// eleven 8-byte columns, about 0.9 GB. A finer history is refused up front, with its size.
+pub const MAX_HISTORY_ROWS: f64 = 1e7;
+/// Bytes a history row takes (its eleven f64 columns).
+const HISTORY_ROW_BYTES: f64 = 88.0;
+/// The most steps per estimated contact duration: a contact then takes up to a million
+/// steps; beyond it a run would take hours for no accuracy the scheme can deliver.
+pub const MAX_SAMPLES_PER_PULSE: usize = 1_000_000;
+
 /// The auto plan takes the finite-element method when the ball could bend the beam by more
 /// than this fraction of its length; the modal report warns beyond it.
 pub const LARGE_DEFLECTION: f64 = 0.1;
@@ -359,8 +368,12 @@ fn contact_step(
         Method::Fe(fe) => fe.samples_per_pulse,
         _ => s.samples_per_pulse.unwrap_or(DEFAULT_SAMPLES_PER_PULSE),
     };
-    if samples < 10 {
-        return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
+    if !(10..=MAX_SAMPLES_PER_PULSE).contains(&samples) {
+        return Err(invalid(
+            "solver.samples_per_pulse",
+            samples,
+            "must be at least 10 and at most 1000000",
+        ));
     }
     let time_step = estimated_duration / samples as f64;
     let is_fe = matches!(method, Method::Fe(_));
@@ -461,6 +474,18 @@ impl Plan {
             Some(dt) => positive("solver.output_interval", dt, "s")?,
             None => end_time / 2000.0,
         };
+        let rows = end_time / output_interval;
+        if rows > MAX_HISTORY_ROWS {
+            return Err(invalid(
+                "solver.output_interval",
+                format!("{output_interval:e}"),
+                &format!(
+                    "must be at least solver.end_time / {MAX_HISTORY_ROWS:e} = {:e} s: the history would hold {rows:.1e} rows ({:.1e} bytes)",
+                    end_time / MAX_HISTORY_ROWS,
+                    rows * HISTORY_ROW_BYTES
+                ),
+            ));
+        }
 
         let (modes, elements) = match &method {
             Method::Modal(m) => (m.modes, 0),
