@@ -50,16 +50,63 @@ pub enum ImpactError {
     Beam(#[from] simo_beam::BeamError),
 }
 
+/// A number as a user reads it: plain when moderate, in scientific notation when very large or
+/// small (1e308 is not printed with 309 digits).
+pub(crate) fn show(value: f64) -> String {
+    let size = value.abs();
+    if size != 0.0 && !(1e-4..1e6).contains(&size) && size.is_finite() {
+        format!("{value:e}")
+    } else {
+        value.to_string()
+    }
+}
+
 /// `field` must be finite and strictly positive.
 pub(crate) fn positive(field: &str, value: f64, unit: &str) -> Result<f64, ImpactError> {
     if !(value.is_finite() && value > 0.0) {
         return Err(ImpactError::InvalidField {
             field: field.to_owned(),
-            value: value.to_string(),
+            value: show(value),
             allowed: format!("must be a finite number greater than 0 ({unit})"),
         });
     }
     Ok(value)
+}
+
+/// `field` must lie in [lo, hi] (`unit`): the range the models are built and tested for, so a
+/// value far outside is refused by name instead of surfacing as an infinite stiffness, a zero
+/// time step or a NaN energy deep in a run.
+pub(crate) fn bounded(
+    field: &str,
+    value: f64,
+    (lo, hi): (f64, f64),
+    unit: &str,
+) -> Result<f64, ImpactError> {
+    positive(field, value, unit)?;
+    if !(lo..=hi).contains(&value) {
+        return Err(ImpactError::InvalidField {
+            field: field.to_owned(),
+            value: show(value),
+            allowed: format!("must be from {} to {} ({unit})", show(lo), show(hi)),
+        });
+    }
+    Ok(value)
+}
+
+/// Ranges the models are built and tested for.
+pub(crate) mod range {
+    /// Lengths (m): a nanometre to 10 km.
+    pub(crate) const LENGTH: (f64, f64) = (1e-9, 1e4);
+    /// Elastic moduli and stresses (Pa): soft rubber to ten times diamond.
+    pub(crate) const MODULUS: (f64, f64) = (1e3, 1e13);
+    /// Densities (kg/m^3): aerogel to ten times osmium.
+    pub(crate) const DENSITY: (f64, f64) = (1e-3, 1e6);
+    /// Masses (kg).
+    pub(crate) const MASS: (f64, f64) = (1e-12, 1e6);
+    /// Impact speeds (m/s): creeping to ballistic.
+    pub(crate) const SPEED: (f64, f64) = (1e-6, 1e4);
+    /// Simulated times (s).
+    pub(crate) const TIME: (f64, f64) = (1e-12, 1e4);
 }
 
 /// `field = value` is outside what is `allowed`.

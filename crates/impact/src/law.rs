@@ -6,9 +6,12 @@
 //! which are generic over [`hertz::ContactLaw`]), plus its name in [`LawName`] for the scene
 //! file. Nothing else in the crate names a law.
 
-use crate::error::{invalid, positive, ImpactError};
+use crate::error::{bounded, invalid, range, ImpactError};
 use crate::scene::{ContactSpec, LawName};
 use hertz::{ContactLaw, Hertz, HuntCrossley, Thornton};
+
+/// The largest Hunt-Crossley damping factor (s/m) a scene may give.
+const MAX_DAMPING: f64 = 1e6;
 
 /// The contact law a plan resolved, with its parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,11 +71,12 @@ impl Law {
             }
             LawName::HuntCrossley => match (spec.damping, spec.restitution) {
                 (Some(d), None) => {
-                    if !(d.is_finite() && d >= 0.0) {
+                    // chi V is the loss: at 1e3 s/m a 1 m/s impact keeps e ~ 1e-3.
+                    if !(d.is_finite() && (0.0..=MAX_DAMPING).contains(&d)) {
                         return Err(invalid(
                             "contact.damping",
-                            d,
-                            "must be a finite number >= 0 (s/m)",
+                            crate::error::show(d),
+                            "must be from 0 to 1e6 (s/m)",
                         ));
                     }
                     Law::HuntCrossley(HuntCrossley::new(hertz, d)?)
@@ -89,7 +93,9 @@ impl Law {
             },
             LawName::Thornton => {
                 let p = match (spec.limiting_pressure, yield_stress) {
-                    (Some(p), _) => positive("contact.limiting_pressure", p, "Pa")?,
+                    (Some(p), _) => {
+                        bounded("contact.limiting_pressure", p, range::MODULUS, "Pa")?
+                    }
                     (None, Some(y)) => {
                         reasons.push(format!("Thornton limiting pressure 1.6 Y = {:.4e} Pa from the softer yield stress Y = {y:.4e} Pa", 1.6 * y));
                         hertz::FIRST_YIELD_PRESSURE_RATIO * y

@@ -164,6 +164,31 @@ fn bad_inputs_name_the_field() {
     let cases = [
         ("length = 1.15", "length = -1.0", "beam.length = -1"),
         ("length = 1.15", "length = nan", "beam.length = NaN"),
+        // Values far outside what the models are built for are refused by the field the user
+        // wrote, in scientific notation, not as an infinite stiffness or a NaN energy later.
+        ("width = 0.025", "width = 1e308", "beam.width = 1e308: must be from 1e-9 to 10000 (m)"),
+        (
+            "density = 7850.0
+yield",
+            "density = 1e-300
+yield",
+            "beam.density = 1e-300",
+        ),
+        (
+            "youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+yield",
+            "youngs_modulus = 1e308
+poisson_ratio = 0.3
+density = 7850.0
+yield",
+            "beam.youngs_modulus = 1e308",
+        ),
+        ("mass = 0.009", "mass = 1e308", "ball.mass = 1e308"),
+        ("drop_height = 0.2", "drop_height = 1e308", "impact.drop_height = 1e308"),
+        ("end_time = 0.005", "end_time = 1e308", "solver.end_time = 1e308"),
+        ("law = \"hertz\"", "law = \"hunt-crossley\"\ndamping = 1e308", "contact.damping = 1e308"),
         ("drop_height = 0.2", "drop_height = 0.2\nspeed = 2.0", "exactly one of drop_height"),
         ("gravity = true", "gravity = true\ngravty = false", "unknown field `gravty`"),
         ("law = \"hertz\"", "law = \"thornton\"", "accepted"),

@@ -19,7 +19,7 @@ pub use fe::{
 };
 pub use modal::{ModalPlan, MODE_CUTOFF};
 
-use crate::error::{invalid, positive, ImpactError};
+use crate::error::{bounded, invalid, positive, range, show, ImpactError};
 use crate::law::{Law, LawContext};
 use crate::scene::{BallSpec, BeamSpec, ImpactSpec, LawName, MethodName, Scene, SolverSpec};
 use hertz::{HalfSpaceImpact, Hertz, Material};
@@ -173,14 +173,14 @@ fn material(
     nu: f64,
     yield_stress: Option<f64>,
 ) -> Result<Material, ImpactError> {
-    positive(&format!("{prefix}.youngs_modulus"), e, "Pa")?;
+    bounded(&format!("{prefix}.youngs_modulus"), e, range::MODULUS, "Pa")?;
     if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
         return Err(invalid(&format!("{prefix}.poisson_ratio"), nu, "must be in (-1, 0.5)"));
     }
     let m = Material::new(e, nu)?;
     match yield_stress {
         Some(y) => {
-            positive(&format!("{prefix}.yield_stress"), y, "Pa")?;
+            bounded(&format!("{prefix}.yield_stress"), y, range::MODULUS, "Pa")?;
             Ok(m.with_yield_stress(y)?)
         }
         None => Ok(m),
@@ -190,13 +190,13 @@ fn material(
 /// The ball's material, radius (m) and mass (kg); a mass that disagrees with the density is
 /// used as given, with a warning.
 fn ball(b: &BallSpec, warnings: &mut Vec<String>) -> Result<(Material, f64, f64), ImpactError> {
-    let radius = positive("ball.radius", b.radius, "m")?;
-    let density = positive("ball.density", b.density, "kg/m^3")?;
+    let radius = bounded("ball.radius", b.radius, range::LENGTH, "m")?;
+    let density = bounded("ball.density", b.density, range::DENSITY, "kg/m^3")?;
     let ball_material = material("ball", b.youngs_modulus, b.poisson_ratio, b.yield_stress)?;
     let volume = 4.0 / 3.0 * PI * radius.powi(3);
     let mass = match b.mass {
         Some(m) => {
-            positive("ball.mass", m, "kg")?;
+            bounded("ball.mass", m, range::MASS, "kg")?;
             let implied = m / volume;
             if !(0.8..=1.25).contains(&(implied / density)) {
                 warnings.push(format!(
@@ -214,8 +214,12 @@ fn ball(b: &BallSpec, warnings: &mut Vec<String>) -> Result<(Material, f64, f64)
 /// Impact speed (m/s) from exactly one of `drop_height` and `speed`.
 fn impact_speed(impact: &ImpactSpec) -> Result<f64, ImpactError> {
     match (impact.drop_height, impact.speed) {
-        (Some(h), None) => Ok((2.0 * GRAVITY * positive("impact.drop_height", h, "m")?).sqrt()),
-        (None, Some(v)) => positive("impact.speed", v, "m/s"),
+        (Some(h), None) => {
+            let (lo, hi) = range::SPEED;
+            let heights = (lo * lo / (2.0 * GRAVITY), hi * hi / (2.0 * GRAVITY));
+            Ok((2.0 * GRAVITY * bounded("impact.drop_height", h, heights, "m")?).sqrt())
+        }
+        (None, Some(v)) => bounded("impact.speed", v, range::SPEED, "m/s"),
         (Some(_), Some(_)) => Err(ImpactError::Inconsistent(
             "impact: give exactly one of drop_height (m) and speed (m/s), not both".into(),
         )),
@@ -291,10 +295,10 @@ fn beam_method(
     reasons: &mut Vec<String>,
 ) -> Result<Method, ImpactError> {
     let s = &scene.solver;
-    let length = positive("beam.length", beam.length, "m")?;
-    positive("beam.width", beam.width, "m")?;
-    positive("beam.thickness", beam.thickness, "m")?;
-    positive("beam.density", beam.density, "kg/m^3")?;
+    let length = bounded("beam.length", beam.length, range::LENGTH, "m")?;
+    bounded("beam.width", beam.width, range::LENGTH, "m")?;
+    bounded("beam.thickness", beam.thickness, range::LENGTH, "m")?;
+    bounded("beam.density", beam.density, range::DENSITY, "kg/m^3")?;
     let m = ::modal::Beam::rectangular(
         beam.youngs_modulus,
         beam.density,
@@ -464,7 +468,7 @@ impl Plan {
             Method::Modal(_) | Method::Fe(_) => 0.005,
         };
         let end_time = match s.end_time {
-            Some(t) => positive("solver.end_time", t, "s")?,
+            Some(t) => bounded("solver.end_time", t, range::TIME, "s")?,
             None => {
                 reasons.push(format!("end time {default_end:.4e} s (default)"));
                 default_end
@@ -478,7 +482,7 @@ impl Plan {
         if rows > MAX_HISTORY_ROWS {
             return Err(invalid(
                 "solver.output_interval",
-                format!("{output_interval:e}"),
+                show(output_interval),
                 &format!(
                     "must be at least solver.end_time / {MAX_HISTORY_ROWS:e} = {:e} s: the history would hold {rows:.1e} rows ({:.1e} bytes)",
                     end_time / MAX_HISTORY_ROWS,
