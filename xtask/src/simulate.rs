@@ -10,7 +10,20 @@ pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
         .with_context(|| format!("cannot read the scene file {}", path.display()))?;
     let scene =
         impact::Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
-    impact::simulate(&scene).with_context(|| format!("in {}", path.display()))
+    // On standard error, and only on a terminal: --json output stays clean.
+    let bar = indicatif::ProgressBar::new(1000);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {percent:>3}% of the simulated window, {elapsed} (eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let outcome = impact::simulate_with_progress(&scene, &|fraction| {
+        bar.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64)
+    })
+    .with_context(|| format!("in {}", path.display()));
+    bar.finish_and_clear();
+    outcome
 }
 
 #[allow(clippy::print_stdout)]

@@ -63,7 +63,7 @@ pub use scene::{
     BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,
     SolverSpec, SupportName,
 };
-pub use solve::{run, BallOnBeam, BallOnBeamConfig};
+pub use solve::{run, run_with_progress, BallOnBeam, BallOnBeamConfig, Progress};
 
 /// Plans and runs a scene.
 ///
@@ -71,4 +71,15 @@ pub use solve::{run, BallOnBeam, BallOnBeamConfig};
 /// Any validation error of [`Plan::new`] or solver error of [`run`].
 pub fn simulate(scene: &Scene) -> Result<Outcome, ImpactError> {
     run(&Plan::new(scene)?)
+}
+
+/// [`simulate`], telling `progress` the fraction of the window done as it goes.
+///
+/// # Errors
+/// As [`simulate`].
+pub fn simulate_with_progress(
+    scene: &Scene,
+    progress: Progress<'_>,
+) -> Result<Outcome, ImpactError> {
+    run_with_progress(&Plan::new(scene)?, progress)
 }

@@ -321,3 +321,40 @@ fn a_history_or_a_step_count_the_machine_cannot_hold_is_refused_up_front() {
     let message = Plan::new(&s).unwrap_err().to_string();
     assert!(message.contains("solver.samples_per_pulse = 1000000000"), "{message}");
 }
+
+#[test]
+fn progress_is_told_how_far_the_run_has_got() {
+    // What a progress bar is fed: fractions of the window that never go back and end at 1.
+    for s in [scene("paper-tip.toml"), scene("half-space-r10.toml")] {
+        let seen = std::sync::Mutex::new(Vec::new());
+        simulate_with_progress(&s, &|f| seen.lock().unwrap().push(f)).unwrap();
+        let seen = seen.into_inner().unwrap();
+        assert!(seen.len() > 10, "{} calls", seen.len());
+        assert!(seen.windows(2).all(|w| w[1] >= w[0]), "{seen:?}");
+        assert!((seen.last().unwrap() - 1.0).abs() < 1e-9 && seen[0] >= 0.0);
+    }
+}
+
+#[test]
+fn a_contact_beyond_small_strain_is_flagged() {
+    // Thornton with a 1 kPa yield stress on the paper's tip: an approach of millimetres, more
+    // than the ball radius allows for Hertz's theory and a large share of the 5 mm strip. The
+    // report says so; the paper's own scene stays silent.
+    let mut s = scene("paper-tip.toml");
+    s.contact.law = LawName::Thornton;
+    s.beam.as_mut().unwrap().yield_stress = Some(1e3);
+    s.solver.end_time = Some(1e-3);
+    let r = simulate(&s).unwrap().report;
+    assert!(
+        r.warnings.iter().any(|w| w.contains("beyond small-strain contact")),
+        "{:?}",
+        r.warnings
+    );
+    assert!(
+        r.warnings.iter().any(|w| w.contains("tenth of the beam's thickness")),
+        "{:?}",
+        r.warnings
+    );
+    let quiet = simulate(&scene("paper-tip.toml")).unwrap().report;
+    assert!(!quiet.warnings.iter().any(|w| w.contains("extrapolated")), "{:?}", quiet.warnings);
+}

@@ -70,6 +70,13 @@ pub enum SceneError {
         #[source]
         source: BeamError,
     },
+    /// The stiffness matrix is singular: the supports leave the beam free to move as a rigid
+    /// body (one pinned support, or none) or the loaded shape is a mechanism.
+    #[error("the beam is a mechanism at load factor {load_factor}: its stiffness matrix is singular; the supports must hold it (clamp a node, or pin two)")]
+    Mechanism {
+        /// Fraction of the load reached (-).
+        load_factor: f64,
+    },
     /// The time integration failed.
     #[error("the dynamic analysis failed at t = {t} s")]
     DynamicFailed {
@@ -726,6 +733,11 @@ impl BeamScene {
                 let solution = solve_static(&model, options).map_err(|e| match e {
                     BeamError::NotConverged { load_factor, .. } => {
                         SceneError::StaticFailed { load_factor, source: e }
+                    }
+                    // The linear solver reports the load factor as a time; what it means here is
+                    // that nothing holds the beam (its message would name a time).
+                    BeamError::Integrator(hht::HhtError::Singular { t, .. }) => {
+                        SceneError::Mechanism { load_factor: t }
                     }
                     other => other.into(),
                 })?;

@@ -121,6 +121,7 @@ fn bad_beam_scenes_name_the_field() {
         ("kind = \"clamped\"", "kind = \"welded\"", "kind"),
         ("[static]", "[static]\nload_step = 3", "load_step"),
         ("analysis = \"static\"", "analysis = \"dynamic\"", "[dynamic]"),
+        ("kind = \"clamped\"", "kind = \"pinned\"", "mechanism at load factor"),
     ];
     for (from, to, expect) in cases {
         assert!(good.contains(from), "fixture changed: {from}");

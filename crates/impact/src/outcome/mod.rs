@@ -150,7 +150,8 @@ pub(crate) struct Ending {
 impl Report {
     /// The report of a run of `plan`: restitution from the first complete contact, the
     /// equivalent static force from the static stiffness.
-    pub(crate) fn assemble(plan: &Plan, end: Ending) -> Self {
+    pub(crate) fn assemble(plan: &Plan, mut end: Ending) -> Self {
+        small_strain_warnings(plan, &end.contacts, &mut end.warnings);
         let restitution = end
             .contacts
             .first()
@@ -171,6 +172,37 @@ impl Report {
             energy: end.energy,
             estimated_error: None,
             wall_time: end.wall_time,
+        }
+    }
+}
+
+/// Hertz's theory (and Thornton's on it) holds for a contact radius small against the ball's
+/// radius, a = sqrt(R delta) < 0.3 R (delta < 0.09 R), and an approach small against what it
+/// presses into (a tenth of the beam's thickness); a print is a contact radius too. Past either
+/// the numbers are extrapolations: say so, with the first contact that goes past.
+fn small_strain_warnings(plan: &Plan, contacts: &[Contact], warnings: &mut Vec<String>) {
+    let radius = plan.ball_radius;
+    if let Some((i, c)) = contacts
+        .iter()
+        .enumerate()
+        .find(|(_, c)| c.max_approach > 0.09 * radius || c.print_radius > 0.3 * radius)
+    {
+        warnings.push(format!(
+            "contact {}: approach {:.3e} m and print radius {:.3e} m against a ball radius of {radius:.3e} m: beyond small-strain contact (approach < 0.09 R, contact radius < 0.3 R), the contact law is extrapolated",
+            i + 1,
+            c.max_approach,
+            c.print_radius
+        ));
+    }
+    if let Some(thickness) = plan.thickness {
+        if let Some((i, c)) =
+            contacts.iter().enumerate().find(|(_, c)| c.max_approach > 0.1 * thickness)
+        {
+            warnings.push(format!(
+                "contact {}: approach {:.3e} m is more than a tenth of the beam's thickness {thickness:.3e} m: the beam is not a half-space under the ball, the contact law is extrapolated",
+                i + 1,
+                c.max_approach
+            ));
         }
     }
 }

@@ -149,6 +149,8 @@ pub struct Plan {
     pub(crate) output_interval: f64,
     /// Estimated duration of the first contact on a rigid support (s).
     pub(crate) estimated_duration: f64,
+    /// The struck beam's thickness (m), none on a half-space.
+    pub(crate) thickness: Option<f64>,
     pub(crate) summary: PlanSummary,
     pub(crate) warnings: Vec<String>,
 }
@@ -517,6 +519,7 @@ impl Plan {
             energy_tolerance,
             output_interval,
             estimated_duration,
+            thickness: beam_spec.map(|b| b.thickness),
             warnings,
         })
     }

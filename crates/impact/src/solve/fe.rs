@@ -11,6 +11,7 @@
 //! a kept Newton matrix serves the next steps of the same size.
 
 use super::ball_on_beam::{BallOnBeam, BallOnBeamConfig, Order};
+use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
 use crate::law::WithLaw;
@@ -49,19 +50,22 @@ fn build_beam(target: &FePlan) -> Result<PlanarBeam, ImpactError> {
 pub(super) struct FeRun<'a> {
     pub(super) plan: &'a Plan,
     pub(super) target: &'a FePlan,
+    pub(super) progress: Progress<'a>,
 }
 
 impl WithLaw for FeRun<'_> {
     type Output = Result<Outcome, ImpactError>;
 
     fn apply<L: ContactLaw>(self, law: &L) -> Self::Output {
-        Run::new(self.plan, self.target, law)?.run()
+        Run::new(self.plan, self.target, law, self.progress)?.run()
     }
 }
 
 struct Run<'a, L: ContactLaw> {
     plan: &'a Plan,
     target: &'a FePlan,
+    /// Told the fraction of the window done at every recorded instant.
+    progress: Progress<'a>,
     model: BallOnBeam<'a, L>,
     integrator: Integrator,
     state: State<BallOnBeamConfig>,
@@ -87,7 +91,12 @@ struct Run<'a, L: ContactLaw> {
 }
 
 impl<'a, L: ContactLaw> Run<'a, L> {
-    fn new(plan: &'a Plan, target: &'a FePlan, law: &'a L) -> Result<Self, ImpactError> {
+    fn new(
+        plan: &'a Plan,
+        target: &'a FePlan,
+        law: &'a L,
+        progress: Progress<'a>,
+    ) -> Result<Self, ImpactError> {
         let beam = build_beam(target)?;
         let model = BallOnBeam::new(
             beam,
@@ -116,6 +125,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         Ok(Self {
             plan,
             target,
+            progress,
             model,
             integrator,
             state,
@@ -152,6 +162,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     }
 
     fn record(&mut self) {
+        (self.progress)(self.state.t / self.plan.end_time);
         let p = self.model.contact_point(&self.state.q, Order::Value);
         let (nodes, e) = (&self.target.nodes, p.element);
         let contact_point = nodes[e] + p.xi * (nodes[e + 1] - nodes[e]);

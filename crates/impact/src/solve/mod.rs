@@ -25,11 +25,23 @@ use crate::plan::{Method, Plan};
 /// `Integrator` when the fe method's Newton iteration fails even after step halving, with the
 /// time reached and the integrator's error as the source.
 pub fn run(plan: &Plan) -> Result<Outcome, ImpactError> {
+    run_with_progress(plan, &|_| {})
+}
+
+/// Something told the fraction of the simulated window done (0 to 1) as a run goes, at every
+/// recorded instant: a progress bar.
+pub type Progress<'a> = &'a (dyn Fn(f64) + Sync);
+
+/// [`run`], telling `progress` how far it has got.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with_progress(plan: &Plan, progress: Progress<'_>) -> Result<Outcome, ImpactError> {
     match &plan.method {
-        Method::HalfSpace | Method::Modal(_) => plan.law.with(modal::ModalRun { plan }),
+        Method::HalfSpace | Method::Modal(_) => plan.law.with(modal::ModalRun { plan, progress }),
         Method::Fe(target) => match target.tolerance {
-            Some(tolerance) => refine::run(plan, target, tolerance),
-            None => plan.law.with(fe::FeRun { plan, target }),
+            Some(tolerance) => refine::run(plan, target, tolerance, progress),
+            None => plan.law.with(fe::FeRun { plan, target, progress }),
         },
     }
 }

@@ -11,6 +11,7 @@
 //! and the ball can close it, so no re-contact longer than a quarter contact step is missed.
 //! Onset and separation are located by root finding on the approach.
 
+use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
 use crate::law::WithLaw;
@@ -31,19 +32,22 @@ const LOCATE_TOLERANCE: f64 = 1e-9;
 /// Runs a modal or half-space plan to its end time, with whichever law it holds.
 pub(super) struct ModalRun<'a> {
     pub(super) plan: &'a Plan,
+    pub(super) progress: Progress<'a>,
 }
 
 impl WithLaw for ModalRun<'_> {
     type Output = Result<Outcome, ImpactError>;
 
     fn apply<L: ContactLaw>(self, law: &L) -> Self::Output {
-        Solver::new(self.plan, law)?.run()
+        Solver::new(self.plan, law, self.progress)?.run()
     }
 }
 
 struct Solver<'a, L: ContactLaw> {
     plan: &'a Plan,
     law: &'a L,
+    /// Told the fraction of the window done at every recorded instant.
+    progress: Progress<'a>,
     modes: PointModes,
     /// Contact steps by level (the plan's step / 2^level), built on first use; shared so that
     /// a step can use one while the solver's state changes.
@@ -85,7 +89,7 @@ fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
 }
 
 impl<'a, L: ContactLaw> Solver<'a, L> {
-    fn new(plan: &'a Plan, law: &'a L) -> Result<Self, ImpactError> {
+    fn new(plan: &'a Plan, law: &'a L, progress: Progress<'a>) -> Result<Self, ImpactError> {
         let modes = match &plan.method {
             Method::Modal(m) => {
                 let shapes = m.beam.modes(m.modes)?;
@@ -99,6 +103,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         Ok(Self {
             plan,
             law,
+            progress,
             modes,
             contact_steps: vec![None; FINEST_LEVEL + 1],
             t: 0.0,
@@ -146,6 +151,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
     }
 
     fn record(&mut self) {
+        (self.progress)(self.t / self.plan.end_time);
         let w = self.beam_displacement();
         self.history.push(Sample::with_energy(
             self.t,
@@ -617,7 +623,7 @@ mod tests {
             .replace("modes = 128", "modes = 64");
         let plan = Plan::new(&Scene::from_toml(&text).unwrap()).unwrap();
         let Law::Hertz(law) = plan.law else { panic!("hertz expected") };
-        let mut solver = Solver::new(&plan, &law).unwrap();
+        let mut solver = Solver::new(&plan, &law, &|_| {}).unwrap();
         let mut seed = 7;
         let mut fractions = Vec::new();
         for case in 0..40 {

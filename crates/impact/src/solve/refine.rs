@@ -12,6 +12,7 @@
 //! below 1e-3; what the mesh decides is how the waves between contacts travel).
 
 use super::fe::FeRun;
+use super::Progress;
 use crate::error::ImpactError;
 use crate::outcome::{Outcome, Report};
 use crate::plan::{uniform, FePlan, Plan, FE_LADDER_END};
@@ -23,7 +24,12 @@ pub(crate) const SIGNIFICANT_PEAK: f64 = 1e-3;
 
 /// Runs `target` on doubling uniform meshes until the estimated relative error of the finer
 /// is within `tolerance` (or the mesh reaches [`FE_LADDER_END`] elements, with a warning).
-pub(super) fn run(plan: &Plan, target: &FePlan, tolerance: f64) -> Result<Outcome, ImpactError> {
+pub(super) fn run(
+    plan: &Plan,
+    target: &FePlan,
+    tolerance: f64,
+    progress: Progress<'_>,
+) -> Result<Outcome, ImpactError> {
     let clock = std::time::Instant::now();
     let length = target.analytic.length();
     let mut elements = target.elements();
@@ -32,7 +38,7 @@ pub(super) fn run(plan: &Plan, target: &FePlan, tolerance: f64) -> Result<Outcom
     loop {
         let mut mesh = target.clone();
         mesh.nodes = uniform(length, elements);
-        let fine = plan.law.with(FeRun { plan, target: &mesh })?;
+        let fine = plan.law.with(FeRun { plan, target: &mesh, progress })?;
         let error =
             coarse.as_ref().map_or(f64::INFINITY, |c| estimated_error(&c.report, &fine.report));
         ladder.push(format!("{elements} ({:.3} s)", fine.report.wall_time));
