@@ -27,7 +27,7 @@ pub struct Scene {
 
 /// End conditions of a beam, as written in a scene file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(rename_all = "kebab-case", try_from = "toml::Value")]
 pub enum SupportName {
     /// Clamped at x = 0, free at x = L.
     ClampedFree,
@@ -39,6 +39,56 @@ pub enum SupportName {
     ClampedPinned,
     /// Free at both ends.
     FreeFree,
+}
+
+/// One of `names` by its spelling in a scene file; anything else is an error that lists them.
+fn named<T: Copy>(value: toml::Value, names: &[(&str, T)]) -> Result<T, String> {
+    let allowed = names.iter().map(|(n, _)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
+    match &value {
+        toml::Value::String(s) => names
+            .iter()
+            .find(|(n, _)| n == s)
+            .map(|(_, v)| *v)
+            .ok_or_else(|| format!("\"{s}\" is not one of {allowed}")),
+        other => Err(format!("{other} is not one of {allowed}")),
+    }
+}
+
+impl TryFrom<toml::Value> for SupportName {
+    type Error = String;
+    fn try_from(value: toml::Value) -> Result<Self, String> {
+        named(
+            value,
+            &[
+                ("clamped-free", Self::ClampedFree),
+                ("pinned-pinned", Self::PinnedPinned),
+                ("clamped-clamped", Self::ClampedClamped),
+                ("clamped-pinned", Self::ClampedPinned),
+                ("free-free", Self::FreeFree),
+            ],
+        )
+    }
+}
+
+impl TryFrom<toml::Value> for LawName {
+    type Error = String;
+    fn try_from(value: toml::Value) -> Result<Self, String> {
+        named(
+            value,
+            &[
+                ("hertz", Self::Hertz),
+                ("hunt-crossley", Self::HuntCrossley),
+                ("thornton", Self::Thornton),
+            ],
+        )
+    }
+}
+
+impl TryFrom<toml::Value> for MethodName {
+    type Error = String;
+    fn try_from(value: toml::Value) -> Result<Self, String> {
+        named(value, &[("auto", Self::Auto), ("modal", Self::Modal), ("fe", Self::Fe)])
+    }
 }
 
 impl From<SupportName> for modal::Support {
@@ -128,7 +178,7 @@ fn default_gravity() -> bool {
 
 /// Contact laws a scene can ask for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(rename_all = "kebab-case", try_from = "toml::Value")]
 pub enum LawName {
     /// Elastic Hertz.
     #[default]
@@ -173,7 +223,7 @@ pub struct ContactSpec {
 
 /// Solution methods.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(rename_all = "kebab-case", try_from = "toml::Value")]
 pub enum MethodName {
     /// Let the plan choose.
     #[default]

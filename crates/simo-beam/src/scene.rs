@@ -425,13 +425,13 @@ impl SectionSpec {
                     need("torsional_stiffness", self.torsional_stiffness)?,
                     "N m^2",
                 )?;
-                let bending = |name: &str, own: Option<f64>| {
-                    let v = own.or(self.bending_stiffness).ok_or_else(|| {
-                        SceneError::Inconsistent(format!(
-                            "section.{name} is missing (or give bending_stiffness for both axes)"
-                        ))
-                    })?;
-                    positive(&format!("section.{name}"), v, "N m^2")
+                // The error names the key the file holds: the axis's own, or the shared one.
+                let bending = |name: &str, own: Option<f64>| match (own, self.bending_stiffness) {
+                    (Some(v), _) => positive(&format!("section.{name}"), v, "N m^2"),
+                    (None, Some(v)) => positive("section.bending_stiffness", v, "N m^2"),
+                    (None, None) => Err(SceneError::Inconsistent(format!(
+                        "section.{name} is missing (or give bending_stiffness for both axes)"
+                    ))),
                 };
                 let ei2 = bending("bending_stiffness_2", self.bending_stiffness_2)?;
                 let ei3 = bending("bending_stiffness_3", self.bending_stiffness_3)?;

@@ -1,0 +1,113 @@
+//! The hostile tour as a test: validation scenes with one value replaced by a hostile one
+//! (NaN, infinities, -0, 0, huge, tiny, negative, the wrong type) or a line dropped, from a
+//! fixed pseudo-random sequence. None may panic; a refusal names a key the file holds; an
+//! accepted scene that is cheap to run reports only finite numbers and an energy ledger that
+//! closes (nothing created from nowhere).
+#![allow(clippy::unwrap_used)] // helpers stop on bad fixtures
+
+use impact::{simulate, MethodKind, Plan, Scene};
+
+fn noise(seed: &mut u64) -> u64 {
+    *seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+    *seed >> 33
+}
+
+const HOSTILE: [&str; 16] = [
+    "nan", "inf", "-inf", "-0.0", "0", "0.0", "1e308", "1e-300", "-1.0", "1e30", "1e-30", "2.5",
+    "\"text\"", "true", "[]", "7",
+];
+
+/// The keys (`name = ...` lines) and table names of a scene file.
+fn keys(text: &str) -> Vec<String> {
+    text.lines()
+        .filter_map(|l| {
+            let l = l.trim();
+            if let Some(t) = l.strip_prefix('[') {
+                return Some(t.trim_end_matches(']').to_string());
+            }
+            l.split_once(" = ").map(|(k, _)| k.trim().to_string())
+        })
+        .collect()
+}
+
+/// Every number in a JSON report is finite (serde_json writes NaN as null): nulls only where
+/// the report documents them.
+fn finite(value: &serde_json::Value, path: &str) {
+    match value {
+        serde_json::Value::Null => assert!(
+            ["restitution", "static_stiffness", "equivalent_static_force", "estimated_error"]
+                .iter()
+                .any(|k| path.ends_with(k)),
+            "null (not finite) at {path}"
+        ),
+        serde_json::Value::Number(n) => assert!(n.as_f64().is_some_and(f64::is_finite), "{path}"),
+        serde_json::Value::Array(a) => a.iter().for_each(|v| finite(v, path)),
+        serde_json::Value::Object(o) => {
+            o.iter().for_each(|(k, v)| finite(v, &format!("{path}/{k}")))
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn hostile_scenes_are_refused_by_name_or_run_clean() {
+    let dir = format!("{}/../../validation/scenes", env!("CARGO_MANIFEST_DIR"));
+    let bases: Vec<String> = ["paper-tip.toml", "half-space-r10.toml", "paper-midspan.toml"]
+        .iter()
+        .map(|f| std::fs::read_to_string(format!("{dir}/{f}")).unwrap())
+        .collect();
+    let mut seed = 2026;
+    let (mut refused, mut ran) = (0, 0);
+    for case in 0..600 {
+        let base = &bases[case % bases.len()];
+        let lines: Vec<&str> = base.lines().collect();
+        let candidates: Vec<usize> = (0..lines.len())
+            .filter(|&i| lines[i].contains(" = ") && !lines[i].trim_start().starts_with('#'))
+            .collect();
+        let at = candidates[noise(&mut seed) as usize % candidates.len()];
+        let mut mutated: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        let choice = noise(&mut seed) as usize % (HOSTILE.len() + 1);
+        if choice == HOSTILE.len() {
+            mutated.remove(at);
+        } else {
+            let key = lines[at].split(" = ").next().unwrap();
+            mutated[at] = format!("{key} = {}", HOSTILE[choice]);
+        }
+        let text = mutated.join("\n");
+        let held = keys(&text);
+        let outcome = Scene::from_toml(&text).and_then(|s| Plan::new(&s).map(|p| (s, p)));
+        match outcome {
+            Err(e) => {
+                let message = e.to_string();
+                assert!(
+                    held.iter().any(|k| message.contains(k.as_str())),
+                    "case {case}: the error names no key of the file: {message}\n{text}"
+                );
+                refused += 1;
+            }
+            Ok((scene, plan)) => {
+                let summary = plan.summary();
+                let cheap = plan.end_time() <= 5e-3
+                    && summary.modes <= 300
+                    && (summary.method != MethodKind::Fe || summary.elements <= 64);
+                if !cheap {
+                    continue;
+                }
+                let report = match simulate(&scene) {
+                    Ok(o) => o.report,
+                    Err(e) => panic!("case {case}: accepted but failed: {e}\n{text}"),
+                };
+                finite(&serde_json::to_value(&report).unwrap(), "");
+                let e = &report.energy;
+                let scale = e.initial + e.ball_potential.abs() + e.beam + e.dissipated;
+                assert!(
+                    e.balance_error.abs() <= 1e-2 * scale + 1e-15,
+                    "case {case}: the ledger does not close: {e:?}\n{text}"
+                );
+                ran += 1;
+            }
+        }
+    }
+    // The tour did both: refusals and runs (measured: 530 refused, 64 run, of 600).
+    assert!(refused > 150 && ran > 40, "{refused} refused, {ran} ran");
+}
