@@ -36,6 +36,8 @@ struct Case {
     /// HHT cases: alpha and Omega = omega h.
     alpha: Option<f64>,
     omega_h: Option<f64>,
+    /// Hard cases: KEY=VALUE settings applied to `scene` (as `sweep --set` takes them).
+    set: Option<Vec<String>>,
 }
 
 /// A scalar or a vector quantity.
@@ -140,6 +142,53 @@ fn compute_value(case: &Case) -> anyhow::Result<(Value, Option<Value>)> {
     }
 }
 
+/// A hard case: the scene with the case's settings, run; the result is the energy ledger's
+/// balance error relative to the energy that moved (initial kinetic, gravity's work, beam,
+/// dissipated, numerical), or infinity for a report with a non-finite number or against plain
+/// physics (no contact at all, a negative largest displacement, an elastic bounce that gives
+/// back more than it got).
+fn hard_case(scene: &Path, case: &Case) -> anyhow::Result<f64> {
+    use crate::sweep;
+    let text = std::fs::read_to_string(scene)
+        .with_context(|| format!("cannot read {}", scene.display()))?;
+    let base: toml::Table = toml::from_str(&text)?;
+    let axes = case
+        .set
+        .iter()
+        .flatten()
+        .map(|s| sweep::parse_set(s, &[]))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let point = sweep::grid(&axes).into_iter().next().context("no point")?;
+    let report = impact::simulate(&sweep::point_scene(&base, &point)?)?.report;
+    let json = serde_json::to_value(&report)?;
+    let finite = |v: &serde_json::Value| -> bool {
+        fn walk(v: &serde_json::Value) -> bool {
+            match v {
+                serde_json::Value::Number(n) => n.as_f64().is_some_and(f64::is_finite),
+                serde_json::Value::Array(a) => a.iter().all(walk),
+                serde_json::Value::Object(o) => o.values().all(walk),
+                _ => true,
+            }
+        }
+        walk(v)
+    };
+    let e = &report.energy;
+    let elastic = report.plan.contact_law == impact::LawName::Hertz;
+    let on_a_block = report.plan.method == impact::MethodKind::HalfSpace;
+    let gives_back_more =
+        elastic && on_a_block && report.restitution.is_some_and(|r| r > 1.0 + 1e-6);
+    if !finite(&json)
+        || report.contact_count == 0
+        || report.max_displacement < 0.0
+        || gives_back_more
+    {
+        return Ok(f64::INFINITY);
+    }
+    let moved =
+        e.initial + e.ball_potential.abs() + e.beam + e.dissipated + e.numerical_dissipation.abs();
+    Ok(e.balance_error.abs() / moved)
+}
+
 fn compute(case: &Case) -> anyhow::Result<f64> {
     let need = |o: &Option<String>, what: &str| {
         o.clone().with_context(|| format!("case {}: kind {} needs `{what}`", case.id, case.kind))
@@ -153,6 +202,7 @@ fn compute(case: &Case) -> anyhow::Result<f64> {
                 .and_then(serde_json::Value::as_f64)
                 .with_context(|| format!("case {}: no number at {pointer} in the report", case.id))
         }
+        "hard-case" => hard_case(&root().join(need(&case.scene, "scene")?), case),
         "cantilever-eigenvalue" => {
             Ok(modal::Support::ClampedFree.eigenvalue(case.mode.context("needs `mode`")?)?)
         }

@@ -93,12 +93,22 @@ const MAX_ELEMENTS: usize = 100_000;
 /// The most load steps of a static analysis (each is a Newton solve).
 const MAX_LOAD_STEPS: usize = 1_000_000;
 
+/// A number as a user reads it: in scientific notation when very large or small.
+fn show(value: f64) -> String {
+    let size = value.abs();
+    if size != 0.0 && !(1e-4..1e6).contains(&size) && size.is_finite() {
+        format!("{value:e}")
+    } else {
+        value.to_string()
+    }
+}
+
 /// `field` must be finite and strictly positive.
 fn positive(field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
     if !(value.is_finite() && value > 0.0) {
         return Err(SceneError::InvalidField {
             field: field.to_owned(),
-            value: value.to_string(),
+            value: show(value),
             allowed: format!("must be a finite number greater than 0 ({unit})"),
         });
     }
