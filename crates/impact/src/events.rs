@@ -2,7 +2,7 @@
 //! Illinois variant of regula falsi, Dowell & Jarratt 1971), refining a sampled maximum, and
 //! the bookkeeping of one contact from onset to separation ([`ContactRecorder`]).
 
-use crate::outcome::Contact;
+use crate::outcome::{Contact, PULSE_FRACTION};
 
 /// A bracket [a, b] of a sign change of f, narrowed by [`Illinois::narrow`].
 #[derive(Debug, Clone, Copy)]
@@ -77,6 +77,26 @@ pub(crate) fn refined_max(times: &[f64], values: &[f64]) -> f64 {
     }
 }
 
+/// The time from the first rise of `forces` through `level` to their first fall back through
+/// it after the peak, each crossing interpolated linearly between samples: the main pulse,
+/// without a ride or a second hump that follows it.
+pub(crate) fn pulse_duration(times: &[f64], forces: &[f64], level: f64) -> f64 {
+    let crossing = |i: usize| {
+        let (f0, f1) = (forces[i], forces[i + 1]);
+        times[i] + (times[i + 1] - times[i]) * ((level - f0) / (f1 - f0)).clamp(0.0, 1.0)
+    };
+    let above = |f: f64| f >= level;
+    let Some(first) = forces.iter().position(|f| above(*f)) else {
+        return 0.0;
+    };
+    let peak = forces.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).map_or(first, |p| p.0);
+    let last =
+        forces[peak..].iter().position(|f| !above(*f)).map_or(forces.len() - 1, |k| peak + k - 1);
+    let rise = if first == 0 { times[0] } else { crossing(first - 1) };
+    let fall = if last + 1 >= forces.len() { times[last] } else { crossing(last) };
+    fall - rise
+}
+
 /// One contact from onset to separation, step by step: the force and approach samples for
 /// the refined peaks, and the impulse by the trapezoidal rule (exact for the force held
 /// linear over each step, as both solvers hold it).
@@ -139,11 +159,13 @@ impl ContactRecorder {
         if self.forces.iter().all(|f| *f == 0.0) {
             return None;
         }
+        let peak = refined_max(&self.times, &self.forces);
         Some(Contact {
             start: self.start,
             duration: t - self.start,
             complete,
-            peak_force: refined_max(&self.times, &self.forces),
+            pulse_duration: pulse_duration(&self.times, &self.forces, PULSE_FRACTION * peak),
+            peak_force: peak,
             max_approach: refined_max(&self.times, &self.approaches),
             impulse: self.impulse,
             ball_velocity_before: self.velocity_before,
@@ -158,6 +180,16 @@ impl ContactRecorder {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::float_cmp)] // the end sample is kept exactly
     use super::{refined_max, Illinois};
+
+    #[test]
+    fn the_pulse_is_read_between_level_crossings() {
+        // A triangle 0 -> 10 -> 0 over [0, 2] and then a long ride, at 0.1 and then a hump
+        // to 2: at level 1 the pulse runs from 0.1 to 1 + 9/9.9, whatever follows it.
+        let times = [0.0, 1.0, 2.0, 3.0, 10.0, 11.0, 12.0];
+        let forces = [0.0, 10.0, 0.1, 0.1, 0.1, 2.0, 0.1];
+        let pulse = super::pulse_duration(&times, &forces, 1.0);
+        assert!((pulse - (1.0 + 9.0 / 9.9 - 0.1)).abs() < 1e-12, "{pulse}");
+    }
 
     #[test]
     fn refined_max_is_exact_for_a_parabola_on_any_spacing() {

@@ -8,6 +8,9 @@ pub use history::{History, Sample};
 use crate::plan::{Plan, PlanSummary};
 use serde::Serialize;
 
+/// The fraction of a contact's peak force that bounds its pulse (`Contact::pulse_duration`).
+pub const PULSE_FRACTION: f64 = 0.05;
+
 /// What a run produces.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Outcome {
@@ -26,6 +29,11 @@ pub struct Contact {
     pub duration: f64,
     /// False if the run ended during this contact.
     pub complete: bool,
+    /// Pulse duration (s): from the force's first rise through [`PULSE_FRACTION`] of its peak
+    /// to its first fall back through it after the peak, as an instrumented experiment reads a
+    /// force pulse. Shorter than `duration` where the ball then rides on lightly (in its print,
+    /// or on a beam that carries it), and defined even when the run ends during the contact.
+    pub pulse_duration: f64,
     /// Largest contact force (N).
     pub peak_force: f64,
     /// Largest approach (m).
