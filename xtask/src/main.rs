@@ -1,5 +1,7 @@
-//! The toolkit's command line: `cargo xtask reproduce | simulate | compare | beam | validate`.
+//! The toolkit's command line: `cargo xtask reproduce | simulate | compare | accuracy | sweep |
+//! beam | validate`.
 
+mod accuracy;
 mod beam;
 mod compare;
 mod plot;
@@ -56,6 +58,20 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Speed against error: run a beam scene by each method over a ladder of resolutions,
+    /// measure every run's errors from the method's converged run, and write
+    /// work_precision.csv and work_precision.svg; print the table and the cheapest setting for
+    /// 1e-2 and 1e-3.
+    Accuracy {
+        /// Scene file (TOML, SI units) with a [beam].
+        scene: PathBuf,
+        /// Output folder; default target/accuracy/NAME.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Shorter ladders (for CI): 16 to 128 modes and elements, references at 512.
+        #[arg(long)]
+        quick: bool,
+    },
     /// Run a beam under prescribed loads (no ball), static or dynamic; write the tracked node's
     /// history and the final shape as CSV (and SVG charts).
     Beam {
@@ -105,6 +121,7 @@ fn main() -> std::process::ExitCode {
         Command::Compare { scene, modes, elements, out } => {
             compare::run(&scene, &modes, &elements, out.as_deref())
         }
+        Command::Accuracy { scene, out, quick } => accuracy::run(&scene, out.as_deref(), quick),
         Command::Beam { scene, out } => beam::run(&scene, out.as_deref()),
         Command::Sweep { scene, set, log, shard, merge, out } => match (scene, merge.is_empty()) {
             (Some(scene), true) => sweep::run(&scene, &set, &log, out.as_deref(), shard.as_deref()),

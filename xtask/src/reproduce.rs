@@ -30,6 +30,38 @@ pub(crate) fn run_all(label: &str, scenes: Vec<Scene>) -> anyhow::Result<Vec<imp
     .collect()
 }
 
+/// The largest difference of `pick` between each modal run and its scene re-run with twice the
+/// modes, relative to the doubled run's value (or absolute, for a quantity that crosses zero
+/// such as the restitution): the error a figure states for what it plots. The modal series converges at
+/// about third order in the modes (the work-precision figure), so the doubled run is some
+/// eight times closer and the difference is the plotted run's error.
+fn doubled_modes_error(
+    label: &str,
+    scenes: &[Scene],
+    runs: &[impact::Outcome],
+    relative: bool,
+    pick: impl Fn(&impact::Report) -> f64,
+) -> anyhow::Result<f64> {
+    let doubled = scenes
+        .iter()
+        .map(|s| {
+            let mut s = s.clone();
+            let modes = s.solver.modes.context("a modal scene with its modes")?;
+            s.solver.modes = Some(2 * modes);
+            Ok(s)
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let checks = run_all(label, doubled)?;
+    Ok(runs.iter().zip(&checks).fold(0.0, |worst, (run, check)| {
+        let (a, b) = (pick(&run.report), pick(&check.report));
+        match (relative, b == 0.0) {
+            (true, true) => worst,
+            (true, false) => worst.max(((a - b) / b).abs()),
+            (false, _) => worst.max((a - b).abs()),
+        }
+    }))
+}
+
 /// The paper's tip scene without the keys in `remove`, with `fixed` keys set, over the grid of
 /// `axes`: the sweep's machinery.
 fn paper_sweep(
@@ -73,6 +105,7 @@ pub(crate) fn run(out: &Path, quick: bool) -> anyhow::Result<bool> {
         fig4(out, quick)?,
         fig5_6(out, quick)?,
         energy(out, quick)?,
+        work_precision(out, quick)?,
     ]
     .concat();
     write_index(out, &figures, quick)?;
@@ -100,7 +133,12 @@ fn fig3a(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             Ok(s)
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let runs = run_all("3a: modes 1..256", scenes)?;
+    let runs = run_all("3a: modes 1..256", scenes.clone())?;
+    let finest = counts.len() - 1;
+    let error =
+        doubled_modes_error("3a: error check", &scenes[finest..], &runs[finest..], true, |r| {
+            r.max_displacement
+        })?;
     let series = runs
         .iter()
         .zip(&counts)
@@ -125,8 +163,12 @@ fn fig3a(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         caption: format!(
             "The paper's tip scene (9 g ball, R = 5 mm, dropped 0.2 m on the free end of the 1.15 m, 25 x 5 mm steel cantilever; elastic Hertz contact; gravity on) solved with Goldsmith's modal method for {counts:?} modes over 5 ms. \
              Largest displacement in the window per mode count: {}. As in the paper's Fig. 3a, the curves converge as modes are added, but slowly: in this 5 ms window (the first \
-             milliseconds after impact, before the first mode has swung) the curves only gather from about 32 modes on, and 1 to 8 modes (the paper used 4) misstate the local response.",
-            summary.join(", ")
+             milliseconds after impact, before the first mode has swung) the curves only gather from about 32 modes on, and 1 to 8 modes (the paper used 4) misstate the local response. \
+             Error: the {}-mode curve's largest displacement is within {:.1e} of converged (its difference from {} modes).",
+            summary.join(", "),
+            counts[finest],
+            error,
+            2 * counts[finest]
         ),
     }])
 }
@@ -136,7 +178,7 @@ fn method_runs(
     label: &str,
     end_time: f64,
     quick: bool,
-) -> anyhow::Result<(Vec<String>, Vec<impact::Outcome>)> {
+) -> anyhow::Result<(Vec<String>, Vec<Scene>, Vec<impact::Outcome>)> {
     let converged_modes = if quick { 64 } else { 256 };
     let mut labels = Vec::new();
     let mut scenes = Vec::new();
@@ -158,7 +200,7 @@ fn method_runs(
         labels.push(name);
         scenes.push(s);
     }
-    let runs = run_all(label, scenes)?;
+    let runs = run_all(label, scenes.clone())?;
     let labels = labels
         .into_iter()
         .zip(&runs)
@@ -170,12 +212,16 @@ fn method_runs(
             }
         })
         .collect();
-    Ok((labels, runs))
+    Ok((labels, scenes, runs))
 }
 
 fn fig3b(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     let end = if quick { 1e-3 } else { 5e-3 };
-    let (labels, runs) = method_runs("3b: modal vs FE displacement", end, quick)?;
+    let (labels, scenes, runs) = method_runs("3b: modal vs FE displacement", end, quick)?;
+    let error = doubled_modes_error("3b: error check", &scenes[2..3], &runs[2..3], true, |r| {
+        r.max_displacement
+    })?;
+    let fe_gap = (runs[3].report.max_displacement / runs[2].report.max_displacement - 1.0).abs();
     let series = labels.iter().zip(&runs).map(|(l, o)| displacement_series(l.clone(), o)).collect();
     Chart {
         title: "Fig. 3b: tip displacement, modal vs finite elements",
@@ -204,7 +250,9 @@ fn fig3b(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             "The paper's tip scene (h = 0.2 m, elastic Hertz) over {} ms by Goldsmith's modal method and by the geometrically exact (Simo) finite-element beam in HHT-alpha (alpha = -0.05), \
              each with the paper's settings (4 modes; 10 elements) and with converged ones. {}. The paper's Fig. 3b shows its two methods agreeing with 4 modes and 10 elements; here the two coarse models differ from each other by {:.0} % in the largest displacement \
              and are both far from converged near the impact: each makes the tip too stiff, with a single long contact. The converged modal and FE curves agree closely over the first \
-             contact and drift apart over the later ones, which depend on the tip's high-frequency ringing (Euler-Bernoulli vs Timoshenko sections, numerical damping of HHT).",
+             contact and drift apart over the later ones, which depend on the tip's high-frequency ringing (Euler-Bernoulli vs Timoshenko sections, numerical damping of HHT). \
+             Error: the converged modal curve's largest displacement is within {error:.1e} of converged in the modes (its difference from twice the modes); the graded FE curve's differs from it by {fe_gap:.1e}, \
+             the two models' difference and the mesh's error together (the work-precision figure separates them over 1 ms).",
             end * 1e3,
             lines.join("; "),
             100.0 * (runs[1].report.max_displacement / runs[0].report.max_displacement - 1.0).abs()
@@ -213,7 +261,10 @@ fn fig3b(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
 }
 
 fn fig3c(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
-    let (labels, runs) = method_runs("3c: contact force", 2e-4, quick)?;
+    let (labels, scenes, runs) = method_runs("3c: contact force", 2e-4, quick)?;
+    let first_contact = |r: &impact::Report| r.contacts.first().map_or(0.0, |c| c.peak_force);
+    let error =
+        doubled_modes_error("3c: error check", &scenes[2..3], &runs[2..3], true, first_contact)?;
     let mut lines = Vec::new();
     let series = labels
         .iter()
@@ -255,7 +306,8 @@ fn fig3c(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         caption: format!(
             "Contact force of the first impact of the paper's tip scene (h = 0.2 m, elastic Hertz): {}. Converged, the two methods agree on the peak force within {:.2} % \
              (the issue's 1 % criterion; the convergence tables are in the issue notes). The paper states that the contact force is not affected by the beam model; with the paper's \
-             truncations it is: 4 modes and 10 elements both make the tip locally too stiff and the peak force is {:.2} and {:.2} times the converged one.",
+             truncations it is: 4 modes and 10 elements both make the tip locally too stiff and the peak force is {:.2} and {:.2} times the converged one. \
+             Error: the converged modal peak is within {error:.1e} of converged in the modes (its difference from twice the modes).",
             lines.join("; "),
             100.0 * ((p_fe - p_modal) / p_modal).abs(),
             peak(&runs[0]) / p_modal,
@@ -270,7 +322,7 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     } else {
         (0..16).map(|k| 0.25 * (k + 1) as f64).collect()
     };
-    let modes: usize = if quick { 16 } else { 64 };
+    let modes: usize = if quick { 16 } else { 256 };
     let scenes = paper_sweep(
         &["impact.drop_height"],
         &[
@@ -282,8 +334,13 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             Axis::new("impact.speed", speeds.iter().map(|v| toml::Value::Float(*v))),
         ],
     )?;
-    let runs = run_all("4: speed sweep", scenes)?;
+    let runs = run_all("4: speed sweep", scenes.clone())?;
     let (elastic, plastic) = runs.split_at(speeds.len());
+    let pulse = |r: &impact::Report| r.contacts.first().map_or(0.0, |c| c.pulse_duration);
+    let print = |r: &impact::Report| r.contacts.first().map_or(0.0, |c| c.print_radius);
+    let duration_error = doubled_modes_error("4: error check", &scenes, &runs, true, pulse)?;
+    let print_error =
+        doubled_modes_error("4: error check", &scenes[speeds.len()..], plastic, true, print)?;
     let first = |o: &impact::Outcome| o.report.contacts[0].clone();
     let series = vec![
         Series {
@@ -336,7 +393,10 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         .fold(0.0, f64::max);
     let cut = plastic.iter().filter(|o| !first(o).complete).count();
     let (lo, hi) = (speeds[0], speeds[speeds.len() - 1]);
-    let restitution = restitution_figure(out, &speeds, elastic, plastic, modes)?;
+    let restitution_error = doubled_modes_error("4: error check", &scenes, &runs, false, |r| {
+        r.restitution.unwrap_or(0.0)
+    })?;
+    let restitution = restitution_figure(out, &speeds, elastic, plastic, modes, restitution_error)?;
     Ok(vec![
         Figure {
             stem: "fig4a_duration_vs_speed",
@@ -346,7 +406,8 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
                  instrumented experiment reads a pulse. Elastic: {:.1} us falling to {:.1} us, close to the Hertz law t_c ~ V^(-1/5) of a rigid support (ratio {:.3} vs {:.3}). \
                  Elastic-plastic (Thornton, limiting pressure 1.6 x 340 MPa): {:.1} to {:.1} us. After its pulse the Thornton ball rides on in its own print at a small force \
                  (up to {riding:.0} us here, cut by the {:.0} us window in {cut} of {} runs): that riding phase is not a pulse and is not plotted. The paper states that the impact time \
-                 falls as the speed grows and levels off, and that plasticity shortens it; the Thornton model instead lengthens the pulse (a softer, flattened contact), which we report as found.",
+                 falls as the speed grows and levels off, and that plasticity shortens it; the Thornton model instead lengthens the pulse (a softer, flattened contact), which we report as found. \
+                 Error: every plotted duration is within {duration_error:.1e} of converged in the modes (its difference from twice the modes).",
                 d(&elastic[0]), d(&elastic[speeds.len() - 1]), d(&elastic[speeds.len() - 1]) / d(&elastic[0]), (hi / lo).powf(-0.2),
                 d(&plastic[0]), d(&plastic[speeds.len() - 1]), 3e-4 * 1e6, speeds.len()
             ),
@@ -357,7 +418,8 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             caption: format!(
                 "Rim radius of the permanent print left by the first impact (Thornton's elastic-perfectly-plastic law; the print rim is the contact radius at the largest load). With the beam's \
                  yield stress 340 MPa the first-yield speed is about 6 mm/s, so every speed shown leaves a print; it grows with speed ({:.3} to {:.3} mm) and stays well below the ball radius (5 mm), \
-                 as the paper describes. The paper's growth toward the ball radius at high speed is outside the range of small-strain contact mechanics.",
+                 as the paper describes. The paper's growth toward the ball radius at high speed is outside the range of small-strain contact mechanics. \
+                 Error: every plotted radius is within {print_error:.1e} of converged in the modes (its difference from twice the modes).",
                 first(&plastic[0]).print_radius * 1e3, first(&plastic[speeds.len() - 1]).print_radius * 1e3
             ),
         },
@@ -373,7 +435,7 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     };
     let mut heights = heights;
     heights.sort_by(f64::total_cmp);
-    let (modes, end) = if quick { (8, 0.02) } else { (16, 0.1) };
+    let (modes, end) = if quick { (8, 0.02) } else { (64, 0.1) };
     let scenes = paper_sweep(
         &[],
         &[
@@ -382,7 +444,9 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         ],
         &[Axis::new("impact.drop_height", heights.iter().map(|h| toml::Value::Float(*h)))],
     )?;
-    let runs = run_all("5-6: drop heights", scenes)?;
+    let runs = run_all("5-6: drop heights", scenes.clone())?;
+    let error =
+        doubled_modes_error("5-6: error check", &scenes, &runs, true, |r| r.max_displacement)?;
     let disp = vec![Series {
         label: format!("modal, {modes} modes, {} ms", end * 1e3),
         points: heights
@@ -422,17 +486,20 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             stem: "fig5_max_displacement_vs_height",
             title: "Fig. 5: max displacement of the beam vs drop height".into(),
             caption: format!(
-                "Largest displacement of the tip within {} ms after the first impact ({modes} modes, 200 steps per pulse, gravity on, elastic Hertz; the ball may strike again), drop heights {} to {} m: \
+                "Largest displacement of the tip within {} ms after the first impact ({modes} modes, adaptive contact step, gravity on, elastic Hertz; the ball may strike again), drop heights {} to {} m: \
                  {:.3} to {:.3} mm. The first-mode quarter period is about 80 ms, so the window holds the first swing. The paper measured the maximum displacement with a displacement sensor and \
-                 reports a 4.3 % average difference between theory and measurement; its numbers are not tabulated in the text, so the comparison here is of the trend: the displacement grows with height.",
-                end * 1e3, heights[0], heights[heights.len() - 1], first.max_displacement * 1e3, last.max_displacement * 1e3
+                 reports a 4.3 % average difference between theory and measurement; its numbers are not tabulated in the text, so the comparison here is of the trend: the displacement grows with height. \
+                 Error: the plotted values move by up to {error:.1e} from {modes} to {} modes, and more modes do not settle them (256 to 512: 9.5e-2): within {} ms the ball \
+                 strikes again and again, each strike starting from the ringing the earlier ones left, so the largest displacement inherits the sensitivity of the whole sequence.",
+                end * 1e3, heights[0], heights[heights.len() - 1], first.max_displacement * 1e3, last.max_displacement * 1e3, 2 * modes, end * 1e3
             ),
         },
         Figure {
             stem: "fig6_equivalent_static_force_vs_height",
             title: "Fig. 6: equivalent static force vs drop height".into(),
             caption: format!(
-                "Equivalent static force = static tip stiffness 3EI/L^3 = {:.2} N/m times the largest tip displacement of Fig. 5: {:.3} to {:.3} N. As in the paper, it grows with the drop height.",
+                "Equivalent static force = static tip stiffness 3EI/L^3 = {:.2} N/m times the largest tip displacement of Fig. 5: {:.3} to {:.3} N. As in the paper, it grows with the drop height. \
+                 Error: that of Fig. 5, {error:.1e} (the stiffness is exact).",
                 last.static_stiffness.unwrap_or(f64::NAN), first.equivalent_static_force.unwrap_or(f64::NAN), last.equivalent_static_force.unwrap_or(f64::NAN)
             ),
         },
@@ -447,6 +514,7 @@ fn restitution_figure(
     elastic: &[impact::Outcome],
     plastic: &[impact::Outcome],
     modes: usize,
+    error: f64,
 ) -> anyhow::Result<Figure> {
     let scene = paper()?;
     let (beam, ball) = (scene.beam.as_ref().context("paper scene has a beam")?, &scene.ball);
@@ -492,7 +560,8 @@ fn restitution_figure(
              still moves toward the beam when the contact ends (the tip runs away faster than the ball). The paper computed it but did not show it. \
              On the cantilever even the elastic contact returns little of the ball's speed: most of its energy goes into the beam's vibration ({:.3} at {} m/s), and Thornton's plastic work \
              lowers it further ({:.3}). The closed form of Thornton (1997) for the same ball on a rigid flat (first-yield speed {vy:.4} m/s) is drawn for reference: {:.3} at {} m/s; \
-             on a flexible target the restitution is set by the beam, not by the plastic print.",
+             on a flexible target the restitution is set by the beam, not by the plastic print. \
+             Error: every plotted value on the cantilever is within {error:.1e} of converged in the modes (its difference from twice the modes; absolute, as e crosses zero).",
             e_last(&el), speeds[speeds.len() - 1], e_last(&pl), e_last(&rigid), speeds[speeds.len() - 1]
         ),
     })
@@ -552,6 +621,47 @@ fn energy(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             e.dissipated * 1e3,
             run.report.contact_count,
             worst * 1e3
+        ),
+    }])
+}
+
+/// Speed against error of both methods on the paper's tip scene over 1 ms (its first three
+/// contacts and the start of the chatter): `cargo xtask accuracy`'s study. Over the full 5 ms
+/// the chattering contacts are too sensitive for the fe ladder to converge (each contact
+/// starts from the ringing the earlier ones left; 8192 elements do not find the same
+/// contacts twice), so a reference could not be vouched for.
+fn work_precision(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
+    let mut scene = paper()?;
+    scene.solver.end_time = Some(1e-3);
+    let study = crate::accuracy::study(&scene, quick)?;
+    study.write(out)?;
+    let cheapest = |method: &str, target: f64| {
+        study.cheapest(method, target).map_or_else(
+            || "none of the ladder".to_string(),
+            |r| format!("{} ({:.4} s)", r.setting, r.wall_time),
+        )
+    };
+    let references: Vec<String> = study
+        .references
+        .iter()
+        .map(|r| format!("{} {} (itself within {:.1e})", r.method, r.setting, r.estimated_error))
+        .collect();
+    Ok(vec![Figure {
+        stem: "work_precision",
+        title: "Beyond the paper: speed against error of both methods".into(),
+        caption: format!(
+            "The paper's tip scene (gravity on, elastic Hertz) over 1 ms, by the modal method on a ladder of modes (and looser energy tolerances of its contact step) and by the finite-element \
+             method on a ladder of uniform meshes (and other contact steps and HHT alphas): report wall time against the relative error of the first contact's duration and peak force, \
+             of the contact sequence (worst start, duration or peak over the contacts with a peak of at least 1 % of the first's) and of the largest displacement, each from its own \
+             method's converged run: {}. The two converged runs differ by {:.1e}: the models' own difference (Euler-Bernoulli modes against the geometrically exact beam). \
+             Cheapest setting with every error within 1e-2: modal {}, fe {}; within 1e-3: modal {}, fe {}. The modal series converges at about third order in the modes \
+             (each doubling cuts the error about eight times), the fe mesh at second order (four times). Data: work_precision.csv (one row a run).",
+            references.join("; "),
+            study.model_difference,
+            cheapest("modal", 1e-2),
+            cheapest("fe", 1e-2),
+            cheapest("modal", 1e-3),
+            cheapest("fe", 1e-3)
         ),
     }])
 }

@@ -10,6 +10,8 @@ use crate::material::{effective_modulus, Material};
 pub struct Hertz {
     effective_modulus: f64,
     effective_radius: f64,
+    /// K, computed once: the modal contact step evaluates the law a few times per step.
+    stiffness_constant: f64,
 }
 
 impl Hertz {
@@ -20,7 +22,8 @@ impl Hertz {
     pub fn new(effective_modulus: f64, effective_radius: f64) -> Result<Self, HertzError> {
         positive("effective_modulus", effective_modulus, "Pa")?;
         positive("effective_radius", effective_radius, "m")?;
-        Ok(Self { effective_modulus, effective_radius })
+        let stiffness_constant = 4.0 / 3.0 * effective_modulus * effective_radius.sqrt();
+        Ok(Self { effective_modulus, effective_radius, stiffness_constant })
     }
 
     /// Two materials and an effective radius (see [`crate::geometry`]).
@@ -43,7 +46,7 @@ impl Hertz {
 
     /// Hertz constant K = (4/3) E* sqrt(R) (N/m^1.5).
     pub fn stiffness_constant(&self) -> f64 {
-        4.0 / 3.0 * self.effective_modulus * self.effective_radius.sqrt()
+        self.stiffness_constant
     }
 
     /// Force K delta^(3/2) (N), zero for delta <= 0.
@@ -101,11 +104,14 @@ impl ContactLaw for Hertz {
     type State = ();
 
     fn force(&self, _: &(), delta: f64, _delta_dot: f64) -> ContactForce {
-        ContactForce {
-            force: self.elastic_force(delta),
-            stiffness: self.elastic_stiffness(delta),
-            damping: 0.0,
-        }
+        // elastic_force and elastic_stiffness with one square root between them.
+        let (force, stiffness) = if delta > 0.0 {
+            let (k, root) = (self.stiffness_constant, delta.sqrt());
+            (k * delta * root, 1.5 * k * root)
+        } else {
+            (0.0, 0.0)
+        };
+        ContactForce { force, stiffness, damping: 0.0 }
     }
 
     fn commit(&self, _: &mut (), _delta: f64, _delta_dot: f64) {}

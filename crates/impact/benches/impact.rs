@@ -1,5 +1,5 @@
 //! Whole simulations: the paper's tip scene (h = 0.2 m, 5 ms) with 4, 64 and 256 modes (and
-//! with 256 modes on uniform steps), its
+//! with 256 modes on uniform steps, and gravity off: the scipy peer's case), its
 //! first contact with 256 modes, the same scene with the finite-element method (default graded
 //! mesh; first contact only, and 5 ms; 256 equal elements over 1 ms, gravity off, the peer
 //! comparison), and the half-space closed-form case.
@@ -21,6 +21,11 @@ fn scenes(c: &mut Criterion) {
             b.iter(|| simulate(s))
         });
     }
+    // The scipy peer's case (validation/peers/scipy_modal_tip.py): 256 modes, gravity off.
+    let mut peer = Scene::from_toml(PAPER).expect("valid scene");
+    peer.solver.modes = Some(256);
+    peer.impact.gravity = false;
+    group.bench_function("paper tip 5 ms gravity off/256", |b| b.iter(|| simulate(&peer)));
     // The scheme before the adaptive step: uniform steps, 1000 per pulse (energy balance
     // 7e-7 on the 64-mode run, against 4e-7 for the adaptive default).
     let mut uniform = Scene::from_toml(PAPER).expect("valid scene");

@@ -57,7 +57,7 @@ mod solve;
 
 pub use error::ImpactError;
 pub use law::Law;
-pub use outcome::{Contact, Energy, History, Outcome, Report, Sample, PULSE_FRACTION};
+pub use outcome::{Contact, Differences, Energy, History, Outcome, Report, Sample, PULSE_FRACTION};
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,

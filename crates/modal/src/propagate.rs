@@ -228,26 +228,38 @@ pub struct Transition {
 /// cost.
 fn undamped_kernels(x: f64) -> (f64, f64, f64, f64) {
     if x < 0.5 {
-        // Taylor series; 9 terms reach round-off for x < 0.5 (x^18/21! < 1e-25).
-        let x2 = x * x;
+        // Taylor series in y = -x^2 by Horner's rule on the coefficients tabled at compile
+        // time (no division: the low modes of every step take this branch); 9 terms reach
+        // round-off for x < 0.5 (x^18/21! < 1e-25).
+        let y = -x * x;
         let (mut c1, mut c2, mut c3) = (0.0, 0.0, 0.0);
-        let mut term = 1.0; // (-x^2)^k
-        let mut fact = 1.0; // (2k + 1)!
-        for k in 0..9 {
-            let kf = k as f64;
-            c1 += term / fact;
-            c2 += term / (fact * (2.0 * kf + 2.0));
-            c3 += term / (fact * (2.0 * kf + 2.0) * (2.0 * kf + 3.0));
-            term *= -x2;
-            fact *= (2.0 * kf + 2.0) * (2.0 * kf + 3.0);
+        for [a1, a2, a3] in KERNEL_TAYLOR.iter().rev() {
+            c1 = c1 * y + a1;
+            c2 = c2 * y + a2;
+            c3 = c3 * y + a3;
         }
-        (1.0 - x2 * c2, c1, c2, c3)
+        (1.0 + y * c2, c1, c2, c3)
     } else {
         let (s, c) = (0.5 * x).sin_cos();
         let sin = 2.0 * s * c;
         (1.0 - 2.0 * s * s, sin / x, 2.0 * s * s / (x * x), (x - sin) / (x * x * x))
     }
 }
+
+/// The Taylor coefficients of sin(x)/x, (1 - cos x)/x^2 and (x - sin x)/x^3 in powers of
+/// -x^2: 1/(2k+1)!, 1/(2k+2)!, 1/(2k+3)! for k = 0..8.
+const KERNEL_TAYLOR: [[f64; 3]; 9] = {
+    let mut table = [[0.0; 3]; 9];
+    let mut fact = 1.0; // (2k + 1)!
+    let mut k = 0;
+    while k < 9 {
+        let a = 2.0 * k as f64;
+        table[k] = [1.0 / fact, 1.0 / (fact * (a + 2.0)), 1.0 / (fact * (a + 2.0) * (a + 3.0))];
+        fact *= (a + 2.0) * (a + 3.0);
+        k += 1;
+    }
+    table
+};
 
 /// exp(z), phi1(z), phi2(z) for complex z, by Taylor series near 0 (no cancellation).
 fn phi_functions(z: Complex64) -> (Complex64, Complex64, Complex64) {
@@ -329,6 +341,17 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 impl PointModes {
+    /// The part of the displacement at the point (m) and of its rate (m/s) that the modes in
+    /// `range` carry: sum g q and sum g v over them (the whole rate series does not converge,
+    /// see [`PointModes::velocity`]; a partial one is a finite sum).
+    ///
+    /// # Panics
+    /// If `range` reaches past the modes.
+    pub fn partial_motion(&self, state: &ModalState, range: std::ops::Range<usize>) -> (f64, f64) {
+        let gain = &self.gain[range.clone()];
+        (dot(gain, &state.q[range.clone()]), dot(gain, &state.v[range]))
+    }
+
     /// Displacement at the point after a step tau from `state` with the force going linearly
     /// from `f0` to zero (m), without building a [`Transition`]: what event location needs, at
     /// any trial tau.
@@ -344,60 +367,120 @@ impl PointModes {
         let h = positive("time_step", tau, "s")?;
         let mut w = 0.0;
         for (i, (&omega, &zeta)) in self.omega.iter().zip(&self.damping_ratio).enumerate() {
-            let s = ModeStep::new(omega, zeta, h, Hold::FirstOrder);
+            let (e11, e12, g0q) = if zeta == 0.0 || omega == 0.0 {
+                // Only the displacement row of the undamped step (see ModeStep::new), without
+                // the velocity row this sum never reads.
+                let (cos, c1, c2, c3) = undamped_kernels(omega * h);
+                (cos, h * c1, h * h * (c2 - c3))
+            } else {
+                let s = ModeStep::new(omega, zeta, h, Hold::FirstOrder);
+                (s.e[0], s.e[1], s.g0[0])
+            };
             let g = self.gain[i];
-            w += g * (s.e[0] * state.q[i] + s.e[1] * state.v[i] + g * s.g0[0] * f0);
+            w += g * (e11 * state.q[i] + e12 * state.v[i] + g * g0q * f0);
         }
         Ok(w)
     }
 }
 
-/// The step's update of every mode. The hot loops are compiled for the widest vector
+impl PointModes {
+    /// Advances `state` by tau (s) with the force going linearly from `f0` to `f1` (N), and
+    /// returns the displacement at the point (m) and the beam's energy (J) after it: the
+    /// same as [`Transition::new`] then [`Transition::advance_with_energy`], without building
+    /// and storing the transition, for a step taken once (the partial step to an event).
+    ///
+    /// # Errors
+    /// `InvalidParameter` if tau is not finite and positive.
+    pub fn advance_once(
+        &self,
+        state: &mut ModalState,
+        tau: f64,
+        f0: f64,
+        f1: f64,
+    ) -> Result<(f64, f64), ModalError> {
+        let h = positive("time_step", tau, "s")?;
+        let (mut w, mut energy) = (0.0, 0.0);
+        for (i, (&omega, &zeta)) in self.omega.iter().zip(&self.damping_ratio).enumerate() {
+            let s = ModeStep::new(omega, zeta, h, Hold::FirstOrder);
+            let g = self.gain[i];
+            let (q, v) = (state.q[i], state.v[i]);
+            let q1 = s.e[0] * q + s.e[1] * v + g * (s.g0[0] * f0 + s.g1[0] * f1);
+            let v1 = s.e[2] * q + s.e[3] * v + g * (s.g0[1] * f0 + s.g1[1] * f1);
+            state.q[i] = q1;
+            state.v[i] = v1;
+            w += g * q1;
+            energy += 0.5 * (v1 * v1 + omega * omega * q1 * q1);
+        }
+        Ok((w, energy))
+    }
+}
+
+/// The step's update of every mode, with the sums of the displacement at the point, the
+/// energy, and the displacement at the point at the end of one more step of the same
+/// transition with the force held at `f1` and no load added (what [`FreeKernel`] gives from
+/// the new state with f0 = f1). The hot loops are compiled for the widest vector
 /// instructions the processor has (pulp checks at run time and inlines `with_simd` into a
 /// function built for them); the operations and their order are the same on every path, and
-/// Rust never fuses a multiply and an add on its own, so neither are the results.
-struct AdvanceKernel<'a> {
+/// Rust never fuses a multiply and an add on its own, so neither are the results. Without a
+/// force (`FORCED` false: free flight) the load columns are not read.
+struct AdvanceKernel<'a, const FORCED: bool> {
     t: &'a Transition,
     state: &'a mut ModalState,
     f0: f64,
     f1: f64,
+    /// The force at the start of the predicted step.
+    f_next: f64,
 }
 
-impl WithSimd for AdvanceKernel<'_> {
-    /// (displacement at the point, beam energy).
-    type Output = (f64, f64);
+impl<const FORCED: bool> WithSimd for AdvanceKernel<'_, FORCED> {
+    /// (displacement at the point, beam energy, the next step's free end displacement).
+    type Output = (f64, f64, f64);
 
     #[inline(always)]
-    fn with_simd<S: Simd>(self, _simd: S) -> (f64, f64) {
-        let Self { t, state, f0, f1 } = self;
+    fn with_simd<S: Simd>(self, _simd: S) -> (f64, f64, f64) {
+        let Self { t, state, f0, f1, f_next } = self;
         // Every slice cut to one length, so the loops have no bounds checks and vectorise.
         let n = t.e11.len();
         let (q, v) = (&mut state.q[..n], &mut state.v[..n]);
         let (e11, e12, e21, e22) = (&t.e11[..n], &t.e12[..n], &t.e21[..n], &t.e22[..n]);
-        let (g0q, g0v, g1q, g1v) = (&t.g0q[..n], &t.g0v[..n], &t.g1q[..n], &t.g1v[..n]);
-        for i in 0..n {
-            let (qi, vi) = (q[i], v[i]);
-            q[i] = e11[i] * qi + e12[i] * vi + g0q[i] * f0 + g1q[i] * f1;
-            v[i] = e21[i] * qi + e22[i] * vi + g0v[i] * f0 + g1v[i] * f1;
+        if FORCED {
+            let (g0q, g0v, g1q, g1v) = (&t.g0q[..n], &t.g0v[..n], &t.g1q[..n], &t.g1v[..n]);
+            for i in 0..n {
+                let (qi, vi) = (q[i], v[i]);
+                q[i] = e11[i] * qi + e12[i] * vi + g0q[i] * f0 + g1q[i] * f1;
+                v[i] = e21[i] * qi + e22[i] * vi + g0v[i] * f0 + g1v[i] * f1;
+            }
+        } else {
+            for i in 0..n {
+                let (qi, vi) = (q[i], v[i]);
+                q[i] = e11[i] * qi + e12[i] * vi;
+                v[i] = e21[i] * qi + e22[i] * vi;
+            }
         }
-        let (gain, omega2) = (&t.gain[..n], &t.omega2[..n]);
-        // Four running sums of each, in a fixed order: independent chains that vectorise.
-        let (mut w, mut e) = ([0.0; 4], [0.0; 4]);
+        let (gain, omega2, wq, wv) = (&t.gain[..n], &t.omega2[..n], &t.wq[..n], &t.wv[..n]);
+        // Four running sums of each, in a fixed order: independent chains that vectorise (the
+        // next step's two in the order of `dot`, so the sum is FreeKernel's to the last bit).
+        let (mut w, mut e, mut nq, mut nv) = ([0.0; 4], [0.0; 4], [0.0; 4], [0.0; 4]);
         let mut i = 0;
         while i + 4 <= n {
             for k in 0..4 {
                 let j = i + k;
                 w[k] += gain[j] * q[j];
                 e[k] += v[j] * v[j] + omega2[j] * q[j] * q[j];
+                nq[k] += wq[j] * q[j];
+                nv[k] += wv[j] * v[j];
             }
             i += 4;
         }
-        let (mut w_tail, mut e_tail) = (0.0, 0.0);
+        let (mut w_tail, mut e_tail, mut nq_tail, mut nv_tail) = (0.0, 0.0, 0.0, 0.0);
         for j in i..n {
             w_tail += gain[j] * q[j];
             e_tail += v[j] * v[j] + omega2[j] * q[j] * q[j];
+            nq_tail += wq[j] * q[j];
+            nv_tail += wv[j] * v[j];
         }
-        ((w[0] + w[1]) + (w[2] + w[3]) + w_tail, 0.5 * ((e[0] + e[1]) + (e[2] + e[3]) + e_tail))
+        let sum = |s: [f64; 4], tail: f64| (s[0] + s[1]) + (s[2] + s[3]) + tail;
+        (sum(w, w_tail), 0.5 * sum(e, e_tail), t.w0 * f_next + sum(nq, nq_tail) + sum(nv, nv_tail))
     }
 }
 
@@ -479,8 +562,24 @@ impl Transition {
     /// the same pass: what an energy ledger needs at every step, for the cost of a few
     /// multiplications per mode.
     pub fn advance_with_energy(&self, state: &mut ModalState, f0: f64, f1: f64) -> (f64, f64) {
+        let (w, energy, _) = self.advance_predicting(state, f0, f1);
+        (w, energy)
+    }
+
+    /// [`Transition::advance_with_energy`], also returning where the point would be at the
+    /// end of one more step of this transition from the new state with the force starting at
+    /// `f1` (even for a zero-order hold) and the end force zero: [`Transition::free_displacement`]`(state, f1)` after the
+    /// step, to the last bit, summed in the same pass. A run that takes the same step again
+    /// (free flight, and most of a contact) needs exactly that to decide the next step, and
+    /// saves a second pass over the modes.
+    pub fn advance_predicting(&self, state: &mut ModalState, f0: f64, f1: f64) -> (f64, f64, f64) {
+        let f_next = f1;
         let f1 = if self.hold == Hold::Zero { 0.0 } else { f1 };
-        Arch::new().dispatch(AdvanceKernel { t: self, state, f0, f1 })
+        if f0 == 0.0 && f1 == 0.0 {
+            Arch::new().dispatch(AdvanceKernel::<false> { t: self, state, f0, f1, f_next })
+        } else {
+            Arch::new().dispatch(AdvanceKernel::<true> { t: self, state, f0, f1, f_next })
+        }
     }
 
     /// Displacement at the point at the end of the step if the end force were zero (m):

@@ -89,6 +89,25 @@ impl Sample {
 }
 
 impl History {
+    /// Empty, with room for `rows` rows: a run that knows roughly how many it will record
+    /// grows its columns once instead of a dozen times.
+    pub fn with_capacity(rows: usize) -> Self {
+        let column = || Vec::with_capacity(rows);
+        Self {
+            time: column(),
+            force: column(),
+            approach: column(),
+            ball_position: column(),
+            ball_velocity: column(),
+            beam_displacement: column(),
+            contact_point: column(),
+            ball_energy: column(),
+            beam_energy: column(),
+            contact_energy: column(),
+            dissipated_energy: column(),
+        }
+    }
+
     /// Appends one row.
     pub fn push(&mut self, s: Sample) {
         self.time.push(s.time);

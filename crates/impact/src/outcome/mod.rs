@@ -184,6 +184,73 @@ impl Report {
     }
 }
 
+/// How far a report is from a reference report, each as a relative error (-): see
+/// [`Report::differences_from`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Differences {
+    /// The first contact's duration.
+    pub first_duration: f64,
+    /// The first contact's peak force.
+    pub first_peak_force: f64,
+    /// The worst over the significant contacts of the start (after the first), the duration
+    /// (where both ended within the window) and the peak force; a significant contact that
+    /// one run has and the other has not counts as 1 (its peak is missed whole).
+    pub contact_sequence: f64,
+    /// The largest displacement at the impact point.
+    pub max_displacement: f64,
+    /// Whether both runs have the same number of significant contacts.
+    pub same_contacts: bool,
+}
+
+impl Differences {
+    /// The worst of the four.
+    pub fn worst(&self) -> f64 {
+        self.first_duration
+            .max(self.first_peak_force)
+            .max(self.contact_sequence)
+            .max(self.max_displacement)
+    }
+}
+
+impl Report {
+    /// Relative differences from `reference`. A contact is significant when its peak force is
+    /// at least `significant` times its run's first peak; the significant contacts of the two
+    /// runs are paired in order. Each difference is relative to the reference's value (0
+    /// where that value is 0).
+    pub fn differences_from(&self, reference: &Report, significant: f64) -> Differences {
+        let relative = |a: f64, b: f64| if b == 0.0 { 0.0 } else { ((a - b) / b).abs() };
+        let pick = |r: &'_ Report| -> Vec<Contact> {
+            let first = r.contacts.first().map_or(0.0, |c| c.peak_force);
+            r.contacts.iter().filter(|c| c.peak_force >= significant * first).cloned().collect()
+        };
+        let (mine, theirs) = (pick(self), pick(reference));
+        let same_contacts = mine.len() == theirs.len();
+        let mut sequence: f64 = if same_contacts { 0.0 } else { 1.0 };
+        for (i, (a, b)) in mine.iter().zip(&theirs).enumerate() {
+            sequence = sequence.max(relative(a.peak_force, b.peak_force));
+            if i > 0 {
+                sequence = sequence.max(relative(a.start, b.start));
+            }
+            if a.complete && b.complete {
+                sequence = sequence.max(relative(a.duration, b.duration));
+            }
+        }
+        let first =
+            |f: fn(&Contact) -> f64| match (self.contacts.first(), reference.contacts.first()) {
+                (Some(a), Some(b)) => relative(f(a), f(b)),
+                (None, None) => 0.0,
+                _ => 1.0,
+            };
+        Differences {
+            first_duration: first(|c| c.duration),
+            first_peak_force: first(|c| c.peak_force),
+            contact_sequence: sequence,
+            max_displacement: relative(self.max_displacement, reference.max_displacement),
+            same_contacts,
+        }
+    }
+}
+
 /// Hertz's theory (and Thornton's on it) holds for a contact radius small against the ball's
 /// radius, a = sqrt(R delta) < 0.3 R (delta < 0.09 R), and an approach small against what it
 /// presses into (a tenth of the beam's thickness); a print is a contact radius too. Past either

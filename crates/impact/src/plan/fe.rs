@@ -169,13 +169,7 @@ fn mesh(
                     .into(),
             ));
         }
-        if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
-            return Err(invalid(
-                "solver.tolerance",
-                tolerance,
-                "must be a relative error, 0 < tolerance < 1",
-            ));
-        }
+        let tolerance = super::checked_tolerance(tolerance)?;
         reasons.push(format!("uniform meshes from {FE_LADDER_START} elements, doubled until two successive ones agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (second-order Richardson estimate of the finer mesh's error)"));
         return Ok(uniform(length, FE_LADDER_START));
     }

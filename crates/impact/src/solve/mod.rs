@@ -3,7 +3,7 @@
 //! - `modal`: the ball, the beam's modes at the impact point (none on a half-space) and the
 //!   law, one scalar implicit equation per contact step, exact propagation between.
 //! - `fe`: the ball on the geometrically exact beam ([`BallOnBeam`]), monolithic HHT-alpha;
-//!   `refine`: the same on doubling meshes until two agree within `solver.tolerance`.
+//! - `refine`: either on doubling meshes or modes until two agree within `solver.tolerance`.
 //!
 //! A new method is one module here and one arm in [`run`].
 
@@ -17,6 +17,7 @@ pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};
 use crate::error::ImpactError;
 use crate::outcome::Outcome;
 use crate::plan::{Method, Plan};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Runs a plan to its end time.
 ///
@@ -28,8 +29,8 @@ pub fn run(plan: &Plan) -> Result<Outcome, ImpactError> {
     run_with_progress(plan, &|_| {})
 }
 
-/// Something told the fraction of the simulated window done (0 to 1) as a run goes, at every
-/// recorded instant: a progress bar.
+/// Something told the fraction of the simulated window done (0 to 1) as a run goes, each time
+/// it has moved by a thousandth: a progress bar.
 pub type Progress<'a> = &'a (dyn Fn(f64) + Sync);
 
 /// [`run`], telling `progress` how far it has got.
@@ -37,11 +38,53 @@ pub type Progress<'a> = &'a (dyn Fn(f64) + Sync);
 /// # Errors
 /// As [`run`].
 pub fn run_with_progress(plan: &Plan, progress: Progress<'_>) -> Result<Outcome, ImpactError> {
-    match &plan.method {
-        Method::HalfSpace | Method::Modal(_) => plan.law.with(modal::ModalRun { plan, progress }),
-        Method::Fe(target) => match target.tolerance {
-            Some(tolerance) => refine::run(plan, target, tolerance, progress),
-            None => plan.law.with(fe::FeRun { plan, target, progress }),
+    // The solvers report at every recorded instant (7000 times on the paper's 5 ms modal run),
+    // and a progress bar's update takes a lock and reads the clock: passed on only when it
+    // moves by a thousandth, it cost 0.7 ms of that run's 11 ms.
+    let reported = AtomicU64::new(0);
+    let throttled = |fraction: f64| {
+        let thousandths = (fraction * 1000.0) as u64;
+        if thousandths != reported.load(Ordering::Relaxed) {
+            reported.store(thousandths, Ordering::Relaxed);
+            progress(fraction);
+        }
+    };
+    let progress: Progress<'_> = &throttled;
+    let unchecked = match &plan.method {
+        Method::HalfSpace => return plan.law.with(modal::ModalRun { plan, progress }),
+        Method::Modal(target) => match target.tolerance {
+            Some(tolerance) => return refine::run_modal(plan, target, tolerance, progress),
+            None => plan.law.with(modal::ModalRun { plan, progress })?,
         },
+        Method::Fe(target) => match target.tolerance {
+            Some(tolerance) => return refine::run_fe(plan, target, tolerance, progress),
+            None => plan.law.with(fe::FeRun { plan, target, progress })?,
+        },
+    };
+    Ok(warn_unchecked(unchecked))
+}
+
+/// A beam run at a fixed resolution: the plan sized it for the first contact, and nothing
+/// has checked the later ones (on the paper's tip 128 modes get the first contact to 1e-4 but
+/// start the second and third 3 % and 4 % early against 2048). Says so when there are later
+/// significant contacts.
+fn warn_unchecked(mut out: Outcome) -> Outcome {
+    let report = &mut out.report;
+    let first_peak = report.contacts.first().map_or(0.0, |c| c.peak_force);
+    let later = report
+        .contacts
+        .iter()
+        .skip(1)
+        .filter(|c| c.peak_force >= refine::SIGNIFICANT_PEAK * first_peak)
+        .count();
+    if later > 0 && report.estimated_error.is_none() {
+        report.warnings.push(format!(
+            "{}: nothing checks the {later} later significant contact(s) against a finer run (the default resolution is sized for the first contact), and they may be off by several per cent: set solver.tolerance (and no modes or elements) to have the resolution refined until they agree",
+            match report.plan.method {
+                crate::MethodKind::Fe => format!("{} elements", report.plan.elements),
+                _ => format!("{} modes", report.plan.modes),
+            }
+        ));
     }
+    out
 }

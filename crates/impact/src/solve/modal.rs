@@ -52,6 +52,10 @@ struct Solver<'a, L: ContactLaw> {
     /// Contact steps by level (the plan's step / 2^level), built on first use; shared so that
     /// a step can use one while the solver's state changes.
     contact_steps: Vec<Option<Rc<Transition>>>,
+    /// Free-flight jumps by level (jump / 2^level, see `free_flight`), built on first use and
+    /// kept for the whole run: the jump is the same in every free flight, and rebuilding them
+    /// in each (a sine and a cosine per mode and level) was a fifth of the paper's 5 ms run.
+    free_steps: Vec<Option<Rc<Transition>>>,
     // State at time t.
     t: f64,
     ball_position: f64,
@@ -73,8 +77,38 @@ struct Solver<'a, L: ContactLaw> {
     contacts: Vec<Contact>,
     max_displacement: (f64, f64),
     record_stride: usize,
-    /// Work space of `safe_horizon`, kept to avoid an allocation per free-flight step.
-    horizon_scratch: Vec<f64>,
+    /// Where `safe_horizon` splits the modes into low and high ones: 0, 1, 2, 3, 4, 6, 8,
+    /// 12, ... up to the number of modes.
+    horizon_splits: Vec<usize>,
+    /// 1/omega of each mode (0 for a rigid-body mode) and (1 + 2 zeta) omega: the horizon's
+    /// factors, divided once.
+    inv_omega: Vec<f64>,
+    accel_factor: Vec<f64>,
+    /// Rigid-body modes (omega = 0), which come first.
+    rigid_modes: usize,
+    /// Work space of `safe_horizon` (|g| A per mode, and its sums per segment between
+    /// splits), kept to avoid an allocation per free-flight step.
+    horizon_amplitude: Vec<f64>,
+    horizon_scratch: Vec<[f64; 5]>,
+    /// H (from the split on), P and Q per segment between splits, from the amplitudes at the
+    /// start of the free flight: free vibration never grows an amplitude (it keeps it undamped,
+    /// and damping shrinks it), so they stay valid bounds for the whole flight and are summed
+    /// once per flight, not once per horizon.
+    horizon_bounds: Vec<[f64; 3]>,
+}
+
+/// 0, 1, 2, 3, 4, 6, 8, 12, 16, ... (powers of two and 1.5 times them) below n, then n.
+fn horizon_splits(n: usize) -> Vec<usize> {
+    let mut splits = vec![0, 1, 2];
+    let mut k = 2;
+    while k < n {
+        splits.extend([k + k / 2, 2 * k]);
+        k *= 2;
+    }
+    splits.retain(|&s| s < n);
+    splits.push(n);
+    splits.dedup();
+    splits
 }
 
 /// Largest tau >= 0 with a tau^2 + b tau <= gap on [0, tau], for a >= 0 and gap > 0.
@@ -100,12 +134,22 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         let n = modes.len();
         let damped = modes.damping_ratio().iter().any(|z| *z > 0.0);
         let samples = (plan.estimated_duration / plan.time_step).round() as usize;
+        let inv_omega =
+            modes.omega().iter().map(|w| if *w > 0.0 { 1.0 / w } else { 0.0 }).collect();
+        let accel_factor = modes
+            .omega()
+            .iter()
+            .zip(modes.damping_ratio())
+            .map(|(w, z)| (1.0 + 2.0 * z) * w)
+            .collect();
+        let rigid_modes = modes.omega().iter().filter(|w| **w == 0.0).count();
         Ok(Self {
             plan,
             law,
             progress,
             modes,
             contact_steps: vec![None; FINEST_LEVEL + 1],
+            free_steps: Vec::new(),
             t: 0.0,
             ball_position: 0.0,
             ball_velocity: plan.speed,
@@ -120,11 +164,21 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             },
             damped,
             damping_work: 0.0,
-            history: History::default(),
+            // The free flight's rows plus a few thousand in contact (the paper's 5 ms run
+            // records 7000 in all).
+            history: History::with_capacity(
+                (plan.end_time / plan.output_interval).min(1e6) as usize + 4096,
+            ),
             contacts: Vec::new(),
             max_displacement: (0.0, 0.0),
             record_stride: (samples / 200).max(1),
-            horizon_scratch: Vec::with_capacity(n + 1),
+            horizon_splits: horizon_splits(n),
+            inv_omega,
+            accel_factor,
+            rigid_modes,
+            horizon_amplitude: Vec::with_capacity(n),
+            horizon_scratch: Vec::new(),
+            horizon_bounds: Vec::new(),
         })
     }
 
@@ -259,6 +313,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             ContactRecorder::start(self.t, self.force, self.approach(), self.ball_velocity);
         // The step before and the approach at its start: the rate's three-point formula.
         let mut previous: Option<(f64, f64)> = None;
+        let mut predicted: Option<(Rc<Transition>, f64)> = None;
         let mut complete = false;
         // Uniform steps (no tolerance) stay at level 0 throughout.
         let tolerance = self.plan.energy_tolerance;
@@ -281,7 +336,13 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             let f0 = self.force;
             let delta0 = self.approach();
             let (u_free, _) = self.ball_after(h, f0, 0.0);
-            let d_free = u_free - tr.free_displacement(&self.beam, f0);
+            // Where the point would end the step with no end force: summed by the last step
+            // when it was the same one.
+            let w_free = match &predicted {
+                Some((last, w)) if Rc::ptr_eq(last, &tr) => *w,
+                _ => tr.free_displacement(&self.beam, f0),
+            };
+            let d_free = u_free - w_free;
             let compliance = h * h / (6.0 * self.plan.ball_mass) + tr.compliance();
             // Approach rate from displacements only (the modal velocity series does not
             // converge): the variable-step BDF2 formula, with r = h / h_prev,
@@ -311,7 +372,8 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 // A touch that carries no force on its first step is stepped over whole, so that
                 // time always advances by at least one contact step.
                 let tau = if d_free <= release && contact.steps() > 0 {
-                    self.locate_separation(h, f0, release)?
+                    // d_free is the approach at the step's end with the force falling to zero.
+                    self.locate(h, f0, release, delta0, d_free)?
                 } else {
                     h
                 };
@@ -323,7 +385,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 break;
             }
             let delta1 = d_free - compliance * f1;
-            self.advance_with(&tr, f0, f1)?;
+            predicted = self.advance_by(h, Some(&tr), f0, f1)?.map(|w| (Rc::clone(&tr), w));
             self.law.commit(&mut self.law_state, delta1, a * delta1 + b);
             if tolerance.is_some() {
                 let ledger1 = self.energy().held();
@@ -358,21 +420,27 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         if tau <= 0.0 {
             return Ok(());
         }
-        let tr = Transition::new(&self.modes, tau, Hold::FirstOrder)?;
-        self.advance_with(&tr, f0, f1)
+        // A step taken once (to an event or the end): no transition is built and stored.
+        self.advance_by(tau, None, f0, f1).map(|_| ())
     }
 
-    /// Advances by a prepared transition.
-    fn advance_with(
+    fn advance_by(
         &mut self,
-        transition: &Transition,
+        tau: f64,
+        transition: Option<&Transition>,
         f0: f64,
         f1: f64,
-    ) -> Result<(), ImpactError> {
-        let tau = transition.step_size();
+    ) -> Result<Option<f64>, ImpactError> {
         let p0 = if self.damped { self.modes.damping_power(&self.beam) } else { 0.0 };
-        (self.displacement, self.beam_energy) =
-            transition.advance_with_energy(&mut self.beam, f0, f1);
+        let mut next_free = None;
+        (self.displacement, self.beam_energy) = match transition {
+            Some(tr) => {
+                let (w, energy, next) = tr.advance_predicting(&mut self.beam, f0, f1);
+                next_free = Some(next);
+                (w, energy)
+            }
+            None => self.modes.advance_once(&mut self.beam, tau, f0, f1)?,
+        };
         (self.ball_position, self.ball_velocity) = self.ball_after(tau, f0, f1);
         if self.damped {
             self.damping_work += 0.5 * tau * (p0 + self.modes.damping_power(&self.beam));
@@ -383,7 +451,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         if self.displacement > self.max_displacement.0 {
             self.max_displacement = (self.displacement, self.t);
         }
-        Ok(())
+        Ok(next_free)
     }
 
     /// Approach after tau of a step from the current state with the force going from f0 to 0.
@@ -423,11 +491,6 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         Ok(0.5 * (bracket.a + bracket.b))
     }
 
-    fn locate_separation(&self, h: f64, f0: f64, release: f64) -> Result<f64, ImpactError> {
-        let d_h = self.approach_after(h, f0)?;
-        self.locate(h, f0, release, self.approach(), d_h)
-    }
-
     /// Conservative-advancement horizon: no contact can start within it. Split the modes at k
     /// into low (n < k) and high ones. Each mode's amplitude A_n = sqrt(v_n^2 + omega_n^2 q_n^2)
     /// does not grow in free vibration (damped or not), so the high modes' displacement stays
@@ -437,35 +500,61 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
     /// the low modes' part of the displacement w_k (rate w'_k), for all tau >= 0 both
     ///   delta(t + tau) <= u - w_k + H_k + (v_b + P_k) tau + g tau^2 / 2 and
     ///   delta(t + tau) <= u - w_k + H_k + (v_b - w'_k) tau + (g + Q_k) tau^2 / 2
-    /// hold; the horizon is the longest that any split and either bound allows. The first bound
-    /// wins over long jumps, the second (Taylor's, with the actual rate) over short ones.
-    fn safe_horizon(&mut self, release: f64) -> f64 {
+    /// hold; the horizon is the longest that either bound allows at any split in `splits`.
+    /// Every split gives a valid bound, so a subset of them does too: the geometric one
+    /// (0, 1, 2, 3, 4, 6, 8, 12, ...) keeps the serial part of the search at O(log n) splits
+    /// while the per-mode sums run as independent vector loops. The first bound wins over long
+    /// jumps, the second (Taylor's, with the actual rate) over short ones.
+    fn safe_horizon(&mut self, release: f64, fresh_amplitudes: bool) -> f64 {
         let n = self.modes.len();
-        let (omega, gain, zeta) =
-            (&self.modes.omega()[..n], &self.modes.gain()[..n], &self.modes.damping_ratio()[..n]);
+        let (omega, gain) = (&self.modes.omega()[..n], &self.modes.gain()[..n]);
         let (q, v) = (&self.beam.q[..n], &self.beam.v[..n]);
-        // Per mode |g| A and its share of H (|g| A / omega), in one buffer reused across calls;
-        // the loops have no bounds checks and vectorise.
-        let scratch = &mut self.horizon_scratch;
-        scratch.clear();
-        scratch.resize(2 * n + 1, 0.0);
-        let (speed, high) = scratch.split_at_mut(n);
-        for k in 0..n {
-            speed[k] = gain[k].abs() * (v[k] * v[k] + (omega[k] * q[k]) * (omega[k] * q[k])).sqrt();
+        if fresh_amplitudes || self.horizon_bounds.len() + 1 != self.horizon_splits.len() {
+            // |g| A per mode, in a loop of its own that vectorises (the square roots are its
+            // cost); then per segment between splits the sums of |g| A / omega, |g| A and
+            // (1 + 2 zeta) omega |g| A (a rigid-body mode has no bound on its displacement: H
+            // is infinite at every split below one), and H at each split as suffix sums.
+            let (inv_omega, accel) = (&self.inv_omega[..n], &self.accel_factor[..n]);
+            let amplitude = &mut self.horizon_amplitude;
+            amplitude.resize(n, 0.0);
+            let amplitude = &mut amplitude[..n];
+            for k in 0..n {
+                amplitude[k] =
+                    gain[k].abs() * (v[k] * v[k] + (omega[k] * q[k]) * (omega[k] * q[k])).sqrt();
+            }
+            let bounds = &mut self.horizon_bounds;
+            bounds.clear();
+            for pair in self.horizon_splits.windows(2) {
+                let (mut high, mut speed, mut acc) = (0.0, 0.0, 0.0);
+                for k in pair[0]..pair[1] {
+                    let a = amplitude[k];
+                    high += a * inv_omega[k];
+                    speed += a;
+                    acc += accel[k] * a;
+                }
+                if pair[0] < self.rigid_modes {
+                    high = f64::INFINITY;
+                }
+                bounds.push([high, speed, acc]);
+            }
+            for j in (1..bounds.len()).rev() {
+                bounds[j - 1][0] += bounds[j][0];
+            }
         }
-        // high[k] = H_k, suffix sums (a rigid-body mode has no bound on its displacement).
-        for k in 0..n {
-            high[k] = if omega[k] > 0.0 { speed[k] / omega[k] } else { f64::INFINITY };
-        }
-        for k in (0..n).rev() {
-            high[k] += high[k + 1];
+        // The low modes' displacement and rate per segment: these change with every step.
+        let segments = &mut self.horizon_scratch;
+        segments.clear();
+        for (pair, [high, speed, acc]) in self.horizon_splits.windows(2).zip(&self.horizon_bounds) {
+            let (w, rate) = self.modes.partial_motion(&self.beam, pair[0]..pair[1]);
+            segments.push([*high, *speed, *acc, w, rate]);
         }
         let gravity = self.plan.gravity;
         let u = self.ball_position;
         let (mut best, mut speed_bound, mut accel_bound) = (0.0_f64, 0.0, 0.0);
         let (mut w_low, mut rate_low) = (0.0, 0.0);
-        for k in 0..=n {
-            let gap = release - (u - w_low) - high[k];
+        for j in 0..=segments.len() {
+            let high = segments.get(j).map_or(0.0, |s| s[0]);
+            let gap = release - (u - w_low) - high;
             // A bound a tau^2 + b tau <= gap holds on [0, root] (convex, 0 at 0), so its root
             // beats `best` only if it still holds at `best`: the square root is taken then only.
             let long = (0.5 * gravity, self.ball_velocity + speed_bound);
@@ -475,11 +564,11 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                     best = best.max(quadratic_horizon(a, b, gap));
                 }
             }
-            if k < n {
-                speed_bound += speed[k];
-                accel_bound += (1.0 + 2.0 * zeta[k]) * omega[k] * speed[k];
-                w_low += gain[k] * q[k];
-                rate_low += gain[k] * v[k];
+            if let Some([_, speed, accel, w, rate]) = segments.get(j) {
+                speed_bound += speed;
+                accel_bound += accel;
+                w_low += w;
+                rate_low += rate;
             }
         }
         best
@@ -496,15 +585,21 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         // an output setting decides what is recorded, never how the motion is integrated.
         let jump = dt_out.min(LONGEST_JUMP * self.plan.estimated_duration);
         let levels = ((jump / min_step).log2().ceil().max(0.0) as usize).min(60);
-        let mut cache: Vec<Option<Transition>> = vec![None; levels + 1];
+        if self.free_steps.len() < levels + 1 {
+            self.free_steps.resize(levels + 1, None);
+        }
         let mut next_output = ((self.t / dt_out).floor() + 1.0) * dt_out;
         let release = self.law.release_approach(&self.law_state);
         // No contact can start before `safe_until`: a horizon stays valid as the beam moves on,
         // so it is recomputed only when what is left of it is shorter than an output interval.
         let mut safe_until = self.t;
+        // The amplitudes are summed at the flight's first horizon, then kept (see horizon_bounds).
+        let mut first_horizon = true;
+        let mut predicted: Option<(Rc<Transition>, f64)> = None;
         while self.t < end {
             if safe_until - self.t < jump {
-                safe_until = safe_until.max(self.t + self.safe_horizon(release));
+                safe_until = safe_until.max(self.t + self.safe_horizon(release, first_horizon));
+                first_horizon = false;
             }
             let horizon = (safe_until - self.t).max(min_step);
             let level = if horizon >= jump {
@@ -512,33 +607,32 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             } else {
                 ((jump / horizon).log2().ceil() as usize).min(levels)
             };
-            let built;
-            let tr = if end - self.t < jump / f64::powi(2.0, level as i32) {
-                built = Transition::new(&self.modes, end - self.t, Hold::FirstOrder)?;
-                &built
-            } else {
-                if cache[level].is_none() {
-                    cache[level] = Some(Transition::new(
-                        &self.modes,
-                        jump / f64::powi(2.0, level as i32),
-                        Hold::FirstOrder,
-                    )?);
-                }
-                cache[level].as_ref().ok_or_else(|| ImpactError::SolverFailed {
-                    t: self.t,
-                    reason: "transition cache".into(),
-                })?
+            let last = end - self.t < jump / f64::powi(2.0, level as i32);
+            if !last && self.free_steps[level].is_none() {
+                self.free_steps[level] = Some(Rc::new(Transition::new(
+                    &self.modes,
+                    jump / f64::powi(2.0, level as i32),
+                    Hold::FirstOrder,
+                )?));
+            }
+            let tr = match &self.free_steps[level] {
+                Some(tr) if !last => Rc::clone(tr),
+                _ => Rc::new(Transition::new(&self.modes, end - self.t, Hold::FirstOrder)?),
             };
             let tau = tr.step_size();
             let delta0 = self.approach();
-            let delta_tau =
-                self.ball_after(tau, 0.0, 0.0).0 - tr.free_displacement(&self.beam, 0.0);
+            // Where the point ends this step: summed by the last step when it was the same.
+            let w_end = match &predicted {
+                Some((last, w)) if Rc::ptr_eq(last, &tr) => *w,
+                _ => tr.free_displacement(&self.beam, 0.0),
+            };
+            let delta_tau = self.ball_after(tau, 0.0, 0.0).0 - w_end;
             if delta_tau > release {
                 let onset = self.locate(tau, 0.0, release, delta0, delta_tau)?;
                 self.free_advance(onset, None)?;
                 return Ok(());
             }
-            self.free_advance(tau, Some(tr))?;
+            predicted = self.free_advance(tau, Some(&tr))?.map(|w| (Rc::clone(&tr), w));
             // Record at the first step end at or after each output instant.
             if self.t >= next_output || self.t >= end {
                 self.record();
@@ -549,18 +643,23 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
     }
 
     /// Force-free advance: the beam's energy loss is exactly the modal damping work.
-    fn free_advance(&mut self, tau: f64, prepared: Option<&Transition>) -> Result<(), ImpactError> {
+    /// Returns, after a prepared step, where the point would be at the end of one more.
+    fn free_advance(
+        &mut self,
+        tau: f64,
+        prepared: Option<&Transition>,
+    ) -> Result<Option<f64>, ImpactError> {
         let before = self.beam_energy;
         let work = self.damping_work;
-        match prepared {
-            Some(tr) => self.advance_with(tr, 0.0, 0.0)?,
-            None => self.advance(tau, 0.0, 0.0)?,
+        let next_free = match prepared {
+            Some(tr) => self.advance_by(tr.step_size(), Some(tr), 0.0, 0.0)?,
+            None if tau > 0.0 => self.advance_by(tau, None, 0.0, 0.0)?,
+            None => None,
+        };
+        if self.damped {
+            self.damping_work = work + (before - self.beam_energy);
         }
-        if !self.damped {
-            return Ok(());
-        }
-        self.damping_work = work + (before - self.beam_energy);
-        Ok(())
+        Ok(next_free)
     }
 
     fn finish(self, wall_time: f64) -> Outcome {
@@ -639,7 +738,7 @@ mod tests {
             let gap = 1e-6 * (1.0 + 100.0 * (case as f64 / 40.0));
             solver.ball_position = solver.displacement - gap;
             solver.ball_velocity = 0.5 * noise(&mut seed);
-            let horizon = solver.safe_horizon(0.0);
+            let horizon = solver.safe_horizon(0.0, true);
             let approach = |tau: f64| {
                 solver.ball_after(tau, 0.0, 0.0).0
                     - solver.modes.free_displacement_after(&solver.beam, tau, 0.0).unwrap()
