@@ -26,13 +26,18 @@ use std::path::{Path, PathBuf};
 /// the first contact's.
 pub(crate) const SEQUENCE_PEAK: f64 = 0.01;
 
+/// The figure's curve of the modal runs with the residual flexibility.
+const RESIDUAL: &str = "modal, residual flexibility";
+
 /// One of a run's errors.
 type Metric = fn(&Differences) -> f64;
 
 /// One run of the study.
 struct Setting {
     method: &'static str,
-    /// What was set, e.g. "256 modes" or "128 elements, alpha -0.2".
+    /// The figure's curve it belongs to (the method, or the method with an option).
+    series: &'static str,
+    /// What was set, e.g. "256 modes" or "128 elements; alpha -0.2" (no commas: a CSV field).
     label: String,
     /// Whether it is on the method's main ladder (mode or element counts): the figure's curves.
     ladder: bool,
@@ -103,15 +108,21 @@ fn fe(scene: &Scene, elements: usize) -> Scene {
 fn settings(scene: &Scene, l: &Ladders) -> Vec<Setting> {
     let mut out = Vec::new();
     let mut add = |method, label: String, ladder, scene| {
-        out.push(Setting { method, label, ladder, scene });
+        let series = if label.contains("residual flexibility") { RESIDUAL } else { method };
+        out.push(Setting { method, series, label, ladder, scene });
     };
     for &n in &l.modes {
         add("modal", format!("{n} modes"), true, modal(scene, n));
     }
+    for &n in &l.modes {
+        let mut s = modal(scene, n);
+        s.solver.residual_flexibility = Some(true);
+        add("modal", format!("{n} modes; residual flexibility"), true, s);
+    }
     for tol in [1e-4, 1e-5] {
         let mut s = modal(scene, l.modal_variant);
         s.solver.energy_tolerance = Some(tol);
-        add("modal", format!("{} modes, energy tolerance {tol:e}", l.modal_variant), false, s);
+        add("modal", format!("{} modes; energy tolerance {tol:e}", l.modal_variant), false, s);
     }
     for &n in &l.elements {
         add("fe", format!("{n} elements"), true, fe(scene, n));
@@ -119,15 +130,19 @@ fn settings(scene: &Scene, l: &Ladders) -> Vec<Setting> {
     for samples in [100, 400] {
         let mut s = fe(scene, l.fe_variant);
         s.solver.samples_per_pulse = Some(samples);
-        add("fe", format!("{} elements, {samples} steps per pulse", l.fe_variant), false, s);
+        add("fe", format!("{} elements; {samples} steps per pulse", l.fe_variant), false, s);
     }
     for alpha in [0.0, -0.2] {
         let mut s = fe(scene, l.fe_variant);
         s.solver.alpha = Some(alpha);
-        add("fe", format!("{} elements, alpha {alpha}", l.fe_variant), false, s);
+        add("fe", format!("{} elements; alpha {alpha}", l.fe_variant), false, s);
     }
+    // The modal reference with the residual flexibility: the same Euler-Bernoulli model,
+    // converged far faster (validation/REFERENCES.md 1.4).
     for (n, label) in [(l.modal_reference / 2, "check"), (l.modal_reference, "reference")] {
-        add("modal", format!("{n} modes ({label})"), false, modal(scene, n));
+        let mut s = modal(scene, n);
+        s.solver.residual_flexibility = Some(true);
+        add("modal", format!("{n} modes; residual flexibility ({label})"), false, s);
     }
     for (n, label) in [(l.fe_reference / 2, "check"), (l.fe_reference, "reference")] {
         add("fe", format!("{n} elements ({label})"), false, fe(scene, n));
@@ -138,6 +153,7 @@ fn settings(scene: &Scene, l: &Ladders) -> Vec<Setting> {
 /// One row of work_precision.csv.
 pub(crate) struct Row {
     pub method: &'static str,
+    pub series: &'static str,
     pub setting: String,
     pub ladder: bool,
     pub wall_time: f64,
@@ -208,6 +224,7 @@ pub(crate) fn study(scene: &Scene, quick: bool) -> anyhow::Result<Study> {
             let e = &o.report.energy;
             rows.push(Row {
                 method,
+                series: s.series,
                 setting: s.label.clone(),
                 ladder: s.ladder,
                 wall_time: o.report.wall_time,
@@ -351,18 +368,21 @@ impl Study {
             ("max displacement", |e| e.max_displacement),
         ];
         let mut series = Vec::new();
-        for method in ["modal", "fe"] {
+        for (method, curve) in [("modal", "modal"), ("modal", RESIDUAL), ("fe", "fe")] {
             for (name, pick) in metrics {
                 let mut points: Vec<(f64, f64)> = self
                     .rows
                     .iter()
-                    .filter(|r| r.method == method && r.ladder)
+                    .filter(|r| r.series == curve && r.ladder)
                     .map(|r| (r.wall_time, pick(&r.errors)))
                     // An error of exactly 0 has no place on a logarithmic axis.
                     .filter(|p| p.0 > 0.0 && p.1 > 0.0)
                     .collect();
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
-                series.push(Series { label: format!("{method}: {name}"), points });
+                series.push(Series { label: format!("{curve}: {name}"), points });
+            }
+            if curve == RESIDUAL {
+                continue;
             }
             let others: Vec<(f64, f64)> = self
                 .rows

@@ -254,6 +254,11 @@ pub struct SolverSpec {
     /// Modal and half-space methods: adapt the contact step to `energy_tolerance` (default
     /// true); false takes uniform steps of the estimated duration / samples_per_pulse.
     pub adaptive_step: Option<bool>,
+    /// Modal method: put the truncated modes' static compliance at the impact point (the
+    /// beam's static flexibility minus the kept modes' share) in series with the contact, as
+    /// the mode-acceleration method does: the modes above the cutoff answer the force
+    /// quasi-statically. Default false.
+    pub residual_flexibility: Option<bool>,
     /// Interval of the recorded history in free flight (s).
     pub output_interval: Option<f64>,
     /// Number of equal finite elements (fe method); default a mesh graded from the impact point.
@@ -263,11 +268,11 @@ pub struct SolverSpec {
     pub element_size: Option<f64>,
     /// HHT alpha in [-1/3, 0] (fe method); default -0.05.
     pub alpha: Option<f64>,
-    /// Largest time step out of contact (s) (fe method); default 32 contact steps.
+    /// Largest time step out of contact (s) (fe method); default 8 contact steps.
     pub time_step: Option<f64>,
     /// Relative error accepted on every significant contact (start, duration, peak force) and
-    /// on the largest displacement (fe method, instead of `elements` or `element_size`): the
-    /// uniform mesh is refined until two successive meshes agree within it.
+    /// on the largest displacement, instead of a resolution: the fe method refines a uniform
+    /// mesh, the modal method doubles its modes, until two successive runs agree within it.
     pub tolerance: Option<f64>,
 }
 

@@ -141,16 +141,17 @@ fn paper_tip_first_contact_fe_matches_converged_modal() {
     let e_coarse = rel(coarse.report.contacts[0].duration, m.duration);
     let e_fine = rel(fine.report.contacts[0].duration, m.duration);
     assert!(e_fine < e_coarse / 6.0, "{e_coarse} -> {e_fine}");
-    // The history is finite and the energy ledger closes: HHT (alpha = -0.05) removes 1.2e-3
-    // of the initial energy over the pulse and the free flight after it, reported as
-    // numerical_dissipation from the Newmark energy identity step by step; what is left is
-    // the trapezoidal rule's error on the nonlinear contact and beam forces, measured 3.2e-5
-    // of the initial energy, 2.8 % of the term it was part of.
+    // The history is finite and the energy ledger closes: HHT (alpha = -0.05) removes 3.7e-4
+    // of the initial energy over the pulse and the free flight after it (1.2e-3 with the free
+    // step of 32 contact steps; now 8), reported as numerical_dissipation from the Newmark
+    // energy identity step by step; what is left is the trapezoidal rule's error on the
+    // nonlinear contact and beam forces, measured 3.2e-5 of the initial energy, 8.7 % of the
+    // term it was part of.
     assert!(fe.history.force.iter().all(|x| x.is_finite()));
     let e = &fe.report.energy;
-    assert!(e.numerical_dissipation > 5e-4 * e.initial, "{e:?}");
+    assert!(e.numerical_dissipation > 1e-4 * e.initial, "{e:?}");
     assert!(e.balance_error.abs() < 1e-4 * e.initial, "{e:?}");
-    assert!(e.balance_error.abs() < 0.05 * e.numerical_dissipation, "{e:?}");
+    assert!(e.balance_error.abs() < 0.15 * e.numerical_dissipation, "{e:?}");
     // The trapezoidal rule (alpha = 0) removes nothing: the term is zero to the Newton
     // tolerance (measured 1e-8 of the energy over 1 ms), and what is left stays as small.
     let undamped = paper_tip("method = \"fe\"\nalpha = 0.0\nend_time = 6e-5");

@@ -193,8 +193,10 @@ pub struct Differences {
     /// The first contact's peak force.
     pub first_peak_force: f64,
     /// The worst over the significant contacts of the start (after the first), the duration
-    /// (where both ended within the window) and the peak force; a significant contact that
-    /// one run has and the other has not counts as 1 (its peak is missed whole).
+    /// (where both ended within the window) and the peak force, at most 1: a significant
+    /// contact that one run has and the other has not counts as 1 (its peak is missed whole),
+    /// and so does any error beyond it (the sequence is not resolved: the contacts paired in
+    /// order are no longer the same contacts).
     pub contact_sequence: f64,
     /// The largest displacement at the impact point.
     pub max_displacement: f64,
@@ -244,7 +246,7 @@ impl Report {
         Differences {
             first_duration: first(|c| c.duration),
             first_peak_force: first(|c| c.peak_force),
-            contact_sequence: sequence,
+            contact_sequence: sequence.min(1.0),
             max_displacement: relative(self.max_displacement, reference.max_displacement),
             same_contacts,
         }

@@ -295,8 +295,13 @@ fn check_method_keys(s: &SolverSpec) -> Result<(), ImpactError> {
 
 /// A half-space takes no beam resolution.
 fn half_space(s: &SolverSpec, reasons: &mut Vec<String>) -> Result<Method, ImpactError> {
-    if s.method == MethodName::Fe || fe_keys(s) || s.modes.is_some() || s.tolerance.is_some() {
-        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step, tolerance nor modes: the block is rigid".into()));
+    if s.method == MethodName::Fe
+        || fe_keys(s)
+        || s.modes.is_some()
+        || s.tolerance.is_some()
+        || s.residual_flexibility.is_some()
+    {
+        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step, tolerance, modes nor residual_flexibility: the block is rigid".into()));
     }
     reasons.push(
         "massive half-space: no beam model, the ball meets a rigid-backed Hertz contact".into(),
@@ -371,6 +376,11 @@ fn beam_method(
             false
         }
     };
+    if use_fe && s.residual_flexibility.is_some() {
+        return Err(ImpactError::Inconsistent(
+            "solver.residual_flexibility belongs to the modal method; the fe method models the whole beam".into(),
+        ));
+    }
     if use_fe {
         let fe = fe::plan(beam, s, m, position, damping, pulse, reasons)?;
         Ok(Method::Fe(fe))

@@ -71,6 +71,10 @@ struct Solver<'a, L: ContactLaw> {
     contact_point: f64,
     /// Whether any mode is damped (else the damping work is skipped, not summed as zeros).
     damped: bool,
+    /// Compliance of the truncated modes at the point (m/N), in series with the contact when
+    /// the plan asks for the residual flexibility (else 0): their displacement there is
+    /// `residual` x force, and they store `residual` x force^2 / 2.
+    residual: f64,
     // Bookkeeping.
     damping_work: f64,
     history: History,
@@ -132,6 +136,15 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             Method::HalfSpace | Method::Fe(_) => PointModes::from_parts(vec![], vec![], vec![])?,
         };
         let n = modes.len();
+        // The mode-acceleration method's quasi-static part: what the truncated modes would
+        // add to the point's static compliance (validation/REFERENCES.md 1.4).
+        let residual = match &plan.method {
+            Method::Modal(m) if m.residual_flexibility => {
+                let total = m.beam.static_flexibility(m.position).unwrap_or(0.0);
+                (total - modes.static_flexibility()).max(0.0)
+            }
+            _ => 0.0,
+        };
         let damped = modes.damping_ratio().iter().any(|z| *z > 0.0);
         let samples = (plan.estimated_duration / plan.time_step).round() as usize;
         let inv_omega =
@@ -163,6 +176,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 Method::HalfSpace | Method::Fe(_) => 0.0,
             },
             damped,
+            residual,
             damping_work: 0.0,
             // The free flight's rows plus a few thousand in contact (the paper's 5 ms run
             // records 7000 in all).
@@ -182,8 +196,9 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         })
     }
 
+    /// The modes' displacement at the point plus the truncated modes' quasi-static one.
     fn beam_displacement(&self) -> f64 {
-        self.displacement
+        self.displacement + self.residual * self.force
     }
 
     fn approach(&self) -> f64 {
@@ -197,7 +212,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             0.5 * m * speed * speed,
             0.5 * m * self.ball_velocity * self.ball_velocity,
             -m * self.plan.gravity * self.ball_position,
-            self.beam_energy,
+            self.beam_energy + 0.5 * self.residual * self.force * self.force,
             self.law.stored_energy(&self.law_state, self.approach()),
             self.law.dissipated_energy(&self.law_state) + self.damping_work,
             0.0,
@@ -343,7 +358,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 _ => tr.free_displacement(&self.beam, f0),
             };
             let d_free = u_free - w_free;
-            let compliance = h * h / (6.0 * self.plan.ball_mass) + tr.compliance();
+            let compliance = h * h / (6.0 * self.plan.ball_mass) + tr.compliance() + self.residual;
             // Approach rate from displacements only (the modal velocity series does not
             // converge): the variable-step BDF2 formula, with r = h / h_prev,
             // delta' = [(1 + 2r)/(1 + r) delta1 - (1 + r) delta0 + r^2/(1 + r) delta_-1] / h,
@@ -448,8 +463,8 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         self.t += tau;
         self.force = f1;
         self.check_finite(self.ball_position + self.displacement, "the state")?;
-        if self.displacement > self.max_displacement.0 {
-            self.max_displacement = (self.displacement, self.t);
+        if self.beam_displacement() > self.max_displacement.0 {
+            self.max_displacement = (self.beam_displacement(), self.t);
         }
         Ok(next_free)
     }
