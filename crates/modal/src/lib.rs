@@ -48,6 +48,6 @@ mod support;
 pub use beam::{Beam, Mode};
 pub use duhamel::duhamel_series;
 pub use error::ModalError;
-pub use propagate::{Hold, ModalState, PointModes, Transition};
+pub use propagate::{Hold, ModalState, OneStep, PointModes, Transition};
 pub use shape::ModeShape;
 pub use support::Support;

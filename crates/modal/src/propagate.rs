@@ -281,6 +281,7 @@ fn phi_functions(z: Complex64) -> (Complex64, Complex64, Complex64) {
 
 /// One mode's exact transition over a step h for a unit participation:
 /// e = [E11, E12, E21, E22] and the load columns g0, g1 = [q, v] per newton of F0 and F1.
+#[derive(Debug, Clone, Copy)]
 struct ModeStep {
     e: [f64; 4],
     g0: [f64; 2],
@@ -354,7 +355,7 @@ impl PointModes {
 
     /// Displacement at the point after a step tau from `state` with the force going linearly
     /// from `f0` to zero (m), without building a [`Transition`]: what event location needs, at
-    /// any trial tau.
+    /// any trial tau (see [`OneStep`] to keep the step for the advance that follows).
     ///
     /// # Errors
     /// `InvalidParameter` if tau is not finite and positive.
@@ -364,26 +365,11 @@ impl PointModes {
         tau: f64,
         f0: f64,
     ) -> Result<f64, ModalError> {
-        let h = positive("time_step", tau, "s")?;
-        let mut w = 0.0;
-        for (i, (&omega, &zeta)) in self.omega.iter().zip(&self.damping_ratio).enumerate() {
-            let (e11, e12, g0q) = if zeta == 0.0 || omega == 0.0 {
-                // Only the displacement row of the undamped step (see ModeStep::new), without
-                // the velocity row this sum never reads.
-                let (cos, c1, c2, c3) = undamped_kernels(omega * h);
-                (cos, h * c1, h * h * (c2 - c3))
-            } else {
-                let s = ModeStep::new(omega, zeta, h, Hold::FirstOrder);
-                (s.e[0], s.e[1], s.g0[0])
-            };
-            let g = self.gain[i];
-            w += g * (e11 * state.q[i] + e12 * state.v[i] + g * g0q * f0);
-        }
-        Ok(w)
+        let mut step = OneStep::default();
+        self.one_step(tau, &mut step)?;
+        Ok(step.free_displacement(self, state, f0))
     }
-}
 
-impl PointModes {
     /// Advances `state` by tau (s) with the force going linearly from `f0` to `f1` (N), and
     /// returns the displacement at the point (m) and the beam's energy (J) after it: the
     /// same as [`Transition::new`] then [`Transition::advance_with_energy`], without building
@@ -398,11 +384,69 @@ impl PointModes {
         f0: f64,
         f1: f64,
     ) -> Result<(f64, f64), ModalError> {
+        let mut step = OneStep::default();
+        self.one_step(tau, &mut step)?;
+        Ok(step.advance(self, state, f0, f1))
+    }
+
+    /// Every mode's exact step over tau (s), into `step` (its buffer reused): a sine and a
+    /// cosine per mode, the cost of a step taken once.
+    ///
+    /// # Errors
+    /// `InvalidParameter` if tau is not finite and positive.
+    pub fn one_step(&self, tau: f64, step: &mut OneStep) -> Result<(), ModalError> {
         let h = positive("time_step", tau, "s")?;
+        step.step = h;
+        step.modes.clear();
+        step.modes.extend(
+            self.omega
+                .iter()
+                .zip(&self.damping_ratio)
+                .map(|(&w, &z)| ModeStep::new(w, z, h, Hold::FirstOrder)),
+        );
+        Ok(())
+    }
+}
+
+/// Every mode's exact step over one step length, for a step that is taken once (an event's
+/// trial steps, then the step to it): built by [`PointModes::one_step`], it answers both where
+/// the point would be ([`OneStep::free_displacement`]) and the step itself
+/// ([`OneStep::advance`]) without computing the trigonometry twice.
+#[derive(Debug, Clone, Default)]
+pub struct OneStep {
+    step: f64,
+    modes: Vec<ModeStep>,
+}
+
+impl OneStep {
+    /// The step (s); 0 before the first [`PointModes::one_step`].
+    pub fn step_size(&self) -> f64 {
+        self.step
+    }
+
+    /// Displacement at the point at the end of the step with the force going linearly from
+    /// `f0` to zero (m).
+    pub fn free_displacement(&self, modes: &PointModes, state: &ModalState, f0: f64) -> f64 {
+        let mut w = 0.0;
+        for (i, s) in self.modes.iter().enumerate() {
+            let g = modes.gain[i];
+            w += g * (s.e[0] * state.q[i] + s.e[1] * state.v[i] + g * s.g0[0] * f0);
+        }
+        w
+    }
+
+    /// Advances `state` over the step with the force going linearly from `f0` to `f1` (N);
+    /// returns the displacement at the point (m) and the beam's energy (J) after it.
+    pub fn advance(
+        &self,
+        modes: &PointModes,
+        state: &mut ModalState,
+        f0: f64,
+        f1: f64,
+    ) -> (f64, f64) {
         let (mut w, mut energy) = (0.0, 0.0);
-        for (i, (&omega, &zeta)) in self.omega.iter().zip(&self.damping_ratio).enumerate() {
-            let s = ModeStep::new(omega, zeta, h, Hold::FirstOrder);
-            let g = self.gain[i];
+        for (i, s) in self.modes.iter().enumerate() {
+            let (g, omega) = (modes.gain[i], modes.omega[i]);
             let (q, v) = (state.q[i], state.v[i]);
             let q1 = s.e[0] * q + s.e[1] * v + g * (s.g0[0] * f0 + s.g1[0] * f1);
             let v1 = s.e[2] * q + s.e[3] * v + g * (s.g0[1] * f0 + s.g1[1] * f1);
@@ -411,7 +455,7 @@ impl PointModes {
             w += g * q1;
             energy += 0.5 * (v1 * v1 + omega * omega * q1 * q1);
         }
-        Ok((w, energy))
+        (w, energy)
     }
 }
 

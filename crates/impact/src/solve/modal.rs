@@ -18,7 +18,7 @@ use crate::law::WithLaw;
 use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample};
 use crate::plan::{Method, Plan, FINEST_LEVEL, LARGE_DEFLECTION};
 use hertz::ContactLaw;
-use modal::{Hold, ModalState, PointModes, Transition};
+use modal::{Hold, ModalState, OneStep, PointModes, Transition};
 use std::rc::Rc;
 
 /// The longest free-flight jump, in estimated contact durations (41 ms on the paper's tip, far
@@ -90,6 +90,8 @@ struct Solver<'a, L: ContactLaw> {
     accel_factor: Vec<f64>,
     /// Rigid-body modes (omega = 0), which come first.
     rigid_modes: usize,
+    /// The last step taken once or tried by the event search (see `approach_after`).
+    event_step: OneStep,
     /// Work space of `safe_horizon` (|g| A per mode, and its sums per segment between
     /// splits), kept to avoid an allocation per free-flight step.
     horizon_amplitude: Vec<f64>,
@@ -190,6 +192,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             inv_omega,
             accel_factor,
             rigid_modes,
+            event_step: OneStep::default(),
             horizon_amplitude: Vec::with_capacity(n),
             horizon_scratch: Vec::new(),
             horizon_bounds: Vec::new(),
@@ -220,6 +223,12 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
     }
 
     fn record(&mut self) {
+        let energy = self.energy();
+        self.record_with(&energy);
+    }
+
+    /// Records the current state with its ledger, already summed.
+    fn record_with(&mut self, energy: &Energy) {
         (self.progress)(self.t / self.plan.end_time);
         let w = self.beam_displacement();
         self.history.push(Sample::with_energy(
@@ -230,7 +239,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             self.ball_velocity,
             w,
             self.contact_point,
-            &self.energy(),
+            energy,
         ));
     }
 
@@ -402,8 +411,10 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             let delta1 = d_free - compliance * f1;
             predicted = self.advance_by(h, Some(&tr), f0, f1)?.map(|w| (Rc::clone(&tr), w));
             self.law.commit(&mut self.law_state, delta1, a * delta1 + b);
+            // The ledger after the step: the step control's and the history's.
+            let energy = self.energy();
             if tolerance.is_some() {
-                let ledger1 = self.energy().held();
+                let ledger1 = energy.held();
                 let mismatch = (ledger1 - ledger).abs();
                 ledger = ledger1;
                 // Where the force is smooth the mismatch scales as h^3 against an allowance
@@ -419,7 +430,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             previous = Some((h, delta0));
             contact.step(self.t, h, f1, delta1);
             if contact.steps() % self.record_stride == 0 {
-                self.record();
+                self.record_with(&energy);
             }
         }
         self.record();
@@ -454,7 +465,13 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 next_free = Some(next);
                 (w, energy)
             }
-            None => self.modes.advance_once(&mut self.beam, tau, f0, f1)?,
+            None => {
+                // The event search's last trial is most often this very step (the same bits).
+                if self.event_step.step_size().to_bits() != tau.to_bits() {
+                    self.modes.one_step(tau, &mut self.event_step)?;
+                }
+                self.event_step.advance(&self.modes, &mut self.beam, f0, f1)
+            }
         };
         (self.ball_position, self.ball_velocity) = self.ball_after(tau, f0, f1);
         if self.damped {
@@ -470,18 +487,20 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
     }
 
     /// Approach after tau of a step from the current state with the force going from f0 to 0.
-    fn approach_after(&self, tau: f64, f0: f64) -> Result<f64, ImpactError> {
+    /// The step is kept in `event_step`: the step to the event is the last one tried.
+    fn approach_after(&mut self, tau: f64, f0: f64) -> Result<f64, ImpactError> {
         if tau <= 0.0 {
             return Ok(self.approach());
         }
+        self.modes.one_step(tau, &mut self.event_step)?;
         Ok(self.ball_after(tau, f0, 0.0).0
-            - self.modes.free_displacement_after(&self.beam, tau, f0)?)
+            - self.event_step.free_displacement(&self.modes, &self.beam, f0))
     }
 
     /// Root of approach(tau) = target in (0, h) by the Illinois variant of regula falsi, given
     /// approach(0) > target >= approach(h) (or the reverse for onset).
     fn locate(
-        &self,
+        &mut self,
         h: f64,
         f0: f64,
         target: f64,
