@@ -228,6 +228,18 @@ fn event_search_displacement_and_step_energy_match_the_transition() {
             assert!((w - tip.displacement(&moved)).abs() < 1e-14 * w.abs());
             let exact = tip.energy(&moved);
             assert!((energy - exact).abs() < 1e-14 * exact, "h {h}: {energy} vs {exact}");
+            // A step taken once (OneStep, as the event search keeps it) is the transition's.
+            let mut once = s.clone();
+            let (w1, e1) = tip.advance_once(&mut once, h, 40.0, 55.0).unwrap();
+            assert!((w1 - w).abs() < 1e-13 * w.abs() && (e1 - energy).abs() < 1e-13 * energy);
+            for (x, y) in once.q.iter().zip(&moved.q).chain(once.v.iter().zip(&moved.v)) {
+                assert!((x - y).abs() <= 1e-12 * y.abs().max(1e-18), "h {h}: {x} vs {y}");
+            }
+            // And the next step's free end displacement, summed while advancing, is the one a
+            // second pass over the new state gives, to the last bit.
+            let mut next = s.clone();
+            let (_, _, predicted) = t.advance_predicting(&mut next, 40.0, 55.0);
+            assert_eq!(predicted.to_bits(), t.free_displacement(&next, 55.0).to_bits());
         }
         assert!(tip.free_displacement_after(&s, -1.0, 0.0).is_err());
     }

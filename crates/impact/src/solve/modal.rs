@@ -184,7 +184,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             residual,
             damping_work: 0.0,
             // The free flight's rows plus a few thousand in contact (the paper's 5 ms run
-            // records 7000 in all).
+            // records 3500 in all).
             history: History::with_capacity(
                 (plan.end_time / plan.output_interval).min(1e6) as usize + 4096,
             ),
