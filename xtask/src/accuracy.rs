@@ -1,20 +1,23 @@
 //! `cargo xtask accuracy SCENE.toml`: speed against error, for every method that applies.
 //!
-//! A beam scene is run by the modal method over a ladder of mode counts (and two looser energy
-//! tolerances of its adaptive contact step) and by the finite-element method over a ladder of
-//! uniform meshes (and other contact steps and HHT alphas). Each method's errors are measured
-//! from its own converged run, the finest of its ladder doubled once more; that reference is
-//! checked against a run at half its resolution, and the check says how far the reference
-//! itself may be off (a third of their difference: Richardson at second order, the fe
-//! element's order and below the modal series' observed third order). The two references
-//! differ by the models (Euler-Bernoulli modes against the geometrically exact beam), which
-//! the table's footer states and no setting of either method removes.
+//! A beam scene is run by the modal method over a ladder of mode counts, with and without the
+//! residual flexibility (and with two looser energy tolerances of its adaptive contact step),
+//! and by the finite-element method over a ladder of uniform meshes (and other contact steps
+//! and HHT alphas). Each method's errors are measured from its own converged run, at four times
+//! the finest resolution of its ladder (the modal one with the residual flexibility, which
+//! converges fastest: validation/REFERENCES.md 1.4); that reference is checked against a run at
+//! half its resolution, and the check says how far the reference itself may be off (a third of
+//! their difference: Richardson at second order, the fe element's order and below the modal
+//! series'). Where both references are converged they differ by the models (Euler-Bernoulli
+//! modes against the geometrically exact beam), which the table's footer states and no setting
+//! of either method removes.
 //!
 //! Errors are relative (-): the first contact's duration and peak force, the contact sequence
 //! (the worst relative error in start, duration and peak force over the significant contacts,
-//! those with a peak of at least [`SEQUENCE_PEAK`] of the first's, a missing one counting 1),
-//! the largest displacement at the impact point, and the energy balance error over the impact
-//! energy. Runs go one at a time, so that their wall times are not shared with another run.
+//! those with a peak of at least [`SEQUENCE_PEAK`] of the first's, a missing one counting 1,
+//! and 1 at most: not resolved), the largest displacement at the impact point, and the energy
+//! balance error over the impact energy. Runs go one at a time, so that their wall times are
+//! not shared with another run.
 
 use crate::plot::{Chart, Series};
 use anyhow::Context;
