@@ -249,7 +249,7 @@ pub(crate) fn study(scene: &Scene, quick: bool) -> anyhow::Result<Study> {
 
 impl Row {
     /// The four relative errors and the energy balance, in the CSV's order.
-    fn errors(&self) -> [f64; 5] {
+    fn columns(&self) -> [f64; 5] {
         let e = &self.errors;
         [
             e.first_duration,
@@ -279,7 +279,7 @@ impl Study {
     pub(crate) fn csv(&self) -> String {
         let mut csv = String::from("method,setting,wall_time_s,error_first_duration,error_first_peak_force,error_contact_sequence,error_max_displacement,energy_balance\n");
         for r in &self.rows {
-            let errors: Vec<String> = r.errors().iter().map(|x| format!("{x:.3e}")).collect();
+            let errors: Vec<String> = r.columns().iter().map(|x| format!("{x:.3e}")).collect();
             // Infallible: writing to a String.
             let _ = writeln!(
                 csv,
@@ -314,7 +314,7 @@ impl Study {
             "energy"
         );
         for r in &self.rows {
-            let errors: Vec<String> = r.errors().iter().map(|x| format!("{x:>10.2e}")).collect();
+            let errors: Vec<String> = r.columns().iter().map(|x| format!("{x:>10.2e}")).collect();
             let _ = writeln!(
                 t,
                 "{:<6} {:<44} {:>10.4} {}",
@@ -428,4 +428,60 @@ pub(crate) fn run(path: &Path, out: Option<&Path>, quick: bool) -> anyhow::Resul
     print!("{}", study.table());
     println!("\nwrote work_precision.csv and work_precision.svg to {}", out.display());
     Ok(true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Row, Study};
+    use impact::Differences;
+
+    fn row(method: &'static str, setting: &str, wall_time: f64, worst: f64) -> Row {
+        Row {
+            method,
+            series: method,
+            setting: setting.into(),
+            ladder: true,
+            wall_time,
+            errors: Differences {
+                first_duration: worst / 10.0,
+                first_peak_force: worst,
+                contact_sequence: worst / 2.0,
+                max_displacement: 0.0,
+                same_contacts: true,
+            },
+            energy_balance: 1e-7,
+        }
+    }
+
+    #[test]
+    fn the_cheapest_setting_meets_every_error_and_the_csv_has_the_columns() {
+        let study = Study {
+            name: "test".into(),
+            rows: vec![
+                row("modal", "16 modes", 0.001, 3e-2),
+                row("modal", "64 modes", 0.002, 5e-3),
+                row("modal", "256 modes", 0.004, 4e-4),
+                row("fe", "64 elements", 0.05, 2e-2),
+            ],
+            references: vec![],
+            model_difference: 0.0,
+        };
+        // The cheapest within 1e-2 is 64 modes (16 fails on its peak force), within 1e-3 256.
+        assert_eq!(study.cheapest("modal", 1e-2).map(|r| r.setting.as_str()), Some("64 modes"));
+        assert_eq!(study.cheapest("modal", 1e-3).map(|r| r.setting.as_str()), Some("256 modes"));
+        assert!(study.cheapest("fe", 1e-2).is_none());
+        let csv = study.csv();
+        let mut lines = csv.lines();
+        assert_eq!(
+            lines.next(),
+            Some("method,setting,wall_time_s,error_first_duration,error_first_peak_force,error_contact_sequence,error_max_displacement,energy_balance")
+        );
+        let first: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+        assert_eq!(first.len(), 8, "{first:?}");
+        assert_eq!(first[1], "\"16 modes\"");
+        assert!((first[4].parse::<f64>().unwrap_or(0.0) - 3e-2).abs() < 1e-12);
+        assert!(study
+            .table()
+            .contains("cheapest modal setting for 1e-3 on every error: 256 modes"));
+    }
 }
