@@ -18,6 +18,34 @@ pub enum Support {
     Clamped,
 }
 
+/// Numbers the free unknowns of nodes held by `supports`, each with N unknowns of which the
+/// first `translations` are its position (what a pin holds): the equation number of every
+/// node's unknowns (`None` where held) and how many there are. The 3D beam (6 unknowns, 3
+/// translations) and the planar one (3, 2) share it.
+pub(crate) fn number_unknowns<const N: usize>(
+    supports: &[Support],
+    translations: usize,
+) -> (Vec<[Option<usize>; N]>, usize) {
+    let mut n = 0;
+    let dofs = supports
+        .iter()
+        .map(|support| {
+            std::array::from_fn(|k| {
+                let held = match support {
+                    Support::Free => false,
+                    Support::Pinned => k < translations,
+                    Support::Clamped => true,
+                };
+                (!held).then(|| {
+                    n += 1;
+                    n - 1
+                })
+            })
+        })
+        .collect();
+    (dofs, n)
+}
+
 /// Time variation of a load: the factor multiplying its vectors.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Profile {
@@ -140,23 +168,7 @@ impl BeamModel {
     }
 
     fn number(&mut self, supports: &[Support]) {
-        let mut n = 0;
-        for (node, s) in supports.iter().enumerate() {
-            for k in 0..6 {
-                let fixed = match s {
-                    Support::Free => false,
-                    Support::Pinned => k < 3,
-                    Support::Clamped => true,
-                };
-                self.dofs[node][k] = if fixed {
-                    None
-                } else {
-                    n += 1;
-                    Some(n - 1)
-                };
-            }
-        }
-        self.ndof = n;
+        (self.dofs, self.ndof) = number_unknowns(supports, 3);
     }
 
     /// Sets the support of `node`.

@@ -128,22 +128,8 @@ impl PlanarBeam {
     }
 
     fn number(&mut self, supports: &[Support]) {
-        let mut n = 0;
-        for (node, support) in supports.iter().enumerate() {
-            for k in 0..3 {
-                let held = match support {
-                    Support::Free => false,
-                    Support::Pinned => k < 2,
-                    Support::Clamped => true,
-                };
-                self.dofs[node][k] = (!held).then(|| {
-                    n += 1;
-                    n - 1
-                });
-            }
-        }
-        self.ndof = n;
-        self.mass_diagonal = vec![0.0; n];
+        (self.dofs, self.ndof) = crate::model::number_unknowns(supports, 2);
+        self.mass_diagonal = vec![0.0; self.ndof];
         self.mass_couplings.clear();
         for e in 0..self.elements() {
             let (m, j) = self.element_mass(e);
