@@ -1,17 +1,18 @@
 //! `cargo xtask beam SCENE.toml`: a beam under prescribed loads (no ball), static or dynamic;
 //! the tracked node's history and the final shape as CSV, and a chart of the tracked node.
 
+use crate::files::{create, read_input, say, OutDir};
 use crate::plot::{Chart, Series};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use simo_beam::scene::{AnalysisName, BeamScene};
 use std::path::Path;
 
-#[allow(clippy::print_stdout)]
 pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read the scene file {}", path.display()))?;
+    let text = read_input(path, "scene file")?;
     let scene = BeamScene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    // The folder is named and proven writable before the run.
+    let dir = OutDir::create(&crate::files::out_dir("beam", &scene.name, out)?)?;
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})")
@@ -22,16 +23,9 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
         .with_context(|| format!("in {}", path.display()))?;
     bar.finish_and_clear();
 
-    let dir = out.map_or_else(|| Path::new("target/beam").join(&run.name), Path::to_path_buf);
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let create = |name: &str| -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
-        let p = dir.join(name);
-        let f =
-            std::fs::File::create(&p).with_context(|| format!("cannot write {}", p.display()))?;
-        Ok(std::io::BufWriter::new(f))
-    };
-    run.write_history_csv(create("history.csv")?)?;
-    run.write_shape_csv(create("shape.csv")?)?;
+    run.write_history_csv(create(&dir.join("history.csv"))?)?;
+    run.write_shape_csv(create(&dir.join("shape.csv"))?)?;
+    let dir = dir.path();
 
     let (x_label, what) = match scene.analysis {
         AnalysisName::Static => ("load factor (-)", "load path"),
@@ -50,9 +44,11 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
                 .collect(),
         })
         .collect();
-    let title = format!("{}: {what} of the node at s = {} m", run.name, run.tracked_arc_length);
+    // A title is SVG text: no control characters from the file.
+    let name = impact::study::printable(&run.name);
+    let title = format!("{name}: {what} of the node at s = {} m", run.tracked_arc_length);
     Chart { title: &title, x_label, y_label: "displacement (m)", series, markers: false }
-        .write(&dir, "tracked-displacement")?;
+        .write(dir, "tracked-displacement")?;
     let shape = ["x", "y", "z"]
         .iter()
         .enumerate()
@@ -61,7 +57,7 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
             points: run.shape.iter().map(|n| (n.arc_length, n.position[k])).collect(),
         })
         .collect();
-    let title = format!("{}: final shape", run.name);
+    let title = format!("{name}: final shape");
     Chart {
         title: &title,
         x_label: "arc length (m)",
@@ -69,21 +65,25 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
         series: shape,
         markers: false,
     }
-    .write(&dir, "final-shape")?;
+    .write(dir, "final-shape")?;
 
     let last = run.history.last().map_or([0.0; 3], |s| s.position);
     let rotation = run.history.last().map_or([0.0; 3], |s| s.rotation);
-    println!(
+    say!(
         "{}: {} unknowns, {} Newton iterations, {} cut step(s), {:.3} s",
-        run.name, run.unknowns, run.newton_iterations, run.cuts, run.wall_time
-    );
-    println!(
+        run.name,
+        run.unknowns,
+        run.newton_iterations,
+        run.cuts,
+        run.wall_time
+    )?;
+    say!(
         "node at s = {} m: final position ({:.6e}, {:.6e}, {:.6e}) m, rotation vector ({:.6e}, {:.6e}, {:.6e}) rad",
         run.tracked_arc_length, last[0], last[1], last[2], rotation[0], rotation[1], rotation[2]
-    );
-    println!(
+    )?;
+    say!(
         "wrote {}/{{history,shape,tracked-displacement,final-shape}}.csv and the two .svg",
         dir.display()
-    );
+    )?;
     Ok(true)
 }

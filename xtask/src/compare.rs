@@ -12,41 +12,22 @@
 //! count and largest displacement with their differences, and the charts overlay the
 //! displacement and force histories and plot each run's displacement minus the reference's.
 
+use crate::files::{read_input, say, write_atomic, OutDir};
 use crate::plot::{Chart, Series};
 use crate::reproduce::run_all;
 use anyhow::Context;
+use impact::study::variant;
 use impact::{MethodName, Outcome, Scene};
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The reference's `solver.tolerance`.
 pub(crate) const REFERENCE_TOLERANCE: f64 = 1e-3;
 
 /// One run of the comparison: its label and the scene that makes it.
 fn variants(scene: &Scene, modes: &[usize], elements: &[usize]) -> Vec<(String, Scene)> {
-    let fe = |elements: Option<usize>| {
-        let mut s = scene.clone();
-        s.solver.method = MethodName::Fe;
-        s.solver.modes = None;
-        if elements.is_some() {
-            s.solver.elements = elements;
-            s.solver.element_size = None;
-        }
-        s
-    };
-    let modal = |modes: Option<usize>| {
-        let mut s = scene.clone();
-        s.solver.method = MethodName::Modal;
-        s.solver.elements = None;
-        s.solver.element_size = None;
-        s.solver.alpha = None;
-        s.solver.time_step = None;
-        s.solver.tolerance = None;
-        if modes.is_some() {
-            s.solver.modes = modes;
-        }
-        s
-    };
+    let fe = |n: Option<usize>| variant(scene, MethodName::Fe, n);
+    let modal = |n: Option<usize>| variant(scene, MethodName::Modal, n);
     // A listed resolution that the scene's own run already has is not run twice.
     let mut modes: Vec<usize> =
         modes.iter().copied().filter(|n| scene.solver.modes != Some(*n)).collect();
@@ -59,10 +40,13 @@ fn variants(scene: &Scene, modes: &[usize], elements: &[usize]) -> Vec<(String, 
     let mut reference = modal(None);
     reference.solver.modes = None;
     reference.solver.tolerance = Some(REFERENCE_TOLERANCE);
+    // The modal method's default: the scene's own modes, else the plan's choice.
+    let mut default_modal = modal(None);
+    default_modal.solver.tolerance = None;
     let mut runs = vec![
         ("reference".to_string(), reference),
         ("fe".to_string(), fe(None)),
-        ("modal".to_string(), modal(None)),
+        ("modal".to_string(), default_modal),
     ];
     runs.extend(modes.iter().map(|&n| (format!("modal, {n} modes"), modal(Some(n)))));
     runs.extend(elements.iter().map(|&n| (format!("fe, {n} equal elements"), fe(Some(n)))));
@@ -92,24 +76,21 @@ fn relative(value: f64, reference: f64) -> String {
     format!("{:+.3} %", 100.0 * (value - reference) / reference)
 }
 
-#[allow(clippy::print_stdout)]
 pub(crate) fn run(
     path: &Path,
     modes: &[usize],
     elements: &[usize],
     out: Option<&Path>,
 ) -> anyhow::Result<bool> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read the scene file {}", path.display()))?;
+    let text = read_input(path, "scene file")?;
     let scene = Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
     anyhow::ensure!(
         scene.beam.is_some(),
         "{}: compare needs a [beam] scene (a [half_space] has one model only)",
         path.display()
     );
-    let out: PathBuf =
-        out.map_or_else(|| Path::new("target/compare").join(&scene.name), Path::to_path_buf);
-    std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    let dir = OutDir::create(&crate::files::out_dir("compare", &scene.name, out)?)?;
+    let out = dir.path();
     let runs = variants(&scene, modes, elements);
     let labels: Vec<String> = runs.iter().map(|(l, _)| l.clone()).collect();
     let outcomes = run_all("compare", runs.into_iter().map(|(_, s)| s).collect())?;
@@ -168,8 +149,7 @@ pub(crate) fn run(
             r.contact_count, r.max_displacement, r.wall_time
         )?;
     }
-    std::fs::write(out.join("summary.csv"), csv)
-        .with_context(|| format!("cannot write {}", out.join("summary.csv").display()))?;
+    write_atomic(&out.join("summary.csv"), csv.as_bytes())?;
 
     let history =
         |pick: fn(&impact::History) -> &Vec<f64>, time_scale: f64, scale: f64, until: f64| {
@@ -197,7 +177,7 @@ pub(crate) fn run(
         series: history(|h| &h.beam_displacement, 1e3, 1e3, end),
         markers: false,
     }
-    .write(&out, "displacement")?;
+    .write(out, "displacement")?;
     let window = if d0 > 0.0 { 1.5 * d0 } else { end };
     Chart {
         title: "Contact force, first contact",
@@ -206,7 +186,7 @@ pub(crate) fn run(
         series: history(|h| &h.force, 1e6, 1.0, window),
         markers: false,
     }
-    .write(&out, "force")?;
+    .write(out, "force")?;
     let (rt, rw) = (&reference.history.time, &reference.history.beam_displacement);
     let differences = labels
         .iter()
@@ -230,17 +210,17 @@ pub(crate) fn run(
         series: differences,
         markers: false,
     }
-    .write(&out, "displacement_difference")?;
+    .write(out, "displacement_difference")?;
     let estimate = reference
         .report
         .estimated_error
         .map_or_else(|| "not estimated".to_string(), |e| format!("{e:.1e}"));
-    println!("{}: first-contact duration, peak force and largest displacement at the impact point; differences from the first row, the modal method converged to solver.tolerance = {REFERENCE_TOLERANCE} (estimated error {estimate})\n", scene.name);
-    print!("{table}");
-    println!(
+    say!("{}: first-contact duration, peak force and largest displacement at the impact point; differences from the first row, the modal method converged to solver.tolerance = {REFERENCE_TOLERANCE} (estimated error {estimate})\n", scene.name)?;
+    say!("{}", table.trim_end())?;
+    say!(
         "\nwrote summary.csv and displacement, force, displacement_difference (.svg, .csv) to {}",
         out.display()
-    );
+    )?;
     Ok(true)
 }
 
@@ -260,6 +240,26 @@ mod tests {
             labels,
             ["reference", "fe", "modal", "modal, 16 modes", "fe, 20 equal elements"]
         );
+    }
+
+    #[test]
+    fn every_run_of_a_scene_with_one_methods_keys_is_a_valid_scene() {
+        let text = include_str!("../../validation/scenes/paper-tip.toml");
+        let mut modal = impact::Scene::from_toml(text).unwrap();
+        modal.solver.residual_flexibility = Some(true);
+        modal.solver.energy_tolerance = Some(1e-4);
+        let mut fe = modal.clone();
+        fe.solver = impact::SolverSpec {
+            method: impact::MethodName::Fe,
+            alpha: Some(-0.1),
+            element_size: Some(0.05),
+            ..Default::default()
+        };
+        for scene in [modal, fe] {
+            for (label, run) in variants(&scene, &[16], &[20]) {
+                impact::Plan::new(&run).unwrap_or_else(|e| panic!("{label}: {e}"));
+            }
+        }
     }
 
     #[test]

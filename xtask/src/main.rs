@@ -4,6 +4,7 @@
 mod accuracy;
 mod beam;
 mod compare;
+mod files;
 mod plot;
 mod reproduce;
 mod simulate;
@@ -13,7 +14,8 @@ mod validate;
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
-/// Impact of a hard ball on a flexible beam: reproduce the paper, simulate a scene, validate.
+/// Impact of a hard ball on a flexible beam: reproduce the paper, simulate a scene, compare
+/// the methods, measure speed against error, sweep a scene, run a beam, validate.
 #[derive(Parser)]
 #[command(name = "cargo xtask", version, about)]
 struct Cli {
@@ -39,7 +41,7 @@ enum Command {
         /// Print the report as JSON on stdout instead of a summary.
         #[arg(long)]
         json: bool,
-        /// Write the time history to this CSV file.
+        /// Write the time history to this CSV file (never the scene file itself).
         #[arg(long)]
         history: Option<PathBuf>,
     },
@@ -71,6 +73,13 @@ enum Command {
         /// Shorter ladders (for CI): 16 to 128 modes and elements, references at 512.
         #[arg(long)]
         quick: bool,
+        /// Finish a stopped study in the output folder: keep its finished runs
+        /// (runs.partial.jsonl) and run only the missing settings.
+        #[arg(long)]
+        resume: bool,
+        /// Run at most this many settings now (the rest later with --resume).
+        #[arg(long)]
+        limit: Option<usize>,
     },
     /// Run a beam under prescribed loads (no ball), static or dynamic; write the tracked node's
     /// history and the final shape as CSV (and SVG charts).
@@ -96,9 +105,17 @@ enum Command {
         /// Run only the K-th of N interleaved parts of the grid (K/N, 1 <= K <= N).
         #[arg(long)]
         shard: Option<String>,
-        /// Join the sweep.csv of these shard folders (in point order) into --out.
+        /// Join the sweep.csv of these shard folders (in point order) into --out; refused
+        /// unless they are finished shards of one sweep that together hold every point.
         #[arg(long, num_args = 1..)]
         merge: Vec<PathBuf>,
+        /// Finish a stopped sweep in the output folder: keep its finished rows
+        /// (sweep.partial.csv) and run only the missing points.
+        #[arg(long)]
+        resume: bool,
+        /// Run at most this many points now (the rest later with --resume).
+        #[arg(long)]
+        limit: Option<usize>,
         /// Output folder; default target/sweep/NAME (or target/sweep/merged).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -121,26 +138,41 @@ fn main() -> std::process::ExitCode {
         Command::Compare { scene, modes, elements, out } => {
             compare::run(&scene, &modes, &elements, out.as_deref())
         }
-        Command::Accuracy { scene, out, quick } => accuracy::run(&scene, out.as_deref(), quick),
+        Command::Accuracy { scene, out, quick, resume, limit } => {
+            accuracy::run(&scene, out.as_deref(), quick, resume, limit)
+        }
         Command::Beam { scene, out } => beam::run(&scene, out.as_deref()),
-        Command::Sweep { scene, set, log, shard, merge, out } => match (scene, merge.is_empty()) {
-            (Some(scene), true) => sweep::run(&scene, &set, &log, out.as_deref(), shard.as_deref()),
-            (None, false) => sweep::merge(
-                &merge,
-                out.as_deref().unwrap_or_else(|| std::path::Path::new("target/sweep/merged")),
-            ),
-            _ => Err(anyhow::anyhow!("give a scene file to sweep, or --merge DIR... without one")),
-        },
+        Command::Sweep { scene, set, log, shard, merge, out, resume, limit } => {
+            match (scene, merge.is_empty()) {
+                (Some(scene), true) => sweep::run(&sweep::Request {
+                    scene: &scene,
+                    sets: &set,
+                    log: &log,
+                    out: out.as_deref(),
+                    shard: shard.as_deref(),
+                    resume,
+                    limit,
+                }),
+                (None, false) => sweep::merge(
+                    &merge,
+                    out.as_deref().unwrap_or_else(|| std::path::Path::new("target/sweep/merged")),
+                ),
+                _ => Err(anyhow::anyhow!(
+                    "give a scene file to sweep, or --merge DIR... without one"
+                )),
+            }
+        }
         Command::Validate { json } => validate::run(json),
     };
     match result {
         Ok(true) => std::process::ExitCode::SUCCESS,
         Ok(false) => std::process::ExitCode::FAILURE,
+        // A reader that stopped reading (`| head`) is no failure of the program.
+        Err(e) if files::is_broken_pipe(&e) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            #[allow(clippy::print_stderr)]
-            {
-                eprintln!("error: {e:#}");
-            }
+            // One line per cause, no control character from a file reaching the terminal.
+            let message = files::escape_controls(&format!("error: {e:#}"));
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), (message + "\n").as_bytes());
             std::process::ExitCode::FAILURE
         }
     }

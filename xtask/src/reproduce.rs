@@ -1,8 +1,8 @@
 //! `cargo xtask reproduce`: the paper's figures that the modal method makes, with an index page.
 
 use crate::plot::{Chart, Series};
-use crate::sweep::Axis;
 use anyhow::Context;
+use impact::study::Axis;
 use impact::{LawName, Scene};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -67,7 +67,7 @@ fn doubled_modes_error(
 fn paper_sweep(
     remove: &[&str],
     fixed: &[(&str, toml::Value)],
-    axes: &[Axis],
+    axes: &[(&str, Vec<toml::Value>)],
 ) -> anyhow::Result<Vec<Scene>> {
     let mut base: toml::Table = toml::from_str(PAPER_SCENE)?;
     for key in remove {
@@ -76,9 +76,12 @@ fn paper_sweep(
             t.remove(name);
         }
     }
-    let mut axes = axes.to_vec();
-    axes.splice(0..0, fixed.iter().map(|(k, v)| Axis::new(k, [v.clone()])));
-    crate::sweep::scenes(&base, &axes)
+    let axes = fixed
+        .iter()
+        .map(|(k, v)| Axis::new(k, [v.clone()]))
+        .chain(axes.iter().map(|(k, v)| Axis::new(k, v.clone())))
+        .collect::<Result<Vec<_>, _>>()?;
+    crate::sweep::scenes(&base, axes)
 }
 
 /// The displacement at the impact point of a run, in mm against ms.
@@ -95,8 +98,25 @@ fn displacement_series(label: String, o: &impact::Outcome) -> Series {
     }
 }
 
+/// The index page's title: an index.html without it is not ours, and is not replaced.
+const INDEX_TITLE: &str = "Impact on a cantilever: reproduction";
+
+/// `cargo xtask reproduce`: the figures into `out`, the index page last. An earlier run's
+/// index is removed before the first figure is written, so a stopped run never leaves a folder
+/// that looks complete with figures of two runs.
 pub(crate) fn run(out: &Path, quick: bool) -> anyhow::Result<bool> {
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    crate::files::OutDir::create(out)?;
+    let index = out.join("index.html");
+    if index.exists() {
+        let earlier = std::fs::read_to_string(&index).unwrap_or_default();
+        anyhow::ensure!(
+            earlier.contains(INDEX_TITLE),
+            "{} holds an index.html that reproduce did not write: give another --out",
+            out.display()
+        );
+        std::fs::remove_file(&index)
+            .with_context(|| format!("cannot remove the earlier {}", index.display()))?;
+    }
     let clock = std::time::Instant::now();
     let figures = [
         fig3a(out, quick)?,
@@ -109,15 +129,12 @@ pub(crate) fn run(out: &Path, quick: bool) -> anyhow::Result<bool> {
     ]
     .concat();
     write_index(out, &figures, quick)?;
-    #[allow(clippy::print_stdout)]
-    {
-        println!(
-            "wrote {} figures and index.html to {} in {:.1} s",
-            figures.len(),
-            out.display(),
-            clock.elapsed().as_secs_f64()
-        );
-    }
+    crate::files::say!(
+        "wrote {} figures and index.html to {} in {:.1} s",
+        figures.len(),
+        out.display(),
+        clock.elapsed().as_secs_f64()
+    )?;
     Ok(true)
 }
 
@@ -330,8 +347,8 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             ("solver.end_time", toml::Value::Float(3e-4)),
         ],
         &[
-            Axis::new("contact.law", ["hertz", "thornton"].map(|l| toml::Value::String(l.into()))),
-            Axis::new("impact.speed", speeds.iter().map(|v| toml::Value::Float(*v))),
+            ("contact.law", ["hertz", "thornton"].map(|l| toml::Value::String(l.into())).to_vec()),
+            ("impact.speed", speeds.iter().map(|v| toml::Value::Float(*v)).collect()),
         ],
     )?;
     let runs = run_all("4: speed sweep", scenes.clone())?;
@@ -442,7 +459,7 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             ("solver.modes", toml::Value::Integer(modes as i64)),
             ("solver.end_time", toml::Value::Float(end)),
         ],
-        &[Axis::new("impact.drop_height", heights.iter().map(|h| toml::Value::Float(*h)))],
+        &[("impact.drop_height", heights.iter().map(|h| toml::Value::Float(*h)).collect())],
     )?;
     let runs = run_all("5-6: drop heights", scenes.clone())?;
     let error =
@@ -634,7 +651,7 @@ fn work_precision(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     let mut scene = paper()?;
     scene.solver.end_time = Some(1e-3);
     let study = crate::accuracy::study(&scene, quick)?;
-    study.write(out)?;
+    crate::accuracy::write(&study, out)?;
     let cheapest = |method: &str, target: f64| {
         study.cheapest(method, target).map_or_else(
             || "none of the ladder".to_string(),
@@ -653,10 +670,11 @@ fn work_precision(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             "The paper's tip scene (gravity on, elastic Hertz) over 1 ms, by the modal method on a ladder of modes, with and without the residual flexibility (the truncated modes' static \
              compliance in series with the contact), and with looser energy tolerances of its contact step, and by the finite-element \
              method on a ladder of uniform meshes (and other contact steps and HHT alphas): report wall time against the relative error of the first contact's duration and peak force, \
-             of the contact sequence (worst start, duration or peak over the contacts with a peak of at least 1 % of the first's) and of the largest displacement, each from its own \
+             of the contact sequence (worst start, duration or peak over the contacts with a peak of at least {} of the first's) and of the largest displacement, each from its own \
              method's converged run: {}. The two converged runs differ by {:.1e}: the models' own difference (Euler-Bernoulli modes against the geometrically exact beam). \
              Cheapest setting with every error within 1e-2: modal {}, fe {}; within 1e-3: modal {}, fe {}. The modal series converges at about third order in the modes \
              (each doubling cuts the error about eight times), far faster with the residual flexibility (128 modes then beat 512 without it), the fe mesh at second order (four times). Data: work_precision.csv (one row a run).",
+            impact::SIGNIFICANT_PEAK,
             references.join("; "),
             study.model_difference,
             cheapest("modal", 1e-2),
@@ -668,9 +686,10 @@ fn work_precision(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
 }
 
 fn write_index(out: &Path, figures: &[Figure], quick: bool) -> anyhow::Result<()> {
-    let mut html = String::from(
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>Impact on a cantilever: reproduction</title>\
-         <style>body{font-family:sans-serif;max-width:980px;margin:2em auto;line-height:1.45}figure{margin:2em 0}img{width:100%;border:1px solid #ccc}figcaption{margin-top:.5em}</style></head><body>\
+    let mut html =
+        format!("<!doctype html><html><head><meta charset=\"utf-8\"><title>{INDEX_TITLE}</title>");
+    html.push_str(
+        "<style>body{font-family:sans-serif;max-width:980px;margin:2em auto;line-height:1.45}figure{margin:2em 0}img{width:100%;border:1px solid #ccc}figcaption{margin-top:.5em}</style></head><body>\
          <h1>Barrientos, Baeza, Sampaio &amp; Razeto: the figures, regenerated</h1>",
     );
     writeln!(
@@ -683,6 +702,5 @@ fn write_index(out: &Path, figures: &[Figure], quick: bool) -> anyhow::Result<()
         writeln!(html, "<figure><h2>{}</h2><img src=\"{}.svg\" alt=\"{}\"><figcaption>{} <a href=\"{}.csv\">data (CSV)</a></figcaption></figure>", f.title, f.stem, f.title, f.caption, f.stem)?;
     }
     html.push_str("</body></html>\n");
-    std::fs::write(out.join("index.html"), html)
-        .with_context(|| format!("cannot write {}", out.join("index.html").display()))
+    crate::files::write_atomic(&out.join("index.html"), html.as_bytes())
 }

@@ -1,13 +1,13 @@
 //! `cargo xtask simulate SCENE.toml`: one scene, a readable summary or JSON.
 
+use crate::files::{create, read_input, say};
 use anyhow::Context;
 use impact::MethodKind;
 use std::path::Path;
 
 /// Reads and runs a scene file.
 pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read the scene file {}", path.display()))?;
+    let text = read_input(path, "scene file")?;
     let scene =
         impact::Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
     // On standard error, and only on a terminal: --json output stays clean.
@@ -26,17 +26,18 @@ pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
     outcome
 }
 
-#[allow(clippy::print_stdout)]
 pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bool> {
     let outcome = load_and_run(path)?;
     if let Some(h) = history {
-        let file =
-            std::fs::File::create(h).with_context(|| format!("cannot write {}", h.display()))?;
-        outcome.history.write_csv(std::io::BufWriter::new(file))?;
+        // `create` refuses the scene file itself: the history never replaces its input.
+        outcome
+            .history
+            .write_csv(create(h)?)
+            .with_context(|| format!("cannot write {}", h.display()))?;
     }
     let r = &outcome.report;
     if json {
-        println!("{}", serde_json::to_string_pretty(r)?);
+        say!("{}", serde_json::to_string_pretty(r)?)?;
         return Ok(true);
     }
     let resolution = match r.plan.method {
@@ -46,18 +47,21 @@ pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Re
     };
     // The fe method's contact step grows from the plan's; the others' (adaptive) stays below.
     let bound = if r.plan.method == MethodKind::Fe { "from" } else { "up to" };
-    println!(
+    say!(
         "{}: {} model, {resolution}, contact law {}, contact step {bound} {:.3e} s",
-        r.name, r.plan.method, r.plan.contact_law, r.plan.time_step
-    );
+        r.name,
+        r.plan.method,
+        r.plan.contact_law,
+        r.plan.time_step
+    )?;
     for reason in &r.plan.reasons {
-        println!("  - {reason}");
+        say!("  - {reason}")?;
     }
     for w in &r.warnings {
-        println!("  warning: {w}");
+        say!("  warning: {w}")?;
     }
-    println!("impact speed {:.4} m/s; {} contact(s)", r.impact_speed, r.contact_count);
-    println!(
+    say!("impact speed {:.4} m/s; {} contact(s)", r.impact_speed, r.contact_count)?;
+    say!(
         "  {:>3} {:>12} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10}",
         "#",
         "start (us)",
@@ -67,9 +71,9 @@ pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Re
         "v in",
         "v out",
         "print (mm)"
-    );
+    )?;
     for (i, c) in r.contacts.iter().enumerate().take(40) {
-        println!(
+        say!(
             "  {:>3} {:>12.3} {:>12.3}{} {:>12.3} {:>12.4} {:>10.4} {:>10.4} {:>10.4}",
             i + 1,
             c.start * 1e6,
@@ -80,30 +84,31 @@ pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Re
             c.ball_velocity_before,
             c.ball_velocity_after,
             c.print_radius * 1e3
-        );
+        )?;
     }
     if r.contact_count > 40 {
-        println!("  ... {} more", r.contact_count - 40);
+        say!("  ... {} more", r.contact_count - 40)?;
     }
     match r.restitution {
-        Some(e) => println!("restitution (first contact) {e:.5}"),
-        None => println!("restitution: the first contact had not ended"),
+        Some(e) => say!("restitution (first contact) {e:.5}")?,
+        None => say!("restitution: the first contact had not ended")?,
     }
-    println!(
+    say!(
         "max displacement at the impact point {:.4e} m at t = {:.4e} s",
-        r.max_displacement, r.max_displacement_time
-    );
+        r.max_displacement,
+        r.max_displacement_time
+    )?;
     if let Some(f) = r.equivalent_static_force {
-        println!(
+        say!(
             "equivalent static force {f:.4} N (static stiffness {:.4e} N/m)",
             r.static_stiffness.unwrap_or(f64::NAN)
-        );
+        )?;
     }
     let e = &r.energy;
-    println!(
+    say!(
         "energy (J): initial {:.6e}; ball kinetic {:.6e}, potential {:.6e}; beam {:.6e}; contact {:.6e}; dissipated {:.6e}; numerical dissipation {:.6e}; balance error {:.2e} ({:.1e} of initial)",
         e.initial, e.ball_kinetic, e.ball_potential, e.beam, e.contact_stored, e.dissipated, e.numerical_dissipation, e.balance_error, e.balance_error / e.initial
-    );
-    println!("wall time {:.4} s", r.wall_time);
+    )?;
+    say!("wall time {:.4} s", r.wall_time)?;
     Ok(true)
 }

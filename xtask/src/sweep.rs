@@ -1,39 +1,31 @@
 //! `cargo xtask sweep SCENE.toml --set KEY=START:STOP:COUNT ...`: one scene over a grid of
-//! values of any of its keys, on every core, in shards for a cluster, merged back into one table.
+//! values of any of its keys, on every core, in shards for a cluster, merged back into one
+//! table; stopped and resumed without losing a finished point.
 //!
-//! Every point is a scene file with the swept keys replaced, validated like one before anything
-//! runs; the runs go in parallel (rayon) with a progress bar on standard error; a run that fails
-//! leaves its row with the reason. `sweep.csv` has the point's number, the swept keys, then the
-//! report's scalars with their units; `sweep.svg` draws the main ones against the first key.
+//! The grid, its shards, each point's scene and the table's columns are
+//! [`impact::study::grid`]'s; this module runs the points and keeps the files. Before the first
+//! point runs, every point's scene is validated, the output folder is created and proven
+//! writable, and `sweep.json` (the [`Manifest`]: which sweep, which shard) is written. Each
+//! finished point is appended to `sweep.partial.csv` and flushed at once, in the order the
+//! points finish; when the last is done the rows are sorted into `sweep.csv` (written whole and
+//! renamed into place), `sweep.svg` drawn, and the partial file removed. A folder holding
+//! `sweep.partial.csv` is unfinished: `--resume` runs only its missing points.
 
+use crate::files::{read_input, say, write_atomic, OutDir};
 use crate::plot::{Chart, Series};
 use anyhow::{bail, ensure, Context};
-use impact::{Plan, Report, Scene};
+use impact::study::{Axis, Grid, Manifest, Shard};
+use impact::{Report, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
-/// One swept key and its values.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Axis {
-    key: String,
-    values: Vec<toml::Value>,
-}
-
-/// A point of the grid: its number and the value of each swept key.
-type Point = (usize, Vec<(String, toml::Value)>);
-
-impl Axis {
-    /// The key `key` (dotted) over `values`.
-    pub(crate) fn new(key: &str, values: impl IntoIterator<Item = toml::Value>) -> Self {
-        Self { key: key.to_string(), values: values.into_iter().collect() }
-    }
-}
-
-/// The scenes of every point of the grid of `axes` over `base` (validated), in grid order.
-pub(crate) fn scenes(base: &toml::Table, axes: &[Axis]) -> anyhow::Result<Vec<Scene>> {
-    grid(axes).iter().map(|p| point_scene(base, p)).collect()
-}
+const MANIFEST: &str = "sweep.json";
+const PARTIAL: &str = "sweep.partial.csv";
+const TABLE: &str = "sweep.csv";
 
 /// `work` on every item in parallel (rayon), with a progress bar labelled `label` on standard
 /// error; the results in the items' order. The one way the toolkit runs many scenes.
@@ -61,220 +53,245 @@ pub(crate) fn par_run<I: Sync, T: Send>(
     out
 }
 
-/// `KEY=START:STOP:COUNT` (COUNT values, evenly spaced, or geometrically for a key in `log`)
-/// or `KEY=v1,v2,...` (numbers, true/false, or names).
-pub(crate) fn parse_set(spec: &str, log: &[String]) -> anyhow::Result<Axis> {
-    let (key, values) = spec
-        .split_once('=')
-        .with_context(|| format!("--set {spec}: expected KEY=START:STOP:COUNT or KEY=v1,v2,..."))?;
-    let key = key.trim().to_string();
-    ensure!(!key.is_empty(), "--set {spec}: the key is empty");
-    let parts: Vec<&str> = values.split(':').collect();
-    let values = if parts.len() == 3 {
-        let number = |s: &str, what: &str| -> anyhow::Result<f64> {
-            let v: f64 = s
-                .trim()
-                .parse()
-                .with_context(|| format!("--set {spec}: {what} = {s:?} is not a number"))?;
-            ensure!(v.is_finite(), "--set {spec}: {what} = {s} is not finite");
-            Ok(v)
-        };
-        let (start, stop) = (number(parts[0], "START")?, number(parts[1], "STOP")?);
-        let count: usize = parts[2].trim().parse().with_context(|| {
-            format!("--set {spec}: COUNT = {:?} is not a whole number", parts[2])
-        })?;
+/// The scenes of every point of the grid of `axes` over `base` (validated), in grid order.
+pub(crate) fn scenes(base: &toml::Table, axes: Vec<Axis>) -> anyhow::Result<Vec<Scene>> {
+    let grid = Grid::new(axes)?;
+    (0..grid.len()).map(|i| Ok(grid.scene(base, i)?)).collect()
+}
+
+/// What `cargo xtask sweep SCENE` was asked.
+pub(crate) struct Request<'a> {
+    pub scene: &'a Path,
+    pub sets: &'a [String],
+    pub log: &'a [String],
+    pub out: Option<&'a Path>,
+    pub shard: Option<&'a str>,
+    /// Complete an unfinished sweep in the output folder.
+    pub resume: bool,
+    /// Run at most this many points now (the rest with --resume later).
+    pub limit: Option<usize>,
+}
+
+/// The sweep's runner: a scene to its report (the solver, or a stand-in in tests).
+type Runner<'a> = &'a (dyn Fn(&Scene) -> anyhow::Result<Report> + Sync);
+
+/// `cargo xtask sweep`.
+pub(crate) fn run(request: &Request<'_>) -> anyhow::Result<bool> {
+    run_with(request, &|s| Ok(impact::simulate(s)?.report))
+}
+
+fn run_with(request: &Request<'_>, runner: Runner<'_>) -> anyhow::Result<bool> {
+    let path = request.scene;
+    let text = read_input(path, "scene file")?;
+    let scene = Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    let base: toml::Table =
+        toml::from_str(&text).with_context(|| format!("in {}", path.display()))?;
+    let axes =
+        request.sets.iter().map(|s| Axis::parse(s, request.log)).collect::<Result<Vec<_>, _>>()?;
+    for k in request.log {
         ensure!(
-            (1..=1_000_000).contains(&count),
-            "--set {spec}: COUNT = {count}: allowed 1 to 1000000"
+            axes.iter().any(|a| a.key == *k),
+            "--log {}: not a swept key",
+            impact::study::printable(k)
         );
-        let geometric = log.contains(&key);
-        ensure!(
-            !geometric || (start > 0.0 && stop > 0.0),
-            "--set {spec}: a --log key needs START and STOP greater than 0"
-        );
-        (0..count)
-            .map(|i| {
-                let f = if count == 1 { 0.0 } else { i as f64 / (count - 1) as f64 };
-                let v = if geometric {
-                    start * (stop / start).powf(f)
-                } else {
-                    start + (stop - start) * f
-                };
-                toml::Value::Float(v)
-            })
-            .collect()
-    } else {
-        values.split(',').map(|v| value(v.trim())).collect()
-    };
-    Ok(Axis { key, values })
-}
-
-/// A value as written on the command line: an integer, a number, true/false, or a name.
-fn value(text: &str) -> toml::Value {
-    if let Ok(i) = text.parse::<i64>() {
-        toml::Value::Integer(i)
-    } else if let Ok(f) = text.parse::<f64>() {
-        toml::Value::Float(f)
-    } else if let Ok(b) = text.parse::<bool>() {
-        toml::Value::Boolean(b)
-    } else {
-        toml::Value::String(text.to_string())
     }
-}
-
-/// Every combination of the axes' values, the first axis varying slowest, numbered from 0.
-pub(crate) fn grid(axes: &[Axis]) -> Vec<Point> {
-    let mut points: Vec<Vec<(String, toml::Value)>> = vec![Vec::new()];
-    for axis in axes {
-        points = points
-            .into_iter()
-            .flat_map(|p| {
-                axis.values.iter().map(move |v| {
-                    let mut q = p.clone();
-                    q.push((axis.key.clone(), v.clone()));
-                    q
-                })
-            })
-            .collect();
-    }
-    points.into_iter().enumerate().collect()
-}
-
-/// The points of shard `k` of `n` (1-based): every n-th point from the k-th, so each shard
-/// gets an even share of cheap and costly points.
-pub(crate) fn shard(points: Vec<Point>, k: usize, n: usize) -> Vec<Point> {
-    points.into_iter().filter(|(i, _)| i % n == k - 1).collect()
-}
-
-/// `K/N` with 1 <= K <= N.
-pub(crate) fn parse_shard(text: &str) -> anyhow::Result<(usize, usize)> {
-    let (k, n) = text.split_once('/').with_context(|| format!("--shard {text}: expected K/N"))?;
-    let (k, n): (usize, usize) = (
-        k.trim().parse().with_context(|| format!("--shard {text}: K is not a whole number"))?,
-        n.trim().parse().with_context(|| format!("--shard {text}: N is not a whole number"))?,
+    let grid = Grid::new(axes)?;
+    let shard = request.shard.map(Shard::parse).transpose()?.unwrap_or(Shard::WHOLE);
+    let mine: Vec<usize> = shard.points(grid.len()).collect();
+    let scenes = mine
+        .iter()
+        .map(|&i| Ok((i, grid.scene(&base, i)?)))
+        .collect::<anyhow::Result<BTreeMap<usize, Scene>>>()?;
+    let dir = OutDir::create(&crate::files::out_dir("sweep", &scene.name, request.out)?)?;
+    let manifest = Manifest::new(&base, &grid, shard);
+    let done = start(&dir, &manifest, request.resume)?;
+    let clock = std::time::Instant::now();
+    let todo: Vec<(usize, &Scene)> = scenes
+        .iter()
+        .filter(|(i, _)| !done.contains_key(i))
+        .take(request.limit.unwrap_or(usize::MAX))
+        .map(|(i, s)| (*i, s))
+        .collect();
+    let journal = Mutex::new(
+        std::fs::OpenOptions::new()
+            .append(true)
+            .open(dir.join(PARTIAL))
+            .with_context(|| format!("cannot append to {}", dir.join(PARTIAL).display()))?,
     );
-    ensure!(n >= 1 && (1..=n).contains(&k), "--shard {text}: allowed 1 <= K <= N");
-    Ok((k, n))
-}
-
-/// The scene of one point: `base` with each swept key set.
-pub(crate) fn point_scene(base: &toml::Table, point: &Point) -> anyhow::Result<Scene> {
-    let mut table = base.clone();
-    for (key, v) in &point.1 {
-        let mut at = &mut table;
-        let parts: Vec<&str> = key.split('.').collect();
-        for part in &parts[..parts.len() - 1] {
-            let entry = at
-                .entry(part.to_string())
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-            at = entry.as_table_mut().with_context(|| {
-                format!("point {}: {key}: {part} is not a table in the scene", point.0)
-            })?;
-        }
-        at.insert(parts[parts.len() - 1].to_string(), v.clone());
+    let written: Vec<anyhow::Result<()>> = par_run("sweep", &todo, |(i, scene)| {
+        let result = runner(scene);
+        let error = result.as_ref().err().map(|e| format!("{e:#}"));
+        let cells = grid.row(*i, result.as_ref().map_err(|_| error.as_deref().unwrap_or("")));
+        let line = csv_line(&cells)?;
+        let mut file = journal.lock().map_err(|_| anyhow::anyhow!("a run panicked"))?;
+        // One unbuffered write of the whole row: a stopped sweep keeps every row it finished,
+        // and a row cut by a kill has no line end and is dropped on --resume.
+        file.write_all(&line)
+            .with_context(|| format!("cannot write {}", dir.join(PARTIAL).display()))
+    });
+    written.into_iter().collect::<anyhow::Result<()>>()?;
+    let rows = read_rows(&dir.join(PARTIAL), &manifest.header)?;
+    let failed = rows.values().filter(|r| r.last().is_some_and(|e| !e.is_empty())).count();
+    let shown = dir.path().display();
+    if rows.len() < mine.len() {
+        say!(
+            "{} of {} points done ({} now, {failed} failed) in {:.2} s; the rows so far are in {shown}/{PARTIAL}: run again with --resume to finish",
+            rows.len(),
+            mine.len(),
+            todo.len(),
+            clock.elapsed().as_secs_f64()
+        )?;
+        return Ok(true);
     }
-    let text = toml::to_string(&table)?;
-    let scene = Scene::from_toml(&text)
-        .with_context(|| format!("point {} ({})", point.0, describe(point)))?;
-    Plan::new(&scene).with_context(|| format!("point {} ({})", point.0, describe(point)))?;
-    Ok(scene)
+    let figure = finish(&dir, &manifest, &rows)?;
+    std::fs::remove_file(dir.join(PARTIAL)).ok();
+    let what = match (mine.is_empty(), figure) {
+        (true, _) => format!(
+            "shard {}/{} holds no point of the {}-point grid: wrote a header-only {shown}/{TABLE}",
+            shard.k,
+            shard.n,
+            grid.len()
+        ),
+        (false, true) => format!("{shown}/{TABLE} and sweep.svg"),
+        (false, false) => format!("{shown}/{TABLE} (no figure: no finite value to draw)"),
+    };
+    say!(
+        "{} points ({failed} failed; {} run now) in {:.2} s: {what}",
+        rows.len(),
+        todo.len(),
+        clock.elapsed().as_secs_f64()
+    )?;
+    Ok(true)
 }
 
-fn describe(point: &Point) -> String {
-    point.1.iter().map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>().join(", ")
-}
-
-/// The report's scalars, with their units in the names.
-const COLUMNS: [&str; 15] = [
-    "impact_speed_m_s",
-    "contact_count",
-    "first_duration_s",
-    "first_peak_force_n",
-    "first_impulse_n_s",
-    "first_print_radius_m",
-    "restitution",
-    "max_displacement_m",
-    "equivalent_static_force_n",
-    "energy_initial_j",
-    "energy_dissipated_j",
-    "energy_numerical_dissipation_j",
-    "energy_balance_error_j",
-    "estimated_error",
-    "wall_time_s",
-];
-
-fn scalars(r: &Report) -> [Option<f64>; 15] {
-    let first = r.contacts.first();
-    [
-        Some(r.impact_speed),
-        Some(r.contact_count as f64),
-        first.map(|c| c.duration),
-        first.map(|c| c.peak_force),
-        first.map(|c| c.impulse),
-        first.map(|c| c.print_radius),
-        r.restitution,
-        Some(r.max_displacement),
-        r.equivalent_static_force,
-        Some(r.energy.initial),
-        Some(r.energy.dissipated),
-        Some(r.energy.numerical_dissipation),
-        Some(r.energy.balance_error),
-        r.estimated_error,
-        Some(r.wall_time),
-    ]
-}
-
-/// One row of `sweep.csv`.
-fn row(point: &Point, result: &anyhow::Result<Report>) -> String {
-    let mut cells = vec![point.0.to_string()];
-    cells.extend(point.1.iter().map(|(_, v)| match v {
-        toml::Value::String(s) => s.clone(),
-        other => other.to_string(),
-    }));
-    match result {
-        Ok(r) => {
-            cells
-                .extend(scalars(r).iter().map(|x| x.map_or(String::new(), |v| format!("{v:.9e}"))));
-            cells.push(String::new());
+/// Prepares `dir` for the sweep of `manifest`: a fresh start writes the manifest and the
+/// partial table's header; `--resume` checks the manifest and returns the finished rows.
+fn start(
+    dir: &OutDir,
+    manifest: &Manifest,
+    resume: bool,
+) -> anyhow::Result<BTreeMap<usize, Vec<String>>> {
+    let partial = dir.join(PARTIAL);
+    let shown = dir.path().display();
+    if resume {
+        let earlier = read_manifest(dir.path())?;
+        ensure!(
+            earlier.check_same_sweep(manifest).is_ok() && earlier.shard == manifest.shard,
+            "{shown} holds another sweep (its scene, keys, values or shard differ): nothing to resume"
+        );
+        ensure!(
+            partial.exists(),
+            "{shown} holds no unfinished sweep ({PARTIAL} is missing): nothing to resume"
+        );
+        let rows = read_rows(&partial, &manifest.header)?;
+        // Rewritten without a row cut by a kill, so that appended rows start on a line.
+        let mut text = csv_line(&manifest.header)?;
+        for row in rows.values() {
+            text.extend(csv_line(row)?);
         }
-        Err(e) => {
-            cells.extend(std::iter::repeat_n(String::new(), COLUMNS.len()));
-            cells.push(format!("\"{}\"", format!("{e:#}").replace('"', "'")));
-        }
+        write_atomic(&partial, &text)?;
+        return Ok(rows);
     }
-    cells.join(",")
+    ensure!(
+        !partial.exists(),
+        "{shown} holds an unfinished sweep ({PARTIAL}): add --resume to finish it, or remove the folder"
+    );
+    write_atomic(&dir.join(MANIFEST), serde_json::to_string_pretty(manifest)?.as_bytes())?;
+    std::fs::remove_file(dir.join(TABLE)).ok();
+    write_atomic(&partial, &csv_line(&manifest.header)?)?;
+    Ok(BTreeMap::new())
 }
 
-fn header(axes: &[String]) -> String {
-    let mut h = vec!["point".to_string()];
-    h.extend(axes.iter().cloned());
-    h.extend(COLUMNS.iter().map(|c| c.to_string()));
-    h.push("error".into());
-    h.join(",")
+/// One CSV record with its line end, fields quoted where needed.
+fn csv_line(cells: &[String]) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(cells)?;
+    Ok(w.into_inner()?)
 }
 
-/// Runs the points with `run` in parallel, a progress bar on standard error; the rows in point
-/// order, a failed run's row saying why.
-pub(crate) fn run_points(
-    points: &[(Point, Scene)],
-    run: impl Fn(&Scene) -> anyhow::Result<Report> + Sync,
-) -> Vec<String> {
-    par_run("sweep", points, |(p, scene)| row(p, &run(scene)))
+fn read_manifest(dir: &Path) -> anyhow::Result<Manifest> {
+    let path = dir.join(MANIFEST);
+    let text = read_input(&path, "sweep manifest")
+        .with_context(|| format!("{} is no sweep's folder", dir.display()))?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{} is not a sweep manifest", path.display()))
 }
 
-/// Writes `sweep.csv` and `sweep.svg` into `dir`.
-fn write(dir: &Path, header: &str, rows: &[String]) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let keys: Vec<&str> = header.split(',').collect();
-    let column = |name: &str| keys.iter().position(|k| *k == name);
-    let cells: Vec<Vec<&str>> = rows.iter().map(|r| r.split(',').collect()).collect();
+/// The rows of a sweep table (`sweep.csv` or its partial form), by point: every row must have
+/// the header's fields, a point number and numbers in the result columns. In a partial table
+/// a last row without its line end (a run stopped while writing it) is left out.
+fn read_rows(path: &Path, header: &[String]) -> anyhow::Result<BTreeMap<usize, Vec<String>>> {
+    let shown = path.display();
+    let mut text = std::fs::read(path).with_context(|| format!("cannot read {shown}"))?;
+    if path.ends_with(PARTIAL) {
+        let end = text.iter().rposition(|b| *b == b'\n').map_or(0, |i| i + 1);
+        text.truncate(end);
+    }
+    let mut reader = csv::ReaderBuilder::new().flexible(true).from_reader(text.as_slice());
+    let found: Vec<String> = reader
+        .headers()
+        .with_context(|| format!("{shown}: no header"))?
+        .iter()
+        .map(str::to_string)
+        .collect();
+    ensure!(found == header, "{shown}: its columns are not the sweep's");
+    let numbers = header.len() - 1 - impact::study::COLUMNS.len()..header.len() - 1;
+    let mut rows = BTreeMap::new();
+    for (line, record) in reader.records().enumerate() {
+        let at = format!("{shown}, row {}", line + 1);
+        let record = record.with_context(|| at.clone())?;
+        ensure!(
+            record.len() == header.len(),
+            "{at}: {} fields where the header has {}",
+            record.len(),
+            header.len()
+        );
+        let cells: Vec<String> = record.iter().map(str::to_string).collect();
+        let point: usize =
+            cells[0].parse().with_context(|| format!("{at}: {:?} is no point number", cells[0]))?;
+        for c in numbers.clone() {
+            ensure!(
+                cells[c].is_empty() || cells[c].parse::<f64>().is_ok_and(f64::is_finite),
+                "{at}: {} = {:?} is not a number",
+                header[c],
+                impact::study::printable(&cells[c])
+            );
+        }
+        ensure!(rows.insert(point, cells).is_none(), "{at}: point {point} is there twice");
+    }
+    Ok(rows)
+}
+
+/// Writes the complete `sweep.csv` and `sweep.svg` of `rows`; whether the figure was drawn.
+fn finish(
+    dir: &OutDir,
+    manifest: &Manifest,
+    rows: &BTreeMap<usize, Vec<String>>,
+) -> anyhow::Result<bool> {
+    // The chart writes its points as sweep.csv; the table replaces them.
+    let figure = chart(dir.path(), &manifest.header, rows)?;
+    let mut text = csv_line(&manifest.header)?;
+    for row in rows.values() {
+        text.extend(csv_line(row)?);
+    }
+    write_atomic(&dir.join(TABLE), &text)?;
+    Ok(figure)
+}
+
+/// `sweep.svg`: the main results, each over its largest, against the first swept key.
+fn chart(
+    dir: &Path,
+    header: &[String],
+    rows: &BTreeMap<usize, Vec<String>>,
+) -> anyhow::Result<bool> {
+    let column = |name: &str| header.iter().position(|k| k == name);
     let x_index = 1;
     let series = ["first_peak_force_n", "first_duration_s", "max_displacement_m", "restitution"]
         .iter()
         .filter_map(|name| {
             let c = column(name)?;
-            let points: Vec<(f64, f64)> = cells
-                .iter()
+            let points: Vec<(f64, f64)> = rows
+                .values()
                 .filter_map(|r| Some((r.get(x_index)?.parse().ok()?, r.get(c)?.parse().ok()?)))
                 .filter(|(x, y): &(f64, f64)| x.is_finite() && y.is_finite())
                 .collect();
@@ -285,105 +302,86 @@ fn write(dir: &Path, header: &str, rows: &[String]) -> anyhow::Result<()> {
             })
         })
         .collect::<Vec<_>>();
-    if !series.is_empty() && keys.len() > 1 {
-        let title = format!("sweep over {}", keys[x_index]);
-        let x_label = format!("{} (SI, as in the scene file)", keys[x_index]);
-        Chart {
-            title: &title,
-            x_label: &x_label,
-            y_label: "value / its largest (-)",
-            series,
-            markers: true,
-        }
-        .write(dir, "sweep")?;
+    if series.is_empty() {
+        std::fs::remove_file(dir.join("sweep.svg")).ok();
+        return Ok(false);
     }
-    let mut text = format!("{header}\n");
-    for r in rows {
-        text.push_str(r);
-        text.push('\n');
+    let title = format!("sweep over {}", header[x_index]);
+    let x_label = format!("{} (SI, as in the scene file)", header[x_index]);
+    Chart {
+        title: &title,
+        x_label: &x_label,
+        y_label: "value / its largest (-)",
+        series,
+        markers: true,
     }
-    let path = dir.join("sweep.csv");
-    std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
-}
-
-/// `cargo xtask sweep`.
-#[allow(clippy::print_stdout)]
-pub(crate) fn run(
-    scene_path: &Path,
-    sets: &[String],
-    log: &[String],
-    out: Option<&Path>,
-    shard_spec: Option<&str>,
-) -> anyhow::Result<bool> {
-    ensure!(!sets.is_empty(), "give at least one --set KEY=START:STOP:COUNT or KEY=v1,v2,...");
-    let text = std::fs::read_to_string(scene_path)
-        .with_context(|| format!("cannot read the scene file {}", scene_path.display()))?;
-    let base: toml::Table =
-        toml::from_str(&text).with_context(|| format!("in {}", scene_path.display()))?;
-    let axes = sets.iter().map(|s| parse_set(s, log)).collect::<anyhow::Result<Vec<_>>>()?;
-    for k in log {
-        ensure!(axes.iter().any(|a| a.key == *k), "--log {k}: not a swept key");
-    }
-    let mut points = grid(&axes);
-    if let Some(spec) = shard_spec {
-        let (k, n) = parse_shard(spec)?;
-        points = shard(points, k, n);
-    }
-    let scenes = points
-        .into_iter()
-        .map(|p| point_scene(&base, &p).map(|s| (p, s)))
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let clock = std::time::Instant::now();
-    let rows = run_points(&scenes, |s| impact::simulate(s).map(|o| o.report).map_err(Into::into));
-    let name = scenes.first().map_or_else(|| "sweep".to_string(), |(_, s)| s.name.clone());
-    let dir = out.map_or_else(|| Path::new("target/sweep").join(&name), Path::to_path_buf);
-    let keys: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
-    write(&dir, &header(&keys), &rows)?;
-    let failed = rows.iter().filter(|r| !r.ends_with(',')).count();
-    println!(
-        "{} points ({} failed) in {:.2} s: {}/sweep.csv and sweep.svg",
-        rows.len(),
-        failed,
-        clock.elapsed().as_secs_f64(),
-        dir.display()
-    );
+    .write(dir, "sweep")?;
     Ok(true)
 }
 
-/// `cargo xtask sweep --merge DIR... --out DIR`: the shards' rows in point order.
-#[allow(clippy::print_stdout)]
+/// `cargo xtask sweep --merge DIR... --out DIR`: the shards' rows in point order, refused
+/// unless the shards are finished parts of one sweep that together hold every point.
 pub(crate) fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<bool> {
-    let mut header: Option<String> = None;
-    let mut rows: Vec<(usize, String)> = Vec::new();
+    ensure!(!dirs.is_empty(), "give the shards' folders to --merge");
+    let mut first: Option<Manifest> = None;
+    let mut shards: Vec<usize> = Vec::new();
+    let mut rows: BTreeMap<usize, Vec<String>> = BTreeMap::new();
     for dir in dirs {
-        let path = dir.join("sweep.csv");
-        let text = std::fs::read_to_string(&path)
-            .with_context(|| format!("cannot read {}", path.display()))?;
-        let mut lines = text.lines();
-        let h = lines.next().with_context(|| format!("{} is empty", path.display()))?;
-        match &header {
-            None => header = Some(h.to_string()),
-            Some(first) => {
-                ensure!(first == h, "{}: its columns differ from the first shard's", path.display())
+        let shown = dir.display();
+        let manifest = read_manifest(dir)?;
+        ensure!(
+            !dir.join(PARTIAL).exists(),
+            "{shown}: an unfinished shard ({PARTIAL}); finish it with --resume first"
+        );
+        match &first {
+            None => first = Some(manifest.clone()),
+            Some(m) => m.check_same_sweep(&manifest).with_context(|| format!("{shown}"))?,
+        }
+        ensure!(
+            !shards.contains(&manifest.shard.k),
+            "{shown}: shard {}/{} is given twice",
+            manifest.shard.k,
+            manifest.shard.n
+        );
+        shards.push(manifest.shard.k);
+        let table = read_rows(&dir.join(TABLE), &manifest.header)?;
+        let expected: Vec<usize> = manifest.expected_points().collect();
+        for (point, row) in table {
+            ensure!(
+                expected.binary_search(&point).is_ok(),
+                "{shown}: point {point} is not in shard {}/{}",
+                manifest.shard.k,
+                manifest.shard.n
+            );
+            ensure!(rows.insert(point, row).is_none(), "point {point} is in two shards");
+        }
+    }
+    let Some(manifest) = first else { bail!("give the shards' folders to --merge") };
+    let missing: Vec<usize> = (0..manifest.points).filter(|p| !rows.contains_key(p)).collect();
+    if !missing.is_empty() {
+        let absent: Vec<String> = (1..=manifest.shard.n)
+            .filter(|k| !shards.contains(k))
+            .map(|k| format!("{k}/{}", manifest.shard.n))
+            .collect();
+        let listed: Vec<String> = missing.iter().take(12).map(usize::to_string).collect();
+        bail!(
+            "{} of the {} points are missing ({}{}){}",
+            missing.len(),
+            manifest.points,
+            listed.join(", "),
+            if missing.len() > 12 { ", ..." } else { "" },
+            if absent.is_empty() {
+                String::new()
+            } else {
+                format!(": shard(s) {} not given", absent.join(", "))
             }
-        }
-        for line in lines.filter(|l| !l.is_empty()) {
-            let point: usize = line
-                .split(',')
-                .next()
-                .and_then(|p| p.parse().ok())
-                .with_context(|| format!("{}: a row without a point number", path.display()))?;
-            rows.push((point, line.to_string()));
-        }
+        );
     }
-    let Some(header) = header else { bail!("give the shards' folders to --merge") };
-    rows.sort_by_key(|r| r.0);
-    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
-        bail!("point {} is in two shards", w[0].0);
-    }
-    let rows: Vec<String> = rows.into_iter().map(|r| r.1).collect();
-    write(out, &header, &rows)?;
-    println!("{} rows from {} shard(s) into {}/sweep.csv", rows.len(), dirs.len(), out.display());
+    let whole = Manifest { shard: Shard::WHOLE, ..manifest };
+    let dir = OutDir::create(out)?;
+    write_atomic(&dir.join(MANIFEST), serde_json::to_string_pretty(&whole)?.as_bytes())?;
+    finish(&dir, &whole, &rows)?;
+    say!("{} rows from {} shard(s) into {}/{TABLE}", rows.len(), dirs.len(), out.display())?;
     Ok(true)
 }
 
@@ -392,95 +390,138 @@ mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
 
-    #[test]
-    fn sets_expand_into_a_grid_with_linear_log_and_listed_values() {
-        let a = parse_set("impact.drop_height=0.1:0.5:5", &[]).unwrap();
-        let heights: Vec<f64> = a.values.iter().map(|v| v.as_float().unwrap()).collect();
-        for (h, want) in heights.iter().zip([0.1, 0.2, 0.3, 0.4, 0.5]) {
-            assert!((h - want).abs() < 1e-15);
+    const SCENE: &str =
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../validation/scenes/half-space-r10.toml");
+
+    fn scratch(name: &str) -> PathBuf {
+        let root = std::env::temp_dir().join(format!("sweep-{name}-{}", std::process::id()));
+        std::fs::remove_dir_all(&root).ok();
+        root
+    }
+
+    /// The solver with its wall time zeroed: the one column that differs between runs.
+    fn timeless(s: &Scene) -> anyhow::Result<Report> {
+        let mut r = impact::simulate(s)?.report;
+        r.wall_time = 0.0;
+        Ok(r)
+    }
+
+    fn request<'a>(sets: &'a [String], out: &'a Path) -> Request<'a> {
+        Request {
+            scene: Path::new(SCENE),
+            sets,
+            log: &[],
+            out: Some(out),
+            shard: None,
+            resume: false,
+            limit: None,
         }
-        let b = parse_set("ball.radius=0.001:0.1:3", &["ball.radius".into()]).unwrap();
-        let radii: Vec<f64> = b.values.iter().map(|v| v.as_float().unwrap()).collect();
-        assert!((radii[1] - 0.01).abs() < 1e-15, "{radii:?}");
-        let c = parse_set("contact.law=hertz,thornton", &[]).unwrap();
-        assert_eq!(c.values[1], toml::Value::String("thornton".into()));
-        let g = grid(&[a, c]);
-        assert_eq!(g.len(), 10);
-        assert_eq!(g[3].1[0].1.as_float(), Some(0.2));
-        assert_eq!(g[3].1[1].1, toml::Value::String("thornton".into()));
-        assert!(parse_set("impact.drop_height=1:2:0", &[]).is_err());
-        assert!(parse_set("impact.drop_height=0:2:3", &["impact.drop_height".into()]).is_err());
-        assert!(parse_set("nokey", &[]).is_err());
+    }
+
+    fn read(dir: &Path) -> String {
+        std::fs::read_to_string(dir.join(TABLE)).unwrap()
     }
 
     #[test]
-    fn shards_hold_every_point_exactly_once() {
-        let axis = parse_set("impact.speed=1:2:23", &[]).unwrap();
-        let all = grid(&[axis]);
-        let mut seen = vec![0; all.len()];
-        for k in 1..=4 {
-            for (i, _) in shard(all.clone(), k, 4) {
-                seen[i] += 1;
-            }
-        }
-        assert!(seen.iter().all(|n| *n == 1));
-        assert!(parse_shard("0/4").is_err() && parse_shard("5/4").is_err());
-        assert_eq!(parse_shard("2/4").unwrap(), (2, 4));
-    }
-
-    fn base() -> toml::Table {
-        let text = std::fs::read_to_string(format!(
-            "{}/../validation/scenes/half-space-r10.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap();
-        toml::from_str(&text).unwrap()
-    }
-
-    #[test]
-    fn a_bad_point_is_refused_before_anything_runs_and_a_failed_run_keeps_its_row() {
-        // Validation names the point and the key.
-        let bad = grid(&[parse_set("impact.speed=-1,1", &[]).unwrap()]);
-        let message = format!("{:#}", point_scene(&base(), &bad[0]).unwrap_err());
-        assert!(message.contains("point 0") && message.contains("impact.speed"), "{message}");
-        // A run that fails: its row has the reason, the others their results.
-        let points = grid(&[parse_set("impact.speed=0.5,1,2", &[]).unwrap()]);
-        let scenes: Vec<_> =
-            points.into_iter().map(|p| (p.clone(), point_scene(&base(), &p).unwrap())).collect();
-        let rows = run_points(&scenes, |s| {
-            anyhow::ensure!(s.impact.speed != Some(1.0), "the solver failed here");
-            Ok(impact::simulate(s)?.report)
-        });
-        assert_eq!(rows.len(), 3);
-        assert!(rows[1].contains("the solver failed here"), "{}", rows[1]);
-        assert!(rows[0].ends_with(',') && rows[2].ends_with(','), "{rows:?}");
-    }
-
-    #[test]
-    fn merged_shards_rebuild_the_whole_table() {
-        let points = grid(&[parse_set("impact.speed=0.5:2:7", &[]).unwrap()]);
-        let scenes: Vec<_> =
-            points.iter().map(|p| (p.clone(), point_scene(&base(), p).unwrap())).collect();
-        let report = |s: &Scene| {
-            let mut r = impact::simulate(s)?.report;
-            r.wall_time = 0.0; // the one column that differs between runs
-            Ok(r)
+    fn an_interrupted_sweep_keeps_its_rows_and_resumes_to_the_whole_table() {
+        let root = scratch("resume");
+        let sets = ["impact.speed=0.5:2:7".to_string()];
+        let whole = root.join("whole");
+        run_with(&request(&sets, &whole), &timeless).unwrap();
+        let parts = root.join("parts");
+        // Stopped after 3 points: their rows are kept, flagged partial, no final table.
+        run_with(&Request { limit: Some(3), ..request(&sets, &parts) }, &timeless).unwrap();
+        let partial = std::fs::read_to_string(parts.join(PARTIAL)).unwrap();
+        assert_eq!(partial.lines().count(), 4, "{partial}");
+        assert!(!parts.join(TABLE).exists());
+        // A rerun without --resume must not throw the finished rows away.
+        let e = run_with(&request(&sets, &parts), &timeless).unwrap_err().to_string();
+        assert!(e.contains("--resume"), "{e}");
+        // A row cut by a kill is dropped and rerun.
+        let mut cut = partial.clone();
+        cut.push_str("5,1.75,1.7");
+        std::fs::write(parts.join(PARTIAL), cut).unwrap();
+        // A resume of another sweep is refused.
+        let other = ["impact.speed=0.5:2:8".to_string()];
+        let e = run_with(&Request { resume: true, ..request(&other, &parts) }, &timeless)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("another sweep"), "{e}");
+        // The runner refuses to run a finished point twice.
+        let ran = Mutex::new(Vec::new());
+        let counting = |s: &Scene| {
+            ran.lock().unwrap().push(s.impact.speed);
+            timeless(s)
         };
-        let h = header(&["impact.speed".into()]);
-        let root = std::env::temp_dir().join(format!("sweep-test-{}", std::process::id()));
-        let whole = run_points(&scenes, report);
-        write(&root.join("whole"), &h, &whole).unwrap();
-        let mut dirs = Vec::new();
-        for k in 1..=3 {
-            let part: Vec<_> = scenes.iter().filter(|(p, _)| p.0 % 3 == k - 1).cloned().collect();
-            let dir = root.join(format!("shard{k}"));
-            write(&dir, &h, &run_points(&part, report)).unwrap();
-            dirs.push(dir);
+        run_with(&Request { resume: true, ..request(&sets, &parts) }, &counting).unwrap();
+        assert_eq!(ran.lock().unwrap().len(), 4);
+        assert_eq!(read(&parts), read(&whole));
+        assert!(!parts.join(PARTIAL).exists());
+        std::fs::remove_dir_all(&root).ok();
+    }
+
+    #[test]
+    fn merged_shards_rebuild_the_whole_table_and_bad_shards_are_refused() {
+        let root = scratch("merge");
+        let sets = ["impact.speed=0.5:2:7".to_string()];
+        run_with(&request(&sets, &root.join("whole")), &timeless).unwrap();
+        let dirs: Vec<PathBuf> = (1..=3).map(|k| root.join(format!("shard{k}"))).collect();
+        for (k, dir) in dirs.iter().enumerate() {
+            let spec = format!("{}/3", k + 1);
+            run_with(&Request { shard: Some(&spec), ..request(&sets, dir) }, &timeless).unwrap();
         }
         merge(&dirs, &root.join("merged")).unwrap();
-        let read = |d: &str| std::fs::read_to_string(root.join(d).join("sweep.csv")).unwrap();
-        assert_eq!(read("merged"), read("whole"));
-        assert!(merge(&[dirs[0].clone(), dirs[0].clone()], &root.join("twice")).is_err());
+        assert_eq!(read(&root.join("merged")), read(&root.join("whole")));
+        let refused = |dirs: &[PathBuf], says: &str| {
+            let e = format!("{:#}", merge(dirs, &root.join("refused")).unwrap_err());
+            assert!(e.contains(says), "{says}: {e}");
+        };
+        refused(&[dirs[0].clone(), dirs[0].clone()], "given twice");
+        refused(&dirs[..2], "2 of the 7 points are missing (2, 5): shard(s) 3/3 not given");
+        // A shard of another sweep.
+        let other = root.join("other");
+        let other_sets = ["impact.speed=0.5:3:7".to_string()];
+        run_with(&Request { shard: Some("3/3"), ..request(&other_sets, &other) }, &timeless)
+            .unwrap();
+        refused(&[dirs[0].clone(), dirs[1].clone(), other], "two different sweeps");
+        // Damaged tables: a missing field, a half-written number, junk, no manifest.
+        let table = read(&dirs[2]);
+        let damaged = |text: &str, says: &str| {
+            std::fs::write(dirs[2].join(TABLE), text).unwrap();
+            refused(&dirs, says);
+        };
+        let mut rows: Vec<&str> = table.lines().collect();
+        let short = rows[1].rsplit_once(',').unwrap().0.to_string();
+        rows[1] = &short;
+        damaged(&(rows.join("\n") + "\n"), "fields where the header has");
+        // Point 2's impact speed, 1 m/s, cut inside its number.
+        let half = table.replacen("1.000000000e0,", "1.00000e,", 1);
+        damaged(&half, "is not a number");
+        damaged("junk", "columns are not the sweep's");
+        std::fs::write(dirs[2].join(TABLE), table).unwrap();
+        std::fs::remove_file(dirs[2].join(MANIFEST)).unwrap();
+        refused(&dirs, "no sweep's folder");
+        std::fs::remove_dir_all(&root).ok();
+    }
+
+    #[test]
+    fn an_empty_shard_says_so_and_a_failed_run_keeps_its_row() {
+        let root = scratch("empty");
+        let sets = ["impact.speed=0.5,1,2".to_string()];
+        let dir = root.join("empty");
+        run_with(&Request { shard: Some("5/7"), ..request(&sets, &dir) }, &timeless).unwrap();
+        assert_eq!(read(&dir).lines().count(), 1);
+        assert!(!dir.join("sweep.svg").exists());
+        let dir = root.join("failing");
+        let failing = |s: &Scene| {
+            anyhow::ensure!(s.impact.speed != Some(1.0), "the solver failed\nhere, \"quoted\"");
+            timeless(s)
+        };
+        run_with(&request(&sets, &dir), &failing).unwrap();
+        let rows = read_rows(&dir.join(TABLE), &read_manifest(&dir).unwrap().header).unwrap();
+        assert_eq!(rows.len(), 3);
+        assert_eq!(rows[&1].last().unwrap(), "the solver failed\\u{a}here, \"quoted\"");
+        assert!(rows[&0].last().unwrap().is_empty() && rows[&2].last().unwrap().is_empty());
         std::fs::remove_dir_all(&root).ok();
     }
 }

@@ -1,5 +1,6 @@
 //! `cargo xtask validate`: every case of validation/cases.toml against its reference.
 
+use crate::files::say;
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -148,18 +149,18 @@ fn compute_value(case: &Case) -> anyhow::Result<(Value, Option<Value>)> {
 /// physics (no contact at all, a negative largest displacement, an elastic bounce that gives
 /// back more than it got).
 fn hard_case(scene: &Path, case: &Case) -> anyhow::Result<f64> {
-    use crate::sweep;
+    use impact::study::{Axis, Grid};
     let text = std::fs::read_to_string(scene)
         .with_context(|| format!("cannot read {}", scene.display()))?;
     let base: toml::Table = toml::from_str(&text)?;
-    let axes = case
-        .set
-        .iter()
-        .flatten()
-        .map(|s| sweep::parse_set(s, &[]))
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let point = sweep::grid(&axes).into_iter().next().context("no point")?;
-    let report = impact::simulate(&sweep::point_scene(&base, &point)?)?.report;
+    let axes =
+        case.set.iter().flatten().map(|s| Axis::parse(s, &[])).collect::<Result<Vec<_>, _>>()?;
+    let scene = if axes.is_empty() {
+        impact::Scene::from_toml(&text)?
+    } else {
+        Grid::new(axes)?.scene(&base, 0)?
+    };
+    let report = impact::simulate(&scene)?.report;
     let json = serde_json::to_value(&report)?;
     let finite = |v: &serde_json::Value| -> bool {
         fn walk(v: &serde_json::Value) -> bool {
@@ -228,7 +229,6 @@ fn compute(case: &Case) -> anyhow::Result<f64> {
     }
 }
 
-#[allow(clippy::print_stdout)]
 pub(crate) fn run(json: bool) -> anyhow::Result<bool> {
     let path = root().join("cases.toml");
     let text = std::fs::read_to_string(&path)
@@ -264,12 +264,17 @@ pub(crate) fn run(json: bool) -> anyhow::Result<bool> {
     }
     let all = rows.iter().all(|r| r.pass);
     if json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        say!("{}", serde_json::to_string_pretty(&rows)?)?;
     } else {
-        println!(
+        say!(
             "{:<32} {:>15} {:>15} {:>10} {:>9}  {:<4}  source",
-            "id", "reference", "computed", "rel error", "tolerance", ""
-        );
+            "id",
+            "reference",
+            "computed",
+            "rel error",
+            "tolerance",
+            ""
+        )?;
         let show = |v: &Value| match v {
             Value::Scalar(x) => format!("{x:.8e}"),
             Value::Vector(x) if x.len() <= 3 => {
@@ -278,7 +283,7 @@ pub(crate) fn run(json: bool) -> anyhow::Result<bool> {
             Value::Vector(x) => format!("[{:.6}, ... {} values]", x[0], x.len()),
         };
         for r in &rows {
-            println!(
+            say!(
                 "{:<32} {:>15} {:>15} {:>10.2e} {:>9.0e}  {:<4}  {}",
                 r.id,
                 show(&r.reference),
@@ -287,9 +292,9 @@ pub(crate) fn run(json: bool) -> anyhow::Result<bool> {
                 r.tolerance,
                 if r.pass { "pass" } else { "FAIL" },
                 r.source
-            );
+            )?;
         }
-        println!("{} of {} cases pass", rows.iter().filter(|r| r.pass).count(), rows.len());
+        say!("{} of {} cases pass", rows.iter().filter(|r| r.pass).count(), rows.len())?;
     }
     Ok(all)
 }

@@ -21,6 +21,10 @@ pub enum ImpactError {
     /// A combination of fields that does not make a scene.
     #[error("{0}")]
     Inconsistent(String),
+    /// A study (a grid of scenes, its shards, its output folder's name) asked for something
+    /// that cannot be run as written; the message names the option or key and what is allowed.
+    #[error("{0}")]
+    Study(String),
     /// A numerical failure in a run; carries the simulated time.
     #[error("the solver failed at t = {t} s: {reason}")]
     SolverFailed {

@@ -54,10 +54,14 @@ mod outcome;
 pub mod plan;
 mod scene;
 mod solve;
+pub mod study;
 
 pub use error::ImpactError;
 pub use law::Law;
-pub use outcome::{Contact, Differences, Energy, History, Outcome, Report, Sample, PULSE_FRACTION};
+pub use outcome::{
+    Contact, Differences, Energy, History, Outcome, Report, Sample, PULSE_FRACTION,
+    SIGNIFICANT_PEAK,
+};
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,

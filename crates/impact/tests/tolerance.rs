@@ -84,7 +84,7 @@ fn a_tolerance_chooses_the_modes_for_every_contact() {
             assert!(estimated <= tolerance, "{label}, {tolerance}: estimated {estimated}");
             // Converged: four times the modes the refinement ended on (about 64 times closer).
             let converged = simulate(&with_modes(&s, 4 * r.plan.modes)).unwrap().report;
-            let actual = r.differences_from(&converged, 1e-3);
+            let actual = r.differences_from(&converged);
             assert!(actual.same_contacts, "{label}, {tolerance}: contacts differ");
             assert!(
                 actual.worst() <= tolerance && actual.worst() <= estimated,
@@ -97,7 +97,7 @@ fn a_tolerance_chooses_the_modes_for_every_contact() {
             while simulate(&with_modes(&s, cheapest))
                 .unwrap()
                 .report
-                .differences_from(&converged, 1e-3)
+                .differences_from(&converged)
                 .worst()
                 > tolerance
             {
@@ -127,7 +127,7 @@ fn the_residual_flexibility_cuts_the_modes_needed() {
         simulate(&s).unwrap().report
     };
     let (with, without, plain) = (run(128, true), run(128, false), run(512, false));
-    let error = |r: &Report| r.differences_from(&converged, 0.01);
+    let error = |r: &Report| r.differences_from(&converged);
     assert!(error(&with).first_duration < 1e-4, "{:?}", error(&with));
     assert!(error(&with).contact_sequence < 1e-3, "{:?}", error(&with));
     assert!(error(&without).first_duration > 1e-3, "{:?}", error(&without));

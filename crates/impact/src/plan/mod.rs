@@ -23,7 +23,7 @@ use crate::error::{bounded, invalid, positive, range, show, ImpactError};
 use crate::law::{Law, LawContext};
 use crate::scene::{BallSpec, BeamSpec, ImpactSpec, LawName, MethodName, Scene, SolverSpec};
 use hertz::{HalfSpaceImpact, Hertz, Material};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// Standard gravity (m/s^2).
@@ -79,7 +79,7 @@ pub enum Method {
 }
 
 /// Which method a plan chose, as the report names it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum MethodKind {
     /// A massive half-space.
@@ -119,7 +119,7 @@ impl Method {
 }
 
 /// The plan's summary for the report.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlanSummary {
     /// The method chosen.
     pub method: MethodKind,

@@ -76,7 +76,7 @@ fn warn_unchecked(mut out: Outcome) -> Outcome {
         .contacts
         .iter()
         .skip(1)
-        .filter(|c| c.peak_force >= refine::SIGNIFICANT_PEAK * first_peak)
+        .filter(|c| c.peak_force >= crate::outcome::SIGNIFICANT_PEAK * first_peak)
         .count();
     if later > 0 && report.estimated_error.is_none() {
         report.warnings.push(format!(

@@ -13,7 +13,7 @@
 //!
 //! Both take the finer run's error as a third of the difference (Richardson at second order:
 //! exact for the fe method, conservative for the modal one). Compared are every significant
-//! contact (a peak force of at least [`SIGNIFICANT_PEAK`] of the first's, in the finer run):
+//! contact (a peak force of at least [`crate::SIGNIFICANT_PEAK`] of the first's, in the finer run):
 //! its start (after the first), its duration (when it ended within the window in both runs)
 //! and its peak force, and the largest displacement, each relative to the finer run's value.
 //! Two runs that do not find the same significant contacts have not converged. The time steps
@@ -26,11 +26,6 @@ use super::Progress;
 use crate::error::ImpactError;
 use crate::outcome::{Outcome, Report};
 use crate::plan::{uniform, FePlan, Method, ModalPlan, Plan, FE_LADDER_END, MODAL_LADDER_END};
-
-/// Contacts whose peak force is below this fraction of the first contact's are not compared:
-/// the paper's tip has a third contact at 8.6e-3 of the first's peak that a user reads, and
-/// grazes of 1e-4 whose count changes with the resolution.
-pub(crate) const SIGNIFICANT_PEAK: f64 = 1e-3;
 
 /// Runs `target` on doubling uniform meshes until the estimated relative error of the finer
 /// is within `tolerance` (or the mesh reaches [`FE_LADDER_END`] elements, with a warning).
@@ -129,7 +124,7 @@ impl Ladder {
 /// `coarse` over the compared quantities (see the module text), infinite when they do not
 /// find the same significant contacts.
 pub(crate) fn estimated_error(coarse: &Report, fine: &Report) -> f64 {
-    let d = coarse.differences_from(fine, SIGNIFICANT_PEAK);
+    let d = coarse.differences_from(fine);
     if !d.same_contacts || fine.contacts.is_empty() {
         return f64::INFINITY;
     }

@@ -1,0 +1,353 @@
+//! Speed against error: the settings of a work-precision study and the errors of its runs.
+//!
+//! A beam scene is run by the modal method over a ladder of mode counts, with and without the
+//! residual flexibility (and with two looser energy tolerances of its adaptive contact step),
+//! and by the finite-element method over a ladder of uniform meshes (and other contact steps
+//! and HHT alphas). Each method's errors are measured from its own converged run, at four times
+//! the finest resolution of its ladder (the modal one with the residual flexibility, which
+//! converges fastest: validation/REFERENCES.md 1.4); that reference is checked against a run at
+//! half its resolution, and the check says how far the reference itself may be off (a third of
+//! their difference: Richardson at second order, the fe element's order and below the modal
+//! series'). Where both references are converged they differ by the models (Euler-Bernoulli
+//! modes against the geometrically exact beam), which no setting of either method removes.
+//!
+//! Errors are relative (-), as [`Report::differences_from`] measures them: the first contact's
+//! duration and peak force, the contact sequence (the worst relative error in start, duration
+//! and peak force over the significant contacts, those with a peak of at least
+//! [`crate::SIGNIFICANT_PEAK`] of the first's, a missing one counting 1), the largest
+//! displacement at the impact point; and the energy balance error over the impact energy.
+//!
+//! The references and their checks come first in [`settings`], so that a study stopped part
+//! way has what its finished rows are measured against.
+
+use crate::error::ImpactError;
+use crate::outcome::{Differences, Report};
+use crate::scene::{MethodName, Scene};
+use crate::study::variant;
+
+/// The figure's curve of the modal runs with the residual flexibility.
+pub const RESIDUAL: &str = "modal, residual flexibility";
+
+/// The resolutions of a study.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Ladders {
+    /// The modal method's mode counts.
+    pub modes: Vec<usize>,
+    /// The modal reference's mode count (with the residual flexibility).
+    pub modal_reference: usize,
+    /// The fe method's numbers of equal elements.
+    pub elements: Vec<usize>,
+    /// The fe reference's number of elements.
+    pub fe_reference: usize,
+    /// The mode count the modal variants (energy tolerances) are run at.
+    pub modal_variant: usize,
+    /// The element count the fe variants (steps per pulse, alphas) are run at.
+    pub fe_variant: usize,
+}
+
+impl Ladders {
+    /// The full ladders: 32 to 1024 modes (reference 4096), 32 to 512 elements (reference
+    /// 2048).
+    pub fn full() -> Self {
+        Self {
+            modes: vec![32, 64, 128, 256, 512, 1024],
+            modal_reference: 4096,
+            elements: vec![32, 64, 128, 256, 512],
+            fe_reference: 2048,
+            modal_variant: 512,
+            fe_variant: 256,
+        }
+    }
+
+    /// Reduced ladders for CI: 16 to 128 modes and elements, references at 512.
+    pub fn quick() -> Self {
+        Self {
+            modes: vec![16, 32, 64, 128],
+            modal_reference: 512,
+            elements: vec![16, 32, 64, 128],
+            fe_reference: 512,
+            modal_variant: 64,
+            fe_variant: 64,
+        }
+    }
+}
+
+/// What a setting is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// A setting whose errors are measured.
+    Run,
+    /// The run at half the reference's resolution that says how far the reference may be off.
+    Check,
+    /// The method's converged run that errors are measured from.
+    Reference,
+}
+
+/// One run of the study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Setting {
+    /// "modal" or "fe".
+    pub method: &'static str,
+    /// The figure's curve it belongs to (the method, or [`RESIDUAL`]).
+    pub series: &'static str,
+    /// What was set, e.g. "256 modes" or "128 elements; alpha -0.2"; unique in a study.
+    pub label: String,
+    /// Whether it is on the method's main ladder (mode or element counts): the figure's curves.
+    pub ladder: bool,
+    /// What it is for.
+    pub role: Role,
+    /// The scene it runs.
+    pub scene: Scene,
+}
+
+/// The settings of the study of `scene`: each method's reference and check first, then the
+/// ladders and the variants.
+///
+/// # Errors
+/// `Study` when `scene` has no `[beam]` (a half-space has one model, exact to round-off).
+pub fn settings(scene: &Scene, l: &Ladders) -> Result<Vec<Setting>, ImpactError> {
+    if scene.beam.is_none() {
+        return Err(ImpactError::Study(
+            "accuracy needs a [beam] scene (a [half_space] has one model, exact to round-off)"
+                .into(),
+        ));
+    }
+    let modal = |n: usize| variant(scene, MethodName::Modal, Some(n));
+    let residual = |n: usize| {
+        let mut s = modal(n);
+        s.solver.residual_flexibility = Some(true);
+        s
+    };
+    let fe = |n: usize| variant(scene, MethodName::Fe, Some(n));
+    let mut out = Vec::new();
+    let mut add = |method, label: String, ladder, role, scene| {
+        let series = if label.contains("residual flexibility") { RESIDUAL } else { method };
+        out.push(Setting { method, series, label, ladder, role, scene });
+    };
+    // The modal reference with the residual flexibility: the same Euler-Bernoulli model,
+    // converged far faster (validation/REFERENCES.md 1.4).
+    for (n, role) in [(l.modal_reference, Role::Reference), (l.modal_reference / 2, Role::Check)] {
+        let tag = if role == Role::Reference { "reference" } else { "check" };
+        add("modal", format!("{n} modes; residual flexibility ({tag})"), false, role, residual(n));
+    }
+    for (n, role) in [(l.fe_reference, Role::Reference), (l.fe_reference / 2, Role::Check)] {
+        let tag = if role == Role::Reference { "reference" } else { "check" };
+        add("fe", format!("{n} elements ({tag})"), false, role, fe(n));
+    }
+    for &n in &l.modes {
+        add("modal", format!("{n} modes"), true, Role::Run, modal(n));
+    }
+    for &n in &l.modes {
+        add("modal", format!("{n} modes; residual flexibility"), true, Role::Run, residual(n));
+    }
+    for tol in [1e-4, 1e-5] {
+        let mut s = modal(l.modal_variant);
+        s.solver.energy_tolerance = Some(tol);
+        let label = format!("{} modes; energy tolerance {tol:e}", l.modal_variant);
+        add("modal", label, false, Role::Run, s);
+    }
+    for &n in &l.elements {
+        add("fe", format!("{n} elements"), true, Role::Run, fe(n));
+    }
+    for samples in [100, 400] {
+        let mut s = fe(l.fe_variant);
+        s.solver.samples_per_pulse = Some(samples);
+        let label = format!("{} elements; {samples} steps per pulse", l.fe_variant);
+        add("fe", label, false, Role::Run, s);
+    }
+    for alpha in [0.0, -0.2] {
+        let mut s = fe(l.fe_variant);
+        s.solver.alpha = Some(alpha);
+        add("fe", format!("{} elements; alpha {alpha}", l.fe_variant), false, Role::Run, s);
+    }
+    Ok(out)
+}
+
+/// One measured setting.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// "modal" or "fe".
+    pub method: &'static str,
+    /// The figure's curve.
+    pub series: &'static str,
+    /// What was set.
+    pub setting: String,
+    /// Whether it is on the main ladder.
+    pub ladder: bool,
+    /// Whether it is its method's check run.
+    pub check: bool,
+    /// Its wall time (s).
+    pub wall_time: f64,
+    /// Its errors from its method's reference.
+    pub errors: Differences,
+    /// Its energy balance error over the impact energy (-).
+    pub energy_balance: f64,
+}
+
+impl Row {
+    /// The error a setting is judged by: the worst of the four.
+    pub fn worst(&self) -> f64 {
+        self.errors.worst()
+    }
+}
+
+/// A method's reference and how far it may itself be off.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reference {
+    /// "modal" or "fe".
+    pub method: &'static str,
+    /// Its setting.
+    pub setting: String,
+    /// A third of its worst difference from the check run (half its resolution).
+    pub estimated_error: f64,
+    /// The check's setting.
+    pub check: String,
+}
+
+/// The study of one scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Study {
+    /// The scene's name.
+    pub name: String,
+    /// The measured settings, each method's ladder and variants, then its check.
+    pub rows: Vec<Row>,
+    /// Each method's reference.
+    pub references: Vec<Reference>,
+    /// The worst difference between the two methods' references.
+    pub model_difference: f64,
+}
+
+impl Study {
+    /// The study of `name` from the reports of `settings` (one each, in order).
+    ///
+    /// # Errors
+    /// `Study` when the counts differ or a method's reference or check is missing.
+    pub fn new(name: &str, settings: &[Setting], reports: &[Report]) -> Result<Self, ImpactError> {
+        if settings.len() != reports.len() {
+            return Err(ImpactError::Study(format!(
+                "{} settings but {} reports",
+                settings.len(),
+                reports.len()
+            )));
+        }
+        let find = |method: &str, role: Role| {
+            settings.iter().position(|s| s.method == method && s.role == role).ok_or_else(|| {
+                ImpactError::Study(format!("the {method} method has no {role:?} setting"))
+            })
+        };
+        let mut rows = Vec::new();
+        let mut references = Vec::new();
+        for method in ["modal", "fe"] {
+            let (reference, check) = (find(method, Role::Reference)?, find(method, Role::Check)?);
+            let r = &reports[reference];
+            references.push(Reference {
+                method,
+                setting: settings[reference].label.clone(),
+                estimated_error: reports[check].differences_from(r).worst() / 3.0,
+                check: settings[check].label.clone(),
+            });
+            let mut measured: Vec<Row> = settings
+                .iter()
+                .zip(reports)
+                .filter(|(s, _)| s.method == method && s.role != Role::Reference)
+                .map(|(s, report)| {
+                    let e = &report.energy;
+                    Row {
+                        method,
+                        series: s.series,
+                        setting: s.label.clone(),
+                        ladder: s.ladder,
+                        check: s.role == Role::Check,
+                        wall_time: report.wall_time,
+                        errors: report.differences_from(r),
+                        energy_balance: if e.initial > 0.0 {
+                            e.balance_error.abs() / e.initial
+                        } else {
+                            0.0
+                        },
+                    }
+                })
+                .collect();
+            // The check after the settings it says something about.
+            measured.sort_by_key(|row| row.check);
+            rows.extend(measured);
+        }
+        let model_difference = reports[find("modal", Role::Reference)?]
+            .differences_from(&reports[find("fe", Role::Reference)?])
+            .worst();
+        Ok(Self { name: name.to_string(), rows, references, model_difference })
+    }
+
+    /// The cheapest setting of `method` whose worst error is within `target`.
+    pub fn cheapest(&self, method: &str, target: f64) -> Option<&Row> {
+        self.rows
+            .iter()
+            .filter(|r| r.method == method && r.worst() <= target)
+            .min_by(|a, b| a.wall_time.total_cmp(&b.wall_time))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::Plan;
+
+    fn scene() -> Scene {
+        let mut s =
+            Scene::from_toml(include_str!("../../../../validation/scenes/paper-tip.toml")).unwrap();
+        // Modal-only keys that the fe settings must drop.
+        s.solver.residual_flexibility = Some(false);
+        s.solver.adaptive_step = Some(true);
+        s
+    }
+
+    #[test]
+    fn every_setting_is_a_valid_scene_with_a_unique_label_and_references_come_first() {
+        let all = settings(&scene(), &Ladders::quick()).unwrap();
+        for s in &all {
+            Plan::new(&s.scene).unwrap_or_else(|e| panic!("{}: {e}", s.label));
+            assert_eq!(all.iter().filter(|t| t.label == s.label).count(), 1, "{}", s.label);
+            assert!(!s.label.contains(','), "a CSV field: {}", s.label);
+        }
+        assert!(all[..4].iter().all(|s| s.role != Role::Run));
+        assert!(all[4..].iter().all(|s| s.role == Role::Run));
+        let mut half = scene();
+        half.beam = None;
+        assert!(settings(&half, &Ladders::quick()).is_err());
+    }
+
+    #[test]
+    fn the_cheapest_setting_meets_every_error() {
+        let row = |setting: &str, wall_time: f64, worst: f64| Row {
+            method: "modal",
+            series: "modal",
+            setting: setting.into(),
+            ladder: true,
+            check: false,
+            wall_time,
+            errors: Differences {
+                first_duration: worst / 10.0,
+                first_peak_force: worst,
+                contact_sequence: worst / 2.0,
+                max_displacement: 0.0,
+                same_contacts: true,
+            },
+            energy_balance: 1e-7,
+        };
+        let study = Study {
+            name: "test".into(),
+            rows: vec![
+                row("16 modes", 0.001, 3e-2),
+                row("64 modes", 0.002, 5e-3),
+                row("256 modes", 0.004, 4e-4),
+            ],
+            references: vec![],
+            model_difference: 0.0,
+        };
+        // Within 1e-2: 64 modes (16 fails on its peak force); within 1e-3: 256.
+        assert_eq!(study.cheapest("modal", 1e-2).map(|r| r.setting.as_str()), Some("64 modes"));
+        assert_eq!(study.cheapest("modal", 1e-3).map(|r| r.setting.as_str()), Some("256 modes"));
+        assert!(study.cheapest("fe", 1e-2).is_none());
+    }
+}
