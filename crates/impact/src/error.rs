@@ -35,7 +35,12 @@ pub enum ImpactError {
     },
     /// The time integrator (HHT-alpha) of the finite-element method failed; the source says
     /// how (Newton diverged, a singular matrix, ...).
-    #[error("the time integrator failed at t = {t} s")]
+    // The source names the time it failed at: the message does not repeat it.
+    #[error(
+        "the finite-element method's time integrator (HHT-alpha) failed; a smaller contact step \
+         (solver.samples_per_pulse or solver.time_step), another mesh (solver.elements), \
+         numerical damping (solver.alpha) or a shorter window (solver.end_time) may carry it through"
+    )]
     Integrator {
         /// Simulated time at the start of the failed step (s).
         t: f64,

@@ -52,7 +52,9 @@ pub enum Profile {
     /// Factor 1 at all times.
     Constant,
     /// Piecewise linear through (time (s), factor) points sorted by time; constant beyond the
-    /// ends.
+    /// ends: before the first point's time the first factor holds (a table starting at
+    /// (0.5, 1.0) applies the whole load from t = 0; start it with (0.0, 0.0) for a load that
+    /// ramps up from nothing), after the last point's time the last factor.
     Table(Vec<(f64, f64)>),
 }
 
@@ -310,6 +312,20 @@ impl BeamModel {
         } else {
             (load.force * p, r.inverse() * load.moment * p)
         }
+    }
+
+    /// The largest section strains of `q` over the elements: the axial strain's magnitude and
+    /// the shear strain's (the two transverse components' norm), both dimensionless. The
+    /// section law is linear elastic: a small-strain law, meant for strains up to a few per
+    /// cent at most.
+    pub fn largest_strains(&self, q: &BeamState) -> (f64, f64) {
+        self.mesh.elements.iter().fold((0.0, 0.0), |(axial, shear), e| {
+            let [a, b] = e.nodes;
+            let g = e
+                .strains([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]])
+                .gamma;
+            (axial.max(g[0].abs()), shear.max(g[1].hypot(g[2])))
+        })
     }
 
     /// Strain energy (J).

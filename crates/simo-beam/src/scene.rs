@@ -249,7 +249,8 @@ pub struct LoadSpec {
     #[serde(default)]
     pub follower: bool,
     /// Dynamic analysis: (time (s), factor) points, piecewise linear, constant beyond the
-    /// ends; default factor 1 at all times. A static analysis ignores it.
+    /// ends (before the first point's time its factor holds, from t = 0); default factor 1 at
+    /// all times. A static analysis refuses it (its loads grow with the load factor).
     pub profile: Option<Vec<[f64; 2]>>,
 }
 
@@ -327,7 +328,17 @@ pub struct BeamRun {
     pub cuts: usize,
     /// Wall-clock time of the solve (s).
     pub wall_time: f64,
+    /// What the result leaves out: strains beyond the small-strain range of the linear
+    /// section law ([`SMALL_STRAIN`]), with their size and where on the path they occur.
+    pub warnings: Vec<String>,
 }
+
+/// The largest axial or shear strain the linear elastic section law is meant for (-): beyond
+/// a per cent a metal yields and the law's straight line is no longer the material.
+pub const SMALL_STRAIN: f64 = 0.01;
+
+/// The shortest straight segment (m): a nanometre, as the impact scenes' shortest length.
+const MIN_SEGMENT: f64 = 1e-9;
 
 fn invalid(field: String, value: impl ToString, allowed: &str) -> SceneError {
     SceneError::InvalidField { field, value: value.to_string(), allowed: allowed.to_owned() }
@@ -495,11 +506,14 @@ impl SegmentSpec {
             (Some(end), None, None, None) => {
                 let end = vector(&field("end"), end)?;
                 let axis = end - start;
-                if axis.norm() == 0.0 {
+                if axis.norm() < MIN_SEGMENT {
                     return Err(invalid(
                         field("end"),
                         format!("{end:?}"),
-                        "a point other than the start",
+                        &format!(
+                            "a point at least {MIN_SEGMENT:e} m from the start (the segment's length is {:e} m)",
+                            axis.norm()
+                        ),
                     ));
                 }
                 let hint = match self.thickness_direction {
@@ -646,9 +660,19 @@ impl BeamScene {
         }
         let mesh = mesh.ok_or_else(|| SceneError::Inconsistent("no segment".into()))?;
         let stations = Stations(stations);
-        let mut nodes = Vec::new();
+        let mut nodes: Vec<usize> = Vec::new();
         for (i, s) in self.supports.iter().enumerate() {
-            nodes.push(stations.node(format!("support[{i}].at"), s.at)?);
+            let node = stations.node(format!("support[{i}].at"), s.at)?;
+            if let Some(j) = nodes.iter().position(|n| *n == node) {
+                return Err(invalid(
+                    format!("support[{i}].at"),
+                    s.at,
+                    &format!(
+                        "a node without a support: support[{j}] holds the same node; give one support per node (clamped holds what pinned holds and more)"
+                    ),
+                ));
+            }
+            nodes.push(node);
         }
         let mut loads = Vec::new();
         for (i, l) in self.loads.iter().enumerate() {
@@ -656,6 +680,12 @@ impl BeamScene {
             let at = stations.to_mesh(&mesh, field("at"), l.at)?;
             let profile = match &l.profile {
                 None => Profile::Constant,
+                Some(_) if self.analysis == AnalysisName::Static => {
+                    return Err(SceneError::Inconsistent(format!(
+                        "{}: a static analysis applies its loads by a load factor from 0 to 1, not in time; remove the profile, or use analysis = \"dynamic\"",
+                        field("profile")
+                    )));
+                }
                 Some(points) => {
                     if points.is_empty()
                         || points.iter().any(|p| !(p[0].is_finite() && p[1].is_finite()))
@@ -714,6 +744,19 @@ impl BeamScene {
             rotation: rotation_vector(&q.rotations[track], &reference.rotations[track]),
             strain_energy: model.strain_energy(q),
             kinetic_energy: kinetic,
+        };
+        // The largest axial and shear strains on the path, and the load factor or time of each.
+        let largest = std::cell::Cell::new([(0.0, 0.0); 2]);
+        let sample = |x: f64, q: &BeamState, kinetic: f64| {
+            let (axial, shear) = model.largest_strains(q);
+            let mut l = largest.get();
+            for (k, strain) in [axial, shear].into_iter().enumerate() {
+                if strain > l[k].0 {
+                    l[k] = (strain, x);
+                }
+            }
+            largest.set(l);
+            sample(x, q, kinetic)
         };
         let clock = std::time::Instant::now();
         let mut history = vec![sample(0.0, &reference, 0.0)];
@@ -809,7 +852,22 @@ impl BeamScene {
                 rotation: rotation_vector(&last.rotations[i], &reference.rotations[i]),
             })
             .collect();
+        let at = match self.analysis {
+            AnalysisName::Static => "at load factor",
+            AnalysisName::Dynamic => "at t =",
+        };
+        let warnings = ["axial", "shear"]
+            .iter()
+            .zip(largest.get())
+            .filter(|(_, (strain, _))| *strain > SMALL_STRAIN)
+            .map(|(kind, (strain, x))| {
+                format!(
+                    "the largest {kind} strain is {strain:.3e} ({at} {x:.4e}), beyond the {SMALL_STRAIN} the linear elastic section law is meant for: the result extrapolates the material"
+                )
+            })
+            .collect();
         Ok(BeamRun {
+            warnings,
             name: self.name.clone(),
             tracked_arc_length: stations.0[track],
             history,

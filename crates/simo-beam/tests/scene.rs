@@ -123,6 +123,20 @@ fn bad_beam_scenes_name_the_field() {
         ("analysis = \"static\"", "analysis = \"dynamic\"", "[dynamic]"),
         ("kind = \"clamped\"", "kind = \"pinned\"", "mechanism at load factor"),
         ("bending_stiffness = 1.0 ", "bending_stiffness = nan ", "section.bending_stiffness = NaN"),
+        // A segment too short to mesh: refused for its length, not for its direction.
+        ("end = [1.0, 0.0, 0.0]", "end = [1e-200, 0.0, 0.0]", "at least 1e-9 m from the start"),
+        // Two supports at one node: refused, not one silently kept.
+        (
+            "kind = \"clamped\"",
+            "kind = \"clamped\"\n[[support]]\nat = 0.0\nkind = \"pinned\"",
+            "support[1].at = 0",
+        ),
+        // A time profile in a static analysis: refused, not ignored.
+        (
+            "force = [0.0, 0.0, -10.0]",
+            "force = [0.0, 0.0, -10.0]\nprofile = [[0.0, 0.0], [1.0, 1.0]]",
+            "load[0].profile: a static analysis",
+        ),
     ];
     for (from, to, expect) in cases {
         assert!(good.contains(from), "fixture changed: {from}");
@@ -208,4 +222,35 @@ fn hostile_beam_scenes_are_refused_by_name_or_run_clean() {
     }
     // Measured: 110 refused, 10 ran, of 120.
     assert!(refused > 30 && ran >= 5, "{refused} refused, {ran} ran");
+}
+
+#[test]
+fn a_profile_holds_its_first_factor_before_its_first_time() {
+    // The documented convention (simo_beam::Profile::Table): constant beyond both ends.
+    let p = simo_beam::Profile::Table(vec![(0.5, 2.0), (1.0, 4.0)]);
+    assert_eq!(p.factor(0.0), 2.0);
+    assert_eq!(p.factor(0.5), 2.0);
+    assert_eq!(p.factor(0.75), 3.0);
+    assert_eq!(p.factor(7.0), 4.0);
+}
+
+#[test]
+fn strains_beyond_the_small_strain_range_are_reported() {
+    // Mattiasson's cantilever with EA = 10 N instead of 1e7: the tip force 10 N stretches it
+    // by about a hundred per cent (P / EA at the clamp, less the bending's share).
+    let soft = scene_text("beam-mattiasson-k10.toml").replacen(
+        "axial_stiffness = 1e7",
+        "axial_stiffness = 10.0",
+        1,
+    );
+    let run = BeamScene::from_toml(&soft).unwrap().run(|_| {}).unwrap();
+    assert!(
+        run.warnings
+            .iter()
+            .any(|w| w.contains("largest axial strain") && w.contains("at load factor")),
+        "{:?}",
+        run.warnings
+    );
+    // The slender original stays within it: no warning.
+    assert!(scene("beam-mattiasson-k10.toml").run(|_| {}).unwrap().warnings.is_empty());
 }

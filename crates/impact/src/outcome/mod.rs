@@ -280,6 +280,23 @@ fn small_strain_warnings(plan: &Plan, contacts: &[Contact], warnings: &mut Vec<S
             c.print_radius
         ));
     }
+    // Hertz's contact radius a = sqrt(R delta) of a sphere on a flat face: beyond the beam's
+    // half-width the patch runs over the face's edge, where no half-space holds.
+    if let Some(width) = plan.width {
+        if let Some((i, c)) = contacts
+            .iter()
+            .enumerate()
+            .find(|(_, c)| (radius * c.max_approach.max(0.0)).sqrt() > 0.5 * width)
+        {
+            let a = (radius * c.max_approach).sqrt();
+            warnings.push(format!(
+                "contact {}: the contact radius sqrt(R delta) = {a:.3e} m is {:.2} times the beam's half-width {:.3e} m: the contact patch runs over the face's edges, where the contact law (a half-space) does not hold",
+                i + 1,
+                a / (0.5 * width),
+                0.5 * width
+            ));
+        }
+    }
     if let Some(thickness) = plan.thickness {
         if let Some((i, c)) =
             contacts.iter().enumerate().find(|(_, c)| c.max_approach > 0.1 * thickness)

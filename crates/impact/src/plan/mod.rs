@@ -163,6 +163,8 @@ pub struct Plan {
     pub(crate) estimated_duration: f64,
     /// The struck beam's thickness (m), none on a half-space.
     pub(crate) thickness: Option<f64>,
+    /// The struck beam's width (m), none on a half-space.
+    pub(crate) width: Option<f64>,
     pub(crate) summary: PlanSummary,
     pub(crate) warnings: Vec<String>,
 }
@@ -190,6 +192,20 @@ fn material(
     bounded(&format!("{prefix}.youngs_modulus"), e, range::MODULUS, "Pa")?;
     if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
         return Err(invalid(&format!("{prefix}.poisson_ratio"), nu, "must be in (-1, 0.5)"));
+    }
+    // The contact sees E / (1 - nu^2): near nu = -1 it grows without bound (1e17 Pa for
+    // steel at -0.999999), so it is held to the same range as a modulus.
+    let plane_strain = e / (1.0 - nu * nu);
+    if plane_strain > range::MODULUS.1 {
+        return Err(invalid(
+            &format!("{prefix}.poisson_ratio"),
+            nu,
+            &format!(
+                "makes the contact modulus E / (1 - nu^2) = {} Pa, above {} Pa; allowed: -1 < poisson_ratio < 0.5 with E / (1 - nu^2) within the moduli range",
+                show(plane_strain),
+                show(range::MODULUS.1)
+            ),
+        ));
     }
     let m = Material::new(e, nu)?;
     match yield_stress {
@@ -452,6 +468,77 @@ fn contact_step(
     Ok((time_step, energy_tolerance))
 }
 
+/// A value allowed but far from any ball or beam, most likely typed in another unit.
+fn slip(warnings: &mut Vec<String>, field: &str, value: f64, why: &str, meant: f64) {
+    warnings.push(format!(
+        "{field} = {}: {why}; if so, the value meant is {} (the scene file is in SI units)",
+        show(value),
+        show(meant)
+    ));
+}
+
+/// Solids are denser than 100 kg/m^3 (cork is 120, balsa 150).
+fn density_slip(warnings: &mut Vec<String>, field: &str, rho: f64) {
+    if rho < 100.0 {
+        slip(warnings, field, rho, "lighter than any solid, as if typed in g/cm^3", rho * 1e3);
+    }
+}
+
+/// Soft rubber is about 1e6 Pa: a smaller modulus was most likely typed in MPa (or GPa).
+fn modulus_slip(warnings: &mut Vec<String>, field: &str, e: f64) {
+    if e < 1e3 {
+        slip(warnings, field, e, "softer than rubber, as if typed in GPa", e * 1e9);
+    } else if e < 1e6 {
+        slip(warnings, field, e, "softer than rubber, as if typed in MPa", e * 1e6);
+    }
+}
+
+/// Metals and polymers yield above 1e6 Pa.
+fn yield_slip(warnings: &mut Vec<String>, field: &str, y: Option<f64>) {
+    if let Some(y) = y.filter(|y| *y < 1e6) {
+        let why = "below any metal's or polymer's yield stress, as if typed in MPa";
+        slip(warnings, field, y, why, y * 1e6);
+    }
+}
+
+/// Warnings for values that are allowed but most likely typed in another unit, or sizes that
+/// make no beam, each naming the field and the value probably meant.
+fn unit_slips(scene: &Scene, warnings: &mut Vec<String>) {
+    let b = &scene.ball;
+    density_slip(warnings, "ball.density", b.density);
+    modulus_slip(warnings, "ball.youngs_modulus", b.youngs_modulus);
+    yield_slip(warnings, "ball.yield_stress", b.yield_stress);
+    if b.radius > 1.0 {
+        let why = "a ball over a metre in radius, as if typed in mm";
+        slip(warnings, "ball.radius", b.radius, why, b.radius * 1e-3);
+    }
+    if let Some(beam) = &scene.beam {
+        density_slip(warnings, "beam.density", beam.density);
+        modulus_slip(warnings, "beam.youngs_modulus", beam.youngs_modulus);
+        yield_slip(warnings, "beam.yield_stress", beam.yield_stress);
+        for (field, size) in [("beam.thickness", beam.thickness), ("beam.width", beam.width)] {
+            if size > beam.length {
+                warnings.push(format!(
+                    "{field} = {} m is larger than beam.length = {} m: not a beam (its section is larger than its span); check the three sizes, in metres",
+                    show(size),
+                    show(beam.length)
+                ));
+            }
+        }
+        if b.radius > beam.length {
+            warnings.push(format!(
+                "ball.radius = {} m is larger than beam.length = {} m: check both, in metres",
+                show(b.radius),
+                show(beam.length)
+            ));
+        }
+    }
+    if let Some(h) = &scene.half_space {
+        modulus_slip(warnings, "half_space.youngs_modulus", h.youngs_modulus);
+        yield_slip(warnings, "half_space.yield_stress", h.yield_stress);
+    }
+}
+
 impl Plan {
     /// Validates `scene` and makes every choice: the model, the modes or the mesh, the step,
     /// the law.
@@ -493,6 +580,7 @@ impl Plan {
         };
         let (time_step, energy_tolerance) =
             contact_step(&method, s, estimated_duration, &mut reasons)?;
+        unit_slips(scene, &mut warnings);
 
         let default_end = match method {
             Method::HalfSpace => 4.0 * estimated_duration,
@@ -549,6 +637,7 @@ impl Plan {
             output_interval,
             estimated_duration,
             thickness: beam_spec.map(|b| b.thickness),
+            width: beam_spec.map(|b| b.width),
             warnings,
         })
     }
