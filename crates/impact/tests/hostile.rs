@@ -111,3 +111,98 @@ fn hostile_scenes_are_refused_by_name_or_run_clean() {
     // The tour did both: refusals and runs (measured: 530 refused, 64 run, of 600).
     assert!(refused > 150 && ran > 40, "{refused} refused, {ran} ran");
 }
+
+fn paper_tip() -> String {
+    std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/paper-tip.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+}
+
+/// The plan's warnings of the paper's tip with `from` replaced by `to`.
+fn warnings_with(from: &str, to: &str) -> Vec<String> {
+    let text = paper_tip();
+    assert!(text.contains(from), "fixture changed: {from}");
+    let scene = Scene::from_toml(&text.replacen(from, to, 1)).unwrap();
+    Plan::new(&scene).unwrap().warnings().to_vec()
+}
+
+#[test]
+fn a_poisson_ratio_near_minus_one_is_refused_by_name() {
+    // E / (1 - nu^2) = 2.1e11 / 2e-6 = 1e17 Pa: above every modulus the scene allows.
+    let text = paper_tip();
+    let mut scene = Scene::from_toml(&text).unwrap();
+    scene.ball.poisson_ratio = -0.999999;
+    let e = Plan::new(&scene).unwrap_err().to_string();
+    assert!(e.starts_with("ball.poisson_ratio = -0.999999") && e.contains("1e13"), "{e}");
+    // An ordinary auxetic value is fine.
+    scene.ball.poisson_ratio = -0.5;
+    assert!(Plan::new(&scene).is_ok());
+}
+
+#[test]
+fn unit_slips_warn_by_field_with_the_value_meant() {
+    let w = warnings_with("density = 7850.0", "density = 7.85");
+    assert!(w.iter().any(|w| w.starts_with("beam.density = 7.85") && w.contains("7850")), "{w:?}");
+    let w = warnings_with("youngs_modulus = 2.1e11", "youngs_modulus = 210000.0");
+    assert!(
+        w.iter().any(|w| w.contains("youngs_modulus = 210000") && w.contains("2.1e11")),
+        "{w:?}"
+    );
+    let w = warnings_with("thickness = 0.005", "thickness = 6.0");
+    assert!(
+        w.iter().any(|w| w.starts_with("beam.thickness = 6 m is larger than beam.length")),
+        "{w:?}"
+    );
+    // The paper's own scene: not a word.
+    let own = Plan::new(&Scene::from_toml(&paper_tip()).unwrap()).unwrap().warnings().to_vec();
+    assert!(
+        own.iter().all(|w| !w.contains("the value meant") && !w.contains("not a beam")),
+        "{own:?}"
+    );
+}
+
+#[test]
+fn a_contact_patch_wider_than_the_beam_warns_with_the_ratio() {
+    // A 0.2 mm wide strip under the 5 mm ball: Hertz's contact radius sqrt(R delta) at the
+    // paper's speed is some 0.2 mm, beyond the half-width of 0.1 mm.
+    let text = paper_tip().replacen("width = 0.025", "width = 2e-4", 1).replacen(
+        "end_time = 0.005",
+        "end_time = 3e-4",
+        1,
+    );
+    let report = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    assert!(
+        report.warnings.iter().any(|w| w.contains("times the beam's half-width 1.000e-4 m")),
+        "{:?}",
+        report.warnings
+    );
+    let plain = simulate(
+        &Scene::from_toml(&paper_tip().replacen("end_time = 0.005", "end_time = 3e-4", 1)).unwrap(),
+    )
+    .unwrap();
+    assert!(!plain.report.warnings.iter().any(|w| w.contains("half-width")));
+}
+
+#[test]
+fn a_failed_fe_integration_names_the_keys_that_help_and_one_time() {
+    let e = impact::ImpactError::Integrator {
+        t: 0.0,
+        source: hht::HhtError::NewtonDiverged { t: 3.6e-4, iterations: 25, residual_norm: 1.0 },
+    };
+    let chain = format!("{}: {}", e, std::error::Error::source(&e).unwrap());
+    for key in ["solver.samples_per_pulse", "solver.elements", "solver.end_time"] {
+        assert!(chain.contains(key), "{chain}");
+    }
+    assert_eq!(chain.matches("t = ").count(), 1, "{chain}");
+}
+
+#[test]
+fn hostile_names_never_become_folders_and_are_printed_escaped() {
+    for name in ["../../../../tmp/x", "/tmp/x", "..", ".", "", "a/b/c", "x\u{1b}]0;pwned\u{7}"] {
+        let e = impact::study::folder_name(name).unwrap_err().to_string();
+        assert!(e.starts_with("name = ") && !e.chars().any(char::is_control), "{e:?}");
+    }
+    assert_eq!(impact::study::printable("\u{1b}[2J"), "\\u{1b}[2J");
+}

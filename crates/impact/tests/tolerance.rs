@@ -116,7 +116,9 @@ fn a_tolerance_chooses_the_modes_for_every_contact() {
 fn the_residual_flexibility_cuts_the_modes_needed() {
     // validation/REFERENCES.md 1.4: on the paper's tip over 1 ms, 128 modes with the
     // correction are closer to converged than 512 without it (first contact 2.6e-5 against
-    // 6.5e-5, sequence 3.6e-4 against 3.3e-4 measured), and the ledger still closes.
+    // 6.5e-5 measured), and the ledger still closes. Counting every contact above
+    // SIGNIFICANT_PEAK (the third, at 8.6e-3 of the first's peak, with it) the sequence errors
+    // are alike, 1.17e-2 and 1.04e-2 measured, and 128 modes without it miss a contact.
     let base = scene(&[("end_time = 0.005", "end_time = 0.001")], 0.01);
     let mut converged = with_modes(&base, 2048);
     converged.solver.residual_flexibility = Some(true);
@@ -129,7 +131,12 @@ fn the_residual_flexibility_cuts_the_modes_needed() {
     let (with, without, plain) = (run(128, true), run(128, false), run(512, false));
     let error = |r: &Report| r.differences_from(&converged);
     assert!(error(&with).first_duration < 1e-4, "{:?}", error(&with));
-    assert!(error(&with).contact_sequence < 1e-3, "{:?}", error(&with));
+    assert!(
+        error(&with).contact_sequence < 2e-2 && error(&with).same_contacts,
+        "{:?}",
+        error(&with)
+    );
+    assert!(!error(&without).same_contacts, "{:?}", error(&without));
     assert!(error(&without).first_duration > 1e-3, "{:?}", error(&without));
     assert!(error(&with).first_duration < error(&plain).first_duration);
     let e = &with.energy;

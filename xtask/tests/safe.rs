@@ -1,0 +1,161 @@
+//! Safe by default, through the command line itself: hostile scene names write nothing
+//! anywhere, inputs are never replaced, special and oversized files are refused, and standard
+//! output that closes or fills ends cleanly.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a test stops on a broken fixture
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+const XTASK: &str = env!("CARGO_BIN_EXE_xtask");
+
+fn validation(file: &str) -> String {
+    std::fs::read_to_string(format!("{}/../validation/scenes/{file}", env!("CARGO_MANIFEST_DIR")))
+        .unwrap()
+}
+
+/// A fresh scratch folder for one test.
+fn scratch(test: &str) -> PathBuf {
+    let root = std::env::temp_dir().join(format!("xtask-safe-{test}-{}", std::process::id()));
+    std::fs::remove_dir_all(&root).ok();
+    std::fs::create_dir_all(root.join("work")).unwrap();
+    root
+}
+
+/// Every file and folder under `root`, relative to it, sorted.
+fn tree(root: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            out.push(path.strip_prefix(root).unwrap().to_path_buf());
+            if path.is_dir() {
+                stack.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+fn xtask(dir: &Path, args: &[&str]) -> Output {
+    Command::new(XTASK).args(args).current_dir(dir).output().unwrap()
+}
+
+/// `text` with its `name = ...` line replaced by `name` (a TOML string).
+fn renamed(text: &str, name: &str) -> String {
+    let line = text.lines().find(|l| l.starts_with("name = ")).unwrap();
+    text.replacen(line, &format!("name = {}", toml::Value::String(name.into())), 1)
+}
+
+#[test]
+fn hostile_names_write_nothing_outside_the_folders_the_tool_owns() {
+    let root = scratch("names");
+    let work = root.join("work");
+    let absolute = root.join("absolute").display().to_string();
+    let hostile = [
+        "../escape",
+        "../../../escape",
+        absolute.as_str(),
+        "..",
+        ".",
+        "",
+        "a/b/c",
+        "x\u{1b}]0;t\u{7}",
+    ];
+    let before = tree(&root);
+    for (i, name) in hostile.iter().enumerate() {
+        let impact_scene = work.join(format!("impact{i}.toml"));
+        std::fs::write(&impact_scene, renamed(&validation("paper-tip.toml"), name)).unwrap();
+        let half = work.join(format!("half{i}.toml"));
+        std::fs::write(&half, renamed(&validation("half-space-r10.toml"), name)).unwrap();
+        let beam = work.join(format!("beam{i}.toml"));
+        std::fs::write(&beam, renamed(&validation("beam-mattiasson-k10.toml"), name)).unwrap();
+        let (s, h, b) =
+            (impact_scene.to_str().unwrap(), half.to_str().unwrap(), beam.to_str().unwrap());
+        for args in [
+            vec!["compare", s],
+            vec!["accuracy", s, "--quick"],
+            vec!["sweep", h, "--set", "impact.speed=1,2"],
+            vec!["beam", b],
+        ] {
+            let out = xtask(&work, &args);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert!(!out.status.success(), "{args:?} with name {name:?} ran");
+            assert!(stderr.contains("error: name = "), "{args:?}, {name:?}: {stderr}");
+            assert!(!stderr.chars().any(|c| c.is_control() && c != '\n'), "{stderr:?}");
+        }
+        for f in [impact_scene, half, beam] {
+            std::fs::remove_file(f).unwrap();
+        }
+    }
+    assert_eq!(tree(&root), before, "a command wrote outside its folder");
+    std::fs::remove_dir_all(&root).ok();
+}
+
+#[test]
+fn inputs_are_never_replaced_and_only_small_regular_files_are_read() {
+    let root = scratch("inputs");
+    let work = root.join("work");
+    let scene = work.join("scene.toml");
+    let text = validation("half-space-r10.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let s = scene.to_str().unwrap();
+    let out = xtask(&work, &["simulate", s, "--history", s]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("an input of this run"));
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), text, "the scene file was replaced");
+    if Path::new("/dev/zero").exists() {
+        let out = xtask(&work, &["simulate", "/dev/zero"]);
+        assert!(String::from_utf8_lossy(&out.stderr).contains("not a regular file"));
+    }
+    let big = work.join("big.toml");
+    std::fs::write(&big, format!("{text}\n{}", "#".repeat(2 << 20))).unwrap();
+    let out = xtask(&work, &["simulate", big.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("allowed at most 1048576"));
+    std::fs::remove_dir_all(&root).ok();
+}
+
+#[test]
+fn a_closed_pipe_ends_quietly_and_a_full_disk_is_one_line() {
+    let root = scratch("streams");
+    let work = root.join("work");
+    let scene = work.join("scene.toml");
+    std::fs::write(&scene, validation("half-space-r10.toml")).unwrap();
+    let s = scene.to_str().unwrap();
+    // `| head -c 0`: the reader has gone before the first line.
+    let mut child = Command::new(XTASK)
+        .args(["simulate", s])
+        .current_dir(&work)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+    if Path::new("/dev/full").exists() {
+        let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+        let out = Command::new(XTASK)
+            .args(["simulate", s])
+            .current_dir(&work)
+            .stdout(full)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains("cannot write to standard output"), "{stderr}");
+    }
+    std::fs::remove_dir_all(&root).ok();
+}
+
+#[test]
+fn help_lists_every_command() {
+    let out = xtask(Path::new("."), &["--help"]);
+    let help = String::from_utf8_lossy(&out.stdout);
+    for command in ["reproduce", "simulate", "compare", "accuracy", "beam", "sweep", "validate"] {
+        assert!(help.contains(command), "{command} missing from --help:\n{help}");
+    }
+}
