@@ -16,42 +16,10 @@ use crate::files::{read_input, say, write_atomic, OutDir};
 use crate::plot::{Chart, Series};
 use crate::reproduce::run_all;
 use anyhow::Context;
-use impact::study::variant;
-use impact::{MethodName, Outcome, Scene};
+use impact::study::comparison::{runs as variants, REFERENCE_TOLERANCE};
+use impact::{Outcome, Scene};
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// The reference's `solver.tolerance`.
-pub(crate) const REFERENCE_TOLERANCE: f64 = 1e-3;
-
-/// One run of the comparison: its label and the scene that makes it.
-fn variants(scene: &Scene, modes: &[usize], elements: &[usize]) -> Vec<(String, Scene)> {
-    let fe = |n: Option<usize>| variant(scene, MethodName::Fe, n);
-    let modal = |n: Option<usize>| variant(scene, MethodName::Modal, n);
-    // A listed resolution that the scene's own run already has is not run twice.
-    let mut modes: Vec<usize> =
-        modes.iter().copied().filter(|n| scene.solver.modes != Some(*n)).collect();
-    let mut elements: Vec<usize> =
-        elements.iter().copied().filter(|n| scene.solver.elements != Some(*n)).collect();
-    modes.sort_unstable();
-    modes.dedup();
-    elements.sort_unstable();
-    elements.dedup();
-    let mut reference = modal(None);
-    reference.solver.modes = None;
-    reference.solver.tolerance = Some(REFERENCE_TOLERANCE);
-    // The modal method's default: the scene's own modes, else the plan's choice.
-    let mut default_modal = modal(None);
-    default_modal.solver.tolerance = None;
-    let mut runs = vec![
-        ("reference".to_string(), reference),
-        ("fe".to_string(), fe(None)),
-        ("modal".to_string(), default_modal),
-    ];
-    runs.extend(modes.iter().map(|&n| (format!("modal, {n} modes"), modal(Some(n)))));
-    runs.extend(elements.iter().map(|&n| (format!("fe, {n} equal elements"), fe(Some(n)))));
-    runs
-}
 
 /// Linear interpolation of `(times, values)` at `t` (times non-decreasing; clamped at the ends).
 fn interpolate(times: &[f64], values: &[f64], t: f64) -> f64 {

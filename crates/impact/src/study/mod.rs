@@ -10,6 +10,7 @@
 //!   with their units, and the manifest that tells one sweep from another.
 //! - [`variant`]: the scene of one method at one resolution, with the other method's keys
 //!   dropped (a modal scene's `residual_flexibility` has no place in its fe run).
+//! - [`comparison`]: the runs of `compare`, both methods against a converged reference.
 //! - [`accuracy`]: the ladders of settings of the work-precision study, its references and the
 //!   errors of every run from its method's reference.
 //! - [`folder_name`]: the one way a scene's `name` becomes an output folder, and
@@ -43,6 +44,7 @@
 //! ```
 
 pub mod accuracy;
+pub mod comparison;
 pub mod grid;
 mod variant;
 
