@@ -332,6 +332,41 @@ mod tests {
         }
     }
 
+    /// The CSV without its wall-time column (the one that differs between runs).
+    fn timeless(dir: &Path) -> Vec<String> {
+        std::fs::read_to_string(dir.join("work_precision.csv"))
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let mut cells: Vec<&str> = l.split(',').collect();
+                cells.remove(2);
+                cells.join(",")
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_stopped_study_resumes_to_the_table_of_a_whole_run() {
+        let scene = Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../validation/scenes/paper-midspan.toml"
+        ));
+        let root = std::env::temp_dir().join(format!("accuracy-resume-{}", std::process::id()));
+        std::fs::remove_dir_all(&root).ok();
+        let (whole, parts) = (root.join("whole"), root.join("parts"));
+        run(scene, Some(&whole), true, false, None).unwrap();
+        // Stopped after the references and their checks: they are kept, no table yet.
+        run(scene, Some(&parts), true, false, Some(4)).unwrap();
+        assert_eq!(std::fs::read_to_string(parts.join(JOURNAL)).unwrap().lines().count(), 5);
+        assert!(!parts.join("work_precision.csv").exists());
+        // Not thrown away by a run without --resume.
+        assert!(run(scene, Some(&parts), true, false, None).is_err());
+        run(scene, Some(&parts), true, true, None).unwrap();
+        assert_eq!(timeless(&parts), timeless(&whole));
+        assert!(parts.join("runs.jsonl").exists() && !parts.join(JOURNAL).exists());
+        std::fs::remove_dir_all(&root).ok();
+    }
+
     #[test]
     fn the_csv_has_the_columns_and_the_table_the_cheapest_settings() {
         let study = Study {

@@ -49,7 +49,7 @@ pub(crate) fn read_input(path: &Path, what: &str) -> anyhow::Result<String> {
 }
 
 /// Refuses `path` as an output when it is a file that was read.
-fn refuse_input(path: &Path) -> anyhow::Result<()> {
+pub(crate) fn refuse_input(path: &Path) -> anyhow::Result<()> {
     let Ok(canonical) = path.canonicalize() else { return Ok(()) };
     if INPUTS.lock().map(|inputs| inputs.contains(&canonical)).unwrap_or(false) {
         bail!("{} is an input of this run: an output must not replace it", path.display());

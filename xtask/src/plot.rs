@@ -1,6 +1,5 @@
 //! Line charts (SVG, plotters) and CSV files of series.
 
-use anyhow::Context;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use std::io::Write;
@@ -54,6 +53,8 @@ impl Chart<'_> {
 
     fn write_scaled(&self, dir: &Path, stem: &str, log: bool) -> anyhow::Result<()> {
         let svg = dir.join(format!("{stem}.svg"));
+        // The backend writes the file itself: the check that it is no input comes first.
+        crate::files::refuse_input(&svg)?;
         let all = self.series.iter().flat_map(|s| s.points.iter());
         anyhow::ensure!(
             all.clone().all(|(x, y)| x.is_finite() && y.is_finite()),
@@ -91,10 +92,7 @@ impl Chart<'_> {
             root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
         }
         let csv = dir.join(format!("{stem}.csv"));
-        let mut f = std::io::BufWriter::new(
-            std::fs::File::create(&csv)
-                .with_context(|| format!("cannot write {}", csv.display()))?,
-        );
+        let mut f = crate::files::create(&csv)?;
         let col = |label: &str| {
             label
                 .replace([' ', '(', ')', '/'], "_")

@@ -230,7 +230,7 @@ fn ball(b: &BallSpec, warnings: &mut Vec<String>) -> Result<(Material, f64, f64)
             let implied = m / volume;
             if !(0.8..=1.25).contains(&(implied / density)) {
                 warnings.push(format!(
-                    "ball.mass = {m} kg with ball.radius = {radius} m implies a density of {implied:.0} kg/m^3, \
+                    "ball.mass = {m} kg with ball.radius = {radius} m implies a density of {implied:.4e} kg/m^3, \
                      not ball.density = {density} kg/m^3; the mass is used as given"
                 ));
             }
