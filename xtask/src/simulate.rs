@@ -62,7 +62,7 @@ pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Re
     }
     say!("impact speed {:.4} m/s; {} contact(s)", r.impact_speed, r.contact_count)?;
     say!(
-        "  {:>3} {:>12} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10}",
+        "  {:>3} {:>12} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10} {:>10} {:>9}",
         "#",
         "start (us)",
         "length (us)",
@@ -70,11 +70,13 @@ pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Re
         "approach (um)",
         "v in",
         "v out",
-        "print (mm)"
+        "print (mm)",
+        "p0 (MPa)",
+        "a (mm)"
     )?;
     for (i, c) in r.contacts.iter().enumerate().take(40) {
         say!(
-            "  {:>3} {:>12.3} {:>12.3}{} {:>12.3} {:>12.4} {:>10.4} {:>10.4} {:>10.4}",
+            "  {:>3} {:>12.3} {:>12.3}{} {:>12.3} {:>12.4} {:>10.4} {:>10.4} {:>10.4} {:>10.1} {:>9.4}",
             i + 1,
             c.start * 1e6,
             c.duration * 1e6,
@@ -83,7 +85,9 @@ pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Re
             c.max_approach * 1e6,
             c.ball_velocity_before,
             c.ball_velocity_after,
-            c.print_radius * 1e3
+            c.print_radius * 1e3,
+            c.max_pressure * 1e-6,
+            c.contact_radius * 1e3
         )?;
     }
     if r.contact_count > 40 {

@@ -171,6 +171,13 @@ impl ContactRecorder {
             ball_velocity_before: self.velocity_before,
             ball_velocity_after: ball_velocity,
             print_radius,
+            // The stresses at the peak are the report's to fill in: they need the law.
+            max_pressure: 0.0,
+            contact_radius: 0.0,
+            ball_max_shear: 0.0,
+            ball_max_shear_depth: 0.0,
+            body_max_shear: 0.0,
+            body_max_shear_depth: 0.0,
             steps: self.steps,
         })
     }

@@ -46,6 +46,34 @@ pub(crate) trait WithLaw {
 }
 
 impl Law {
+    /// The central pressure p0 (Pa) and the contact radius a (m) of a contact that reached
+    /// `peak_force` (N) and `max_approach` (m). Elastic laws: Hertz at the peak force,
+    /// a = (3 F R / (4 E*))^(1/3), p0 = 3 F / (2 pi a^2) (Johnson, *Contact Mechanics*, eqs.
+    /// 4.22-4.24; Hunt-Crossley's damping adds force but not the elastic pressure's shape, so
+    /// this is its elastic part's bound at the peak force). Thornton past first yield: the
+    /// pressure its law caps, p_y, over the radius of its plastic contact a = sqrt(R delta_max)
+    /// (the print's rim).
+    pub(crate) fn peak_pressure(&self, peak_force: f64, max_approach: f64) -> (f64, f64) {
+        match self {
+            Law::Thornton(t) if max_approach > t.yield_approach() => {
+                (t.limiting_pressure(), (t.hertz().effective_radius() * max_approach).sqrt())
+            }
+            _ => {
+                let delta = self.hertz().approach_for_force(peak_force.max(0.0));
+                (self.hertz().max_pressure(delta), self.hertz().contact_radius(delta))
+            }
+        }
+    }
+
+    /// The elastic contact underneath every law.
+    fn hertz(&self) -> &Hertz {
+        match self {
+            Law::Hertz(h) => h,
+            Law::HuntCrossley(h) => h.hertz(),
+            Law::Thornton(t) => t.hertz(),
+        }
+    }
+
     /// The law `spec` asks for, with its parameters; the reasons for derived parameters go to
     /// `reasons`, and an elastic law driven past first yield adds a warning.
     ///
@@ -114,8 +142,13 @@ impl Law {
                 hertz::FIRST_YIELD_PRESSURE_RATIO * y,
             )?;
             if speed > vy {
+                // The rigid-support estimate of the first contact's central pressure.
+                let p0 = hertz::HalfSpaceImpact::elastic(&hertz, ball_mass, speed)
+                    .map_or(0.0, |i| i.max_pressure);
                 warnings.push(format!(
-                    "the impact speed {speed:.3} m/s exceeds the first-yield speed {vy:.3} m/s (p0 = 1.6 Y): the contact yields; contact.law = \"thornton\" models it"
+                    "the impact speed {speed:.3} m/s exceeds the first-yield speed {vy:.3} m/s: the central pressure p0 = {:.4e} Pa (Hertz, rigid support) passes 1.6 Y = {:.4e} Pa; the contact yields; contact.law = \"thornton\" models it",
+                    p0,
+                    hertz::FIRST_YIELD_PRESSURE_RATIO * y
                 ));
             }
         }

@@ -363,3 +363,63 @@ fn a_contact_beyond_small_strain_is_flagged() {
     let quiet = simulate(&scene("paper-tip.toml")).unwrap().report;
     assert!(!quiet.warnings.iter().any(|w| w.contains("extrapolated")), "{:?}", quiet.warnings);
 }
+
+#[test]
+fn contact_pressure_and_subsurface_shear_follow_hertz_from_the_peak_force() {
+    // validation/REFERENCES.md 2.2's half-space impact: Hertz's contact from the reported
+    // peak force, by hand (Johnson, Contact Mechanics, eqs. 4.22-4.24): steel on steel,
+    // E* = E / (2 (1 - nu^2)), R = 10 mm, a = (3 F R / (4 E*))^(1/3), p0 = 3 F / (2 pi a^2).
+    let out = simulate(&scene("half-space-r10.toml")).unwrap();
+    let c = &out.report.contacts[0];
+    let e_star = 2.1e11 / (2.0 * (1.0 - 0.09));
+    let a = (3.0 * c.peak_force * 0.01 / (4.0 * e_star)).cbrt();
+    let p0 = 3.0 * c.peak_force / (2.0 * std::f64::consts::PI * a * a);
+    // Round-off only: the same formulas in another order.
+    assert!(rel(c.contact_radius, a) < 1e-12, "{} vs {a}", c.contact_radius);
+    assert!(rel(c.max_pressure, p0) < 1e-12, "{} vs {p0}", c.max_pressure);
+    // And the closed form's own p0 at its peak force, within the peak force's 1e-4.
+    let steel = hertz::Material::new(2.1e11, 0.3).unwrap();
+    let contact = hertz::Hertz::between(&steel, &steel, 0.01).unwrap();
+    let mass = 7850.0 * 4.0 / 3.0 * std::f64::consts::PI * 1e-6;
+    let exact = hertz::HalfSpaceImpact::elastic(&contact, mass, 1.0).unwrap();
+    assert!(rel(c.max_pressure, exact.max_pressure) < 1e-4);
+    // Johnson section 3.4: 0.31 p0 at 0.48 a below the surface for nu = 0.3 (two digits
+    // quoted), in both bodies alike here.
+    assert!((c.ball_max_shear / c.max_pressure - 0.31).abs() < 5e-3);
+    assert!((c.body_max_shear_depth / c.contact_radius - 0.48).abs() < 5e-3);
+    assert_eq!(c.ball_max_shear, c.body_max_shear);
+}
+
+#[test]
+fn a_thornton_contact_reports_the_pressure_its_law_caps() {
+    // The paper's tip with its Thornton law: p_y = 1.6 x 340 MPa, and the plastic contact's
+    // radius at the largest load is the print's rim.
+    let mut s = scene("paper-tip.toml");
+    s.contact.law = LawName::Thornton;
+    s.solver.end_time = Some(3e-4);
+    let c = simulate(&s).unwrap().report.contacts[0].clone();
+    assert!(c.print_radius > 0.0);
+    assert!(rel(c.max_pressure, 1.6 * 3.4e8) < 1e-12, "{}", c.max_pressure);
+    // The report's largest approach is refined between steps (a parabola through the
+    // samples), the print's from the largest committed step: they differ at the step's
+    // O(h^2), halved by the square root.
+    assert!(
+        rel(c.contact_radius, c.print_radius) < 1e-4,
+        "{} vs {}",
+        c.contact_radius,
+        c.print_radius
+    );
+}
+
+#[test]
+fn the_first_yield_warning_gives_the_central_pressure() {
+    // The paper's tip at 1.98 m/s with elastic Hertz: far past first yield (6 mm/s).
+    let r = simulate(&scene("paper-tip.toml")).unwrap().report;
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("the central pressure p0 = ") && w.contains("1.6 Y = 5.4400e8 Pa")),
+        "{:?}",
+        r.warnings
+    );
+}

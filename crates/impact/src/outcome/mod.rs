@@ -53,6 +53,22 @@ pub struct Contact {
     pub ball_velocity_after: f64,
     /// Rim radius of the permanent print after this contact (m); 0 if elastic so far.
     pub print_radius: f64,
+    /// Central contact pressure p0 at the peak force (Pa): Hertz's, or for a Thornton contact
+    /// past first yield the pressure its law caps.
+    pub max_pressure: f64,
+    /// Contact radius a at the peak force (Pa's circle, m).
+    pub contact_radius: f64,
+    /// The largest shear stress below the surface in the ball (Pa), on the contact's axis
+    /// (Johnson eq. 3.45 with the ball's Poisson ratio; about 0.31 p0 for nu = 0.3), and
+    /// its depth below the surface (m, about 0.48 a). For a Thornton contact past yield it
+    /// is Hertz's at p0 = p_y: the plastic zone beneath is not modelled.
+    pub ball_max_shear: f64,
+    /// Its depth (m).
+    pub ball_max_shear_depth: f64,
+    /// The same in the struck body (beam or half-space), with its Poisson ratio (Pa).
+    pub body_max_shear: f64,
+    /// Its depth (m).
+    pub body_max_shear_depth: f64,
     /// Steps taken in contact.
     pub steps: usize,
 }
@@ -168,6 +184,9 @@ impl Report {
     /// equivalent static force from the static stiffness.
     pub(crate) fn assemble(plan: &Plan, mut end: Ending) -> Self {
         small_strain_warnings(plan, &end.contacts, &mut end.warnings);
+        for c in &mut end.contacts {
+            contact_stresses(plan, c);
+        }
         let restitution = end
             .contacts
             .first()
@@ -266,6 +285,16 @@ impl Report {
 /// radius, a = sqrt(R delta) < 0.3 R (delta < 0.09 R), and an approach small against what it
 /// presses into (a tenth of the beam's thickness); a print is a contact radius too. Past either
 /// the numbers are extrapolations: say so, with the first contact that goes past.
+/// Fills in the contact's pressure, radius and subsurface shear at its peak force.
+fn contact_stresses(plan: &Plan, c: &mut Contact) {
+    let (p0, a) = plan.law.peak_pressure(c.peak_force, c.max_approach);
+    c.max_pressure = p0;
+    c.contact_radius = a;
+    let [ball, body] = plan.poisson_ratios.map(hertz::max_subsurface_shear);
+    (c.ball_max_shear, c.ball_max_shear_depth) = (ball.0 * p0, ball.1 * a);
+    (c.body_max_shear, c.body_max_shear_depth) = (body.0 * p0, body.1 * a);
+}
+
 fn small_strain_warnings(plan: &Plan, contacts: &[Contact], warnings: &mut Vec<String>) {
     let radius = plan.ball_radius;
     if let Some((i, c)) = contacts

@@ -165,6 +165,8 @@ pub struct Plan {
     pub(crate) thickness: Option<f64>,
     /// The struck beam's width (m), none on a half-space.
     pub(crate) width: Option<f64>,
+    /// Poisson's ratios of the ball and of the struck body (-).
+    pub(crate) poisson_ratios: [f64; 2],
     pub(crate) summary: PlanSummary,
     pub(crate) warnings: Vec<String>,
 }
@@ -638,6 +640,7 @@ impl Plan {
             estimated_duration,
             thickness: beam_spec.map(|b| b.thickness),
             width: beam_spec.map(|b| b.width),
+            poisson_ratios: [ball_material.poisson_ratio, counterface.poisson_ratio],
             warnings,
         })
     }
