@@ -142,4 +142,37 @@ impl Beam {
             Support::FreeFree => None,
         }
     }
+
+    /// Static curvature w''(x) (1/m^2 per N) under a unit point force at x = c, both in the
+    /// direction of w: the bending moment diagram of beam tables divided by EI (Roark, Table
+    /// 8.1), M(x) = EI w''(x). Clamped-free (clamped at 0): (c - x)/EI for x < c, else 0.
+    /// Pinned-pinned: -x (L - c)/(L EI) for x <= c, -c (L - x)/(L EI) beyond. Clamped-clamped
+    /// and clamped-pinned (clamped at 0): the sagging moment M_s(x) = M_0 + R_0 x - (x - c)_+
+    /// with the clamp's moment and reaction of the tables, w'' = -M_s/EI: clamped-clamped
+    /// M_0 = -c b^2/L^2, R_0 = b^2 (3c + b)/L^3; clamped-pinned from the pinned end's reaction
+    /// R_L = c^2 (3L - c)/(2L^3), M_s(x) = R_L (L - x) - (c - x)_+. `None` for free-free.
+    pub fn static_curvature(&self, c: f64, x: f64) -> Option<f64> {
+        let (l, ei) = (self.length, self.flexural_rigidity);
+        let b = l - c;
+        let after = (x - c).max(0.0);
+        let sagging = match self.support {
+            Support::ClampedFree => -(c - x).max(0.0),
+            Support::PinnedPinned => {
+                if x <= c {
+                    x * b / l
+                } else {
+                    c * (l - x) / l
+                }
+            }
+            Support::ClampedClamped => {
+                -c * b * b / (l * l) + b * b * (3.0 * c + b) / l.powi(3) * x - after
+            }
+            Support::ClampedPinned => {
+                let r_l = c * c * (3.0 * l - c) / (2.0 * l.powi(3));
+                r_l * (l - x) - (c - x).max(0.0)
+            }
+            Support::FreeFree => return None,
+        };
+        Some(-sagging / ei)
+    }
 }

@@ -2,8 +2,11 @@
 //! displacement, the equivalent static force) and the [`History`] (time series).
 
 mod history;
+mod stress;
 
 pub use history::{History, Sample};
+pub(crate) use stress::Envelope;
+pub use stress::{BendingStress, SupportStress};
 
 use crate::plan::{Plan, PlanSummary};
 use serde::{Deserialize, Serialize};
@@ -152,6 +155,12 @@ pub struct Report {
     pub max_displacement: f64,
     /// When it happened (s).
     pub max_displacement_time: f64,
+    /// Whether the largest displacement sits at the window's end (it was still growing: a
+    /// longer `solver.end_time` would find a larger one; a warning names the window).
+    pub max_displacement_at_window_end: bool,
+    /// The beam's largest bending stress over the beam and the window (the modal method);
+    /// null on a half-space, and for now in the fe method.
+    pub bending_stress: Option<BendingStress>,
     /// Static stiffness of the beam at the impact point (N/m); null for a half-space or a
     /// free-free beam.
     pub static_stiffness: Option<f64>,
@@ -177,6 +186,10 @@ pub(crate) struct Ending {
     pub(crate) static_stiffness: Option<f64>,
     pub(crate) energy: Energy,
     pub(crate) wall_time: f64,
+    /// The bending stress envelope, where the solver recovers it.
+    pub(crate) bending_stress: Option<BendingStress>,
+    /// The last instant the solver observed (s): a maximum there is not yet one.
+    pub(crate) last_time: f64,
 }
 
 impl Report {
@@ -187,6 +200,10 @@ impl Report {
         for c in &mut end.contacts {
             contact_stresses(plan, c);
         }
+        let mut more = Vec::new();
+        envelope_warnings(plan, &end, &mut more);
+        end.warnings.extend(more);
+        let at_window_end = displacement_at_window_end(&end);
         let restitution = end
             .contacts
             .first()
@@ -202,11 +219,13 @@ impl Report {
             restitution,
             max_displacement: end.max_displacement.0,
             max_displacement_time: end.max_displacement.1,
+            max_displacement_at_window_end: at_window_end,
             static_stiffness: end.static_stiffness,
             equivalent_static_force: end.static_stiffness.map(|k| k * end.max_displacement.0),
             energy: end.energy,
             estimated_error: None,
             wall_time: end.wall_time,
+            bending_stress: end.bending_stress,
         }
     }
 }
@@ -285,6 +304,42 @@ impl Report {
 /// radius, a = sqrt(R delta) < 0.3 R (delta < 0.09 R), and an approach small against what it
 /// presses into (a tenth of the beam's thickness); a print is a contact radius too. Past either
 /// the numbers are extrapolations: say so, with the first contact that goes past.
+/// Whether the largest displacement was found at the last instant observed, still growing.
+fn displacement_at_window_end(end: &Ending) -> bool {
+    end.max_displacement.0 > 0.0 && end.max_displacement.1 >= end.last_time
+}
+
+/// Warnings for maxima at the window's end and for a stress past the beam's yield stress.
+fn envelope_warnings(plan: &Plan, end: &Ending, warnings: &mut Vec<String>) {
+    let window = plan.end_time;
+    let quarter = plan.first_period.map(|t| 0.25 * t);
+    let hold = |what: &str| {
+        match quarter {
+        Some(q) => format!(
+            "the largest {what} sits at the window's end (t = {window:.4e} s): it was still growing, so it is not yet the maximum; the first mode's quarter period is {q:.4e} s, so solver.end_time = {:.4e} s (the first contact's end plus half a period) would hold the first swing",
+            end.contacts.first().map_or(0.0, |c| c.start + c.duration) + 2.0 * q
+        ),
+        None => format!(
+            "the largest {what} sits at the window's end (t = {window:.4e} s): it was still growing, so it is not yet the maximum; a longer solver.end_time would find a larger one"
+        ),
+    }
+    };
+    if displacement_at_window_end(end) {
+        warnings.push(hold("displacement at the impact point"));
+    }
+    if let Some(s) = &end.bending_stress {
+        if s.at_window_end {
+            warnings.push(hold("bending stress"));
+        }
+        if let Some(ratio) = s.yield_ratio.filter(|r| *r > 1.0) {
+            warnings.push(format!(
+                "the beam's bending stress reaches {:.4e} Pa, {ratio:.3} times its yield stress, at {:.4e} m at t = {:.4e} s: the beam yields there, and beam plasticity is not modelled (the result past that instant is elastic)",
+                s.max, s.position, s.time
+            ));
+        }
+    }
+}
+
 /// Fills in the contact's pressure, radius and subsurface shear at its peak force.
 fn contact_stresses(plan: &Plan, c: &mut Contact) {
     let (p0, a) = plan.law.peak_pressure(c.peak_force, c.max_approach);

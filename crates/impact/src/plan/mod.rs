@@ -167,6 +167,11 @@ pub struct Plan {
     pub(crate) width: Option<f64>,
     /// Poisson's ratios of the ball and of the struck body (-).
     pub(crate) poisson_ratios: [f64; 2],
+    /// The beam's yield stress (Pa), if given.
+    pub(crate) beam_yield_stress: Option<f64>,
+    /// The beam's first elastic mode's period (s) (Euler-Bernoulli), none on a half-space or
+    /// a beam without one.
+    pub(crate) first_period: Option<f64>,
     pub(crate) summary: PlanSummary,
     pub(crate) warnings: Vec<String>,
 }
@@ -470,6 +475,17 @@ fn contact_step(
     Ok((time_step, energy_tolerance))
 }
 
+/// The first elastic mode's period (s) of the plan's beam.
+fn first_period(method: &Method) -> Option<f64> {
+    let beam = match method {
+        Method::Modal(m) => &m.beam,
+        Method::Fe(fe) => &fe.analytic,
+        Method::HalfSpace => return None,
+    };
+    let omega = beam.modes(3).ok()?.into_iter().map(|m| m.omega).find(|w| *w > 0.0)?;
+    Some(2.0 * PI / omega)
+}
+
 /// A value allowed but far from any ball or beam, most likely typed in another unit.
 fn slip(warnings: &mut Vec<String>, field: &str, value: f64, why: &str, meant: f64) {
     warnings.push(format!(
@@ -617,6 +633,7 @@ impl Plan {
             Method::Fe(fe) => (0, fe.elements()),
             Method::HalfSpace => (0, 0),
         };
+        let first_period = first_period(&method);
         Ok(Self {
             name: scene.name.clone(),
             summary: PlanSummary {
@@ -641,6 +658,8 @@ impl Plan {
             thickness: beam_spec.map(|b| b.thickness),
             width: beam_spec.map(|b| b.width),
             poisson_ratios: [ball_material.poisson_ratio, counterface.poisson_ratio],
+            beam_yield_stress: beam_spec.and_then(|b| b.yield_stress),
+            first_period,
             warnings,
         })
     }

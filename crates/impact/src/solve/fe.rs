@@ -452,6 +452,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 static_stiffness,
                 energy,
                 wall_time,
+                bending_stress: None,
+                last_time: self.history.time.last().copied().unwrap_or(0.0),
             },
         );
         Outcome { report, history: self.history }

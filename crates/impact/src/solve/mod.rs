@@ -10,6 +10,7 @@
 mod ball_on_beam;
 mod fe;
 mod modal;
+mod modal_stress;
 mod refine;
 
 pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};

@@ -11,6 +11,7 @@
 //! and the ball can close it, so no re-contact longer than a quarter contact step is missed.
 //! Onset and separation are located by root finding on the approach.
 
+use super::modal_stress::ModalStress;
 use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
@@ -49,6 +50,8 @@ struct Solver<'a, L: ContactLaw> {
     /// Told the fraction of the window done at every recorded instant.
     progress: Progress<'a>,
     modes: PointModes,
+    /// The beam's bending stress envelope (none on a half-space).
+    stress: Option<ModalStress>,
     /// Contact steps by level (the plan's step / 2^level), built on first use; shared so that
     /// a step can use one while the solver's state changes.
     contact_steps: Vec<Option<Rc<Transition>>>,
@@ -134,12 +137,18 @@ fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
 
 impl<'a, L: ContactLaw> Solver<'a, L> {
     fn new(plan: &'a Plan, law: &'a L, progress: Progress<'a>) -> Result<Self, ImpactError> {
-        let modes = match &plan.method {
+        let (modes, stress) = match &plan.method {
             Method::Modal(m) => {
                 let shapes = m.beam.modes(m.modes)?;
-                PointModes::new(&m.beam, &shapes, m.position, m.damping)?
+                let point = PointModes::new(&m.beam, &shapes, m.position, m.damping)?;
+                let section = plan.thickness.zip(plan.width);
+                let stress =
+                    section.map(|(h, b)| ModalStress::new(&m.beam, shapes, m.position, h, b));
+                (point, stress)
             }
-            Method::HalfSpace | Method::Fe(_) => PointModes::from_parts(vec![], vec![], vec![])?,
+            Method::HalfSpace | Method::Fe(_) => {
+                (PointModes::from_parts(vec![], vec![], vec![])?, None)
+            }
         };
         let n = modes.len();
         // The mode-acceleration method's quasi-static part: what the truncated modes would
@@ -166,6 +175,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             law,
             progress,
             modes,
+            stress,
             contact_steps: vec![None; FINEST_LEVEL + 1],
             free_steps: Vec::new(),
             t: 0.0,
@@ -233,6 +243,9 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
     /// Records the current state with its ledger, already summed.
     fn record_with(&mut self, energy: &Energy) {
         (self.progress)(self.t / self.plan.end_time);
+        if let Some(stress) = &mut self.stress {
+            stress.observe(self.t, &self.beam.q, self.force, self.t >= self.plan.end_time);
+        }
         let w = self.beam_displacement();
         self.history.push(Sample::with_energy(
             self.t,
@@ -736,6 +749,8 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 static_stiffness,
                 energy,
                 wall_time,
+                bending_stress: self.stress.as_ref().map(|s| s.finish(plan.beam_yield_stress)),
+                last_time: self.history.time.last().copied().unwrap_or(0.0),
             },
         );
         Outcome { report, history: self.history }

@@ -1,0 +1,256 @@
+//! The modal method's bending stress, by the mode-acceleration form.
+//!
+//! The plain series w''(x) = sum_n phi_n''(x) q_n / sqrt(M) converges slowly under a point
+//! force (the static moment's kink at the load needs every mode; the tail falls as 1/n^2).
+//! The mode-acceleration form (the static correction of the residual flexibility,
+//! validation/REFERENCES.md 1.4) adds what the truncated modes hold quasi-statically:
+//!
+//! w''(x, t) = F(t) [s(x; c) - sum_n c_n(x) g_n / omega_n^2] + sum_n c_n(x) q_n(t),
+//!
+//! with s the static curvature under a unit force at the impact point c
+//! ([`modal::Beam::static_curvature`], the beam tables), c_n = phi_n''/sqrt(M) and
+//! g_n = phi_n(c)/sqrt(M). A free-free beam has no static solution: it keeps the plain series.
+//! The stress on the struck face is sigma = E (h/2) w''.
+//!
+//! Where a maximum can occur: at the supports, under the ball, in the bending waves that
+//! leave the ball during a contact (within a few centimetres of it on the paper's beam), and
+//! anywhere the waves meet later. The envelope is evaluated at every recorded instant of the
+//! run (about 200 per contact and one per output interval in free flight) near the ball
+//! (the impact point and points L/2^k away on each side, k = 4..9) and at the supports, and
+//! at every [`GLOBAL_EVERY`]-th instant on [`GRID`] equal intervals of the beam; after the
+//! run the largest is searched again on [`REFINE`] points between its point's neighbours, at
+//! its instant. The hot loop is compiled for the processor's widest vectors (pulp).
+
+use crate::outcome::{BendingStress, Envelope};
+use modal::{Beam, Mode, Support};
+
+/// Equal intervals of the beam whose ends are candidates of the largest stress.
+pub(crate) const GRID: usize = 32;
+/// The beam-wide grid is observed at every this many recorded instants.
+pub(crate) const GLOBAL_EVERY: usize = 4;
+/// Points near the ball: L/2^k away on each side for k in this range.
+const NEAR_LEVELS: std::ops::RangeInclusive<i32> = 4..=9;
+/// Points of the final search around the best candidate, between its neighbours.
+pub(crate) const REFINE: usize = 64;
+
+/// The modal beam seen as a stress field.
+pub(crate) struct ModalStress {
+    shapes: Vec<Mode>,
+    /// 1/sqrt(M) (1/sqrt(kg)).
+    scale: f64,
+    /// Stress per unit curvature on the struck face, E h/2 (Pa m).
+    section: f64,
+    /// Impact point (m).
+    position: f64,
+    length: f64,
+    /// The beam for its static curvature; `None` keeps the plain series.
+    beam: Option<Beam>,
+    /// g_n / omega_n^2 (0 for a rigid mode) (m/N per sqrt(kg)).
+    static_q: Vec<f64>,
+    /// c_n(x_p), point-major: curvature[p * N + n] (1/m^2 per sqrt(kg)).
+    curvature: Vec<f64>,
+    /// s(x_p) - sum_n c_n(x_p) g_n / omega_n^2 (1/m^2 per N).
+    correction: Vec<f64>,
+    stresses: Vec<f64>,
+    /// How many points (the first) are observed at every instant.
+    near_count: usize,
+    /// Recorded instants seen so far.
+    instants: usize,
+    envelope: Envelope,
+    /// The modal coordinates and force at the largest stress so far.
+    best: Option<(Vec<f64>, f64)>,
+}
+
+impl ModalStress {
+    /// The stress field of `shapes` of `beam` struck at `position`, of section `width` x
+    /// `thickness` (m).
+    pub(crate) fn new(
+        beam: &Beam,
+        shapes: Vec<Mode>,
+        position: f64,
+        thickness: f64,
+        width: f64,
+    ) -> Self {
+        let length = beam.length();
+        let scale = 1.0 / beam.mass().sqrt();
+        let inertia = width * thickness.powi(3) / 12.0;
+        let section = beam.flexural_rigidity() * 0.5 * thickness / inertia;
+        let supports: &[f64] = match beam.support() {
+            Support::ClampedFree => &[0.0],
+            Support::FreeFree => &[],
+            _ => &[0.0, length],
+        };
+        // The near set first (observed at every instant), then the rest of the grid.
+        let mut near: Vec<f64> = supports.to_vec();
+        near.push(position);
+        for k in NEAR_LEVELS {
+            let d = length / f64::powi(2.0, k);
+            near.extend(
+                [position - d, position + d].into_iter().filter(|x| (0.0..=length).contains(x)),
+            );
+        }
+        let grid: Vec<f64> = (0..=GRID)
+            .map(|k| length * k as f64 / GRID as f64)
+            .filter(|x| !near.contains(x))
+            .collect();
+        let near_count = near.len();
+        let points: Vec<f64> = near.into_iter().chain(grid).collect();
+        let static_beam = beam.static_curvature(position, 0.0).map(|_| *beam);
+        let static_q: Vec<f64> = shapes
+            .iter()
+            .map(|m| {
+                if m.omega > 0.0 && static_beam.is_some() {
+                    m.shape.value(position) * scale / (m.omega * m.omega)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let p = points.len();
+        let modes = shapes.len();
+        let mut curvature = vec![0.0; modes * p];
+        for (n, m) in shapes.iter().enumerate() {
+            for (k, x) in points.iter().enumerate() {
+                curvature[k * modes + n] = m.shape.curvature(*x) * scale;
+            }
+        }
+        let correction = points
+            .iter()
+            .enumerate()
+            .map(|(k, x)| match &static_beam {
+                Some(b) => {
+                    let kept: f64 =
+                        (0..modes).map(|n| curvature[k * modes + n] * static_q[n]).sum();
+                    b.static_curvature(position, *x).unwrap_or(0.0) - kept
+                }
+                None => 0.0,
+            })
+            .collect();
+        Self {
+            shapes,
+            scale,
+            section,
+            position,
+            length,
+            beam: static_beam,
+            static_q,
+            curvature,
+            correction,
+            stresses: vec![0.0; p],
+            near_count,
+            instants: 0,
+            envelope: Envelope::new(points, supports),
+            best: None,
+        }
+    }
+
+    /// Observes the beam at time `t` (s) with modal coordinates `q` under the force `force`;
+    /// `last` for the run's final instant (the whole grid is observed then).
+    pub(crate) fn observe(&mut self, t: f64, q: &[f64], force: f64, last: bool) {
+        let all = last || self.instants % GLOBAL_EVERY == 0;
+        self.instants += 1;
+        let used = if all { self.stresses.len() } else { self.near_count };
+        pulp::Arch::new().dispatch(StressKernel {
+            stresses: &mut self.stresses[..used],
+            correction: &self.correction[..used],
+            curvature: &self.curvature,
+            q,
+            force,
+            section: self.section,
+        });
+        if self.envelope.observe(t, &self.stresses[..used]) {
+            match &mut self.best {
+                Some((best_q, best_force)) => {
+                    best_q.copy_from_slice(q);
+                    *best_force = force;
+                }
+                None => self.best = Some((q.to_vec(), force)),
+            }
+        }
+    }
+
+    /// The stress (Pa) at `x` for the state `q`, `force`, by the same form.
+    fn stress_at(&self, x: f64, q: &[f64], force: f64) -> f64 {
+        let mut curvature = 0.0;
+        let mut kept = 0.0;
+        for ((m, qn), sq) in self.shapes.iter().zip(q).zip(&self.static_q) {
+            let c = m.shape.curvature(x) * self.scale;
+            curvature += c * qn;
+            kept += c * sq;
+        }
+        let correction = match &self.beam {
+            Some(b) => b.static_curvature(self.position, x).unwrap_or(0.0) - kept,
+            None => 0.0,
+        };
+        self.section * (curvature + force * correction)
+    }
+
+    /// The envelope, its largest searched again around its point at its instant.
+    pub(crate) fn finish(&self, yield_stress: Option<f64>) -> BendingStress {
+        let refined = self.best.as_ref().map(|(q, force)| {
+            let (point, _) = self.envelope.best_point();
+            let points = &self.envelope.points;
+            let centre = points[point];
+            // Between the nearest candidates on either side.
+            let below = points.iter().filter(|x| **x < centre).fold(0.0, |a: f64, x| a.max(*x));
+            let above =
+                points.iter().filter(|x| **x > centre).fold(self.length, |a: f64, x| a.min(*x));
+            (0..=REFINE)
+                .map(|k| {
+                    let x = below + (above - below) * k as f64 / REFINE as f64;
+                    (x, self.stress_at(x, q, *force))
+                })
+                .fold(
+                    (centre, 0.0_f64),
+                    |best: (f64, f64), s| {
+                        if s.1.abs() > best.1.abs() {
+                            s
+                        } else {
+                            best
+                        }
+                    },
+                )
+        });
+        self.envelope.finish(refined, yield_stress)
+    }
+}
+
+/// sigma_p = E h/2 (F correction_p + sum_n c_n(x_p) q_n) for the points of `stresses`: a dot
+/// product a point, summed in eight interleaved lanes so that the compiler vectorises it for
+/// the instructions pulp finds at run time (the order is fixed, so the result is the same on
+/// every path).
+struct StressKernel<'a> {
+    stresses: &'a mut [f64],
+    correction: &'a [f64],
+    /// Point-major, one row of `q.len()` a point.
+    curvature: &'a [f64],
+    q: &'a [f64],
+    force: f64,
+    section: f64,
+}
+
+impl pulp::WithSimd for StressKernel<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let Self { stresses, correction, curvature, q, force, section } = self;
+        let n = q.len();
+        for ((s, c), row) in stresses.iter_mut().zip(correction).zip(curvature.chunks_exact(n)) {
+            let mut lanes = [0.0; 8];
+            for (a, b) in row.chunks_exact(8).zip(q.chunks_exact(8)) {
+                for k in 0..8 {
+                    lanes[k] += a[k] * b[k];
+                }
+            }
+            let mut tail = 0.0;
+            for j in n - n % 8..n {
+                tail += row[j] * q[j];
+            }
+            let dynamic = ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]))
+                + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]))
+                + tail;
+            *s = section * (force * c + dynamic);
+        }
+    }
+}
