@@ -69,21 +69,22 @@ pub(crate) fn study(scene: &Scene, quick: bool) -> anyhow::Result<Study> {
     Ok(Study::new(&scene.name, &all, &reports)?)
 }
 
-/// The four relative errors and the energy balance of `row`, in the CSV's order.
-fn columns(row: &Row) -> [f64; 5] {
+/// The five relative errors and the energy balance of `row`, in the CSV's order.
+fn columns(row: &Row) -> [f64; 6] {
     let e = &row.errors;
     [
         e.first_duration,
         e.first_peak_force,
         e.contact_sequence,
         e.max_displacement,
+        e.max_stress,
         row.energy_balance,
     ]
 }
 
 /// work_precision.csv.
 pub(crate) fn csv(study: &Study) -> String {
-    let mut csv = String::from("method,setting,wall_time_s,error_first_duration,error_first_peak_force,error_contact_sequence,error_max_displacement,energy_balance\n");
+    let mut csv = String::from("method,setting,wall_time_s,error_first_duration,error_first_peak_force,error_contact_sequence,error_max_displacement,error_max_stress,energy_balance\n");
     for r in &study.rows {
         let errors: Vec<String> = columns(r).iter().map(|x| format!("{x:.3e}")).collect();
         // Infallible: writing to a String.
@@ -109,8 +110,16 @@ pub(crate) fn table(study: &Study) -> String {
     );
     let _ = writeln!(
         t,
-        "{:<6} {:<44} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
-        "method", "setting", "wall (s)", "first t_c", "first F", "sequence", "max disp", "energy"
+        "{:<6} {:<44} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "method",
+        "setting",
+        "wall (s)",
+        "first t_c",
+        "first F",
+        "sequence",
+        "max disp",
+        "max stress",
+        "energy"
     );
     for r in &study.rows {
         let errors: Vec<String> = columns(r).iter().map(|x| format!("{x:>10.2e}")).collect();
@@ -168,11 +177,12 @@ pub(crate) fn write(study: &Study, dir: &Path) -> anyhow::Result<()> {
 /// method and metric over the method's main ladder, and its other settings' worst errors
 /// as points.
 fn chart(study: &Study, dir: &Path, stem: &str) -> anyhow::Result<()> {
-    let metrics: [(&str, Metric); 4] = [
+    let metrics: [(&str, Metric); 5] = [
         ("first duration", |e| e.first_duration),
         ("first peak force", |e| e.first_peak_force),
         ("contact sequence", |e| e.contact_sequence),
         ("max displacement", |e| e.max_displacement),
+        ("max stress", |e| e.max_stress),
     ];
     let mut series = Vec::new();
     for (method, curve) in [("modal", "modal"), ("modal", RESIDUAL), ("fe", "fe")] {
@@ -326,6 +336,7 @@ mod tests {
                 first_peak_force: worst,
                 contact_sequence: worst / 2.0,
                 max_displacement: 0.0,
+                max_stress: worst / 4.0,
                 same_contacts: true,
             },
             energy_balance: 1e-7,
@@ -383,10 +394,10 @@ mod tests {
         let mut lines = csv.lines();
         assert_eq!(
             lines.next(),
-            Some("method,setting,wall_time_s,error_first_duration,error_first_peak_force,error_contact_sequence,error_max_displacement,energy_balance")
+            Some("method,setting,wall_time_s,error_first_duration,error_first_peak_force,error_contact_sequence,error_max_displacement,error_max_stress,energy_balance")
         );
         let first: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-        assert_eq!(first.len(), 8, "{first:?}");
+        assert_eq!(first.len(), 9, "{first:?}");
         assert_eq!(first[1], "\"16 modes\"");
         assert!((first[4].parse::<f64>().unwrap_or(0.0) - 3e-2).abs() < 1e-12);
         let t = table(&study);

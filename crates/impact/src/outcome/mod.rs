@@ -246,17 +246,21 @@ pub struct Differences {
     pub contact_sequence: f64,
     /// The largest displacement at the impact point.
     pub max_displacement: f64,
+    /// The beam's largest bending stress (`bending_stress.max`); 0 where either run does not
+    /// recover it (a half-space; the fe method for now).
+    pub max_stress: f64,
     /// Whether both runs have the same number of significant contacts.
     pub same_contacts: bool,
 }
 
 impl Differences {
-    /// The worst of the four.
+    /// The worst of the five.
     pub fn worst(&self) -> f64 {
         self.first_duration
             .max(self.first_peak_force)
             .max(self.contact_sequence)
             .max(self.max_displacement)
+            .max(self.max_stress)
     }
 }
 
@@ -295,6 +299,10 @@ impl Report {
             first_peak_force: first(|c| c.peak_force),
             contact_sequence: sequence.min(1.0),
             max_displacement: relative(self.max_displacement, reference.max_displacement),
+            max_stress: match (&self.bending_stress, &reference.bending_stress) {
+                (Some(a), Some(b)) => relative(a.max, b.max),
+                _ => 0.0,
+            },
             same_contacts,
         }
     }

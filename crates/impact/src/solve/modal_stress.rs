@@ -254,3 +254,68 @@ impl pulp::WithSimd for StressKernel<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// The paper's beam (steel, 25 x 5 mm, L = 1.15 m) with `support`.
+    fn beam(support: Support) -> Beam {
+        Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, support).unwrap()
+    }
+
+    #[test]
+    fn a_static_force_gives_the_beam_tables_moment_at_every_point_with_few_modes() {
+        // The modes held at their static values q_n = g_n F / omega_n^2 under F = 10 N at
+        // c: the mode-acceleration form returns E h/2 s(x) F exactly (the kept modes' part
+        // cancels against the correction), with 8 modes as with 800; the plain series with
+        // 8 modes is far off near the load.
+        for support in [Support::ClampedFree, Support::PinnedPinned, Support::ClampedPinned] {
+            let b = beam(support);
+            let (c, force) = (0.8, 10.0);
+            let shapes = b.modes(8).unwrap();
+            let q: Vec<f64> = shapes
+                .iter()
+                .map(|m| m.shape.value(c) / b.mass().sqrt() * force / (m.omega * m.omega))
+                .collect();
+            let mut s = ModalStress::new(&b, shapes, c, 0.005, 0.025);
+            let section = 2.1e11 * 0.0025;
+            for k in 0..=46 {
+                let x = 1.15 * k as f64 / 46.0;
+                let exact = section * b.static_curvature(c, x).unwrap() * force;
+                let got = s.stress_at(x, &q, force);
+                assert!(
+                    (got - exact).abs() <= 1e-9 * section * force,
+                    "{support:?} x = {x}: {got} vs {exact}"
+                );
+            }
+            // At the load the plain 8-mode series misses a good part of the moment.
+            let plain: f64 =
+                s.shapes.iter().zip(&q).map(|(m, qn)| m.shape.curvature(c) * s.scale * qn).sum();
+            let exact = b.static_curvature(c, c).unwrap();
+            assert!((plain - exact).abs() > 1e-2 * exact.abs(), "{support:?}: {plain} vs {exact}");
+            // The envelope of one observation: the static moment's largest, where the tables
+            // put it (the clamp of a cantilever, the load on a pinned beam).
+            s.observe(0.0, &q, force, true);
+            let e = s.finish(None);
+            let tables = (0..=1150)
+                .map(|k| b.static_curvature(c, k as f64 / 1000.0).unwrap().abs())
+                .fold(0.0, f64::max)
+                * section
+                * force;
+            assert!((e.max - tables).abs() < 1e-6 * tables, "{support:?}: {} vs {tables}", e.max);
+        }
+    }
+
+    #[test]
+    fn the_candidates_hold_the_supports_the_impact_point_and_the_grid() {
+        let b = beam(Support::ClampedClamped);
+        let s = ModalStress::new(&b, b.modes(4).unwrap(), 0.3, 0.005, 0.025);
+        let points = &s.envelope.points;
+        for x in [0.0, 1.15, 0.3, 0.3 + 1.15 / 16.0, 0.3 - 1.15 / 512.0, 1.15 / 32.0] {
+            assert!(points.iter().any(|p| (p - x).abs() < 1e-12), "{x} missing");
+        }
+        assert_eq!(s.near_count, 2 + 1 + 12);
+    }
+}

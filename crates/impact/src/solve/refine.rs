@@ -15,7 +15,9 @@
 //! exact for the fe method, conservative for the modal one). Compared are every significant
 //! contact (a peak force of at least [`crate::SIGNIFICANT_PEAK`] of the first's, in the finer run):
 //! its start (after the first), its duration (when it ended within the window in both runs)
-//! and its peak force, and the largest displacement, each relative to the finer run's value.
+//! and its peak force, the largest displacement, and the beam's largest bending stress (where
+//! the method recovers it: stress converges differently from displacement), each relative to
+//! the finer run's value.
 //! Two runs that do not find the same significant contacts have not converged. The time steps
 //! stay the plan's (the contact step resolves the pulses far below 1e-3; what the resolution
 //! decides is how the waves between contacts travel).

@@ -331,6 +331,7 @@ mod tests {
                 first_peak_force: worst,
                 contact_sequence: worst / 2.0,
                 max_displacement: 0.0,
+                max_stress: worst / 4.0,
                 same_contacts: true,
             },
             energy_balance: 1e-7,

@@ -365,7 +365,7 @@ impl Grid {
 }
 
 /// The report's scalars in a sweep's table, with their units in the names.
-pub const COLUMNS: [&str; 15] = [
+pub const COLUMNS: [&str; 16] = [
     "impact_speed_m_s",
     "contact_count",
     "first_duration_s",
@@ -375,6 +375,7 @@ pub const COLUMNS: [&str; 15] = [
     "restitution",
     "max_displacement_m",
     "equivalent_static_force_n",
+    "max_bending_stress_pa",
     "energy_initial_j",
     "energy_dissipated_j",
     "energy_numerical_dissipation_j",
@@ -397,6 +398,7 @@ pub fn scalars(r: &Report) -> [Option<f64>; COLUMNS.len()] {
         r.restitution,
         Some(r.max_displacement),
         r.equivalent_static_force,
+        r.bending_stress.as_ref().map(|b| b.max),
         Some(r.energy.initial),
         Some(r.energy.dissipated),
         Some(r.energy.numerical_dissipation),
