@@ -194,6 +194,14 @@ impl PlanarBeam {
         PlanarState { x: self.nodes.clone(), z: vec![0.0; n], theta: vec![0.0; n] }
     }
 
+    /// The section strains of element `e` (0-based) in configuration `q`: (extension,
+    /// shear, curvature (1/m)), constant over the element (its rotation is interpolated
+    /// linearly, so the curvature is the element's mean, most accurate at its midpoint).
+    pub fn section_strains(&self, e: usize, q: &PlanarState) -> (f64, f64, f64) {
+        let st = self.strains(e, q);
+        (st.extension, st.shear, st.curvature)
+    }
+
     fn strains(&self, e: usize, q: &PlanarState) -> Strains {
         let length = self.nodes[e + 1] - self.nodes[e];
         let a = (q.x[e + 1] - q.x[e]) / length;

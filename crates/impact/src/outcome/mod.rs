@@ -158,8 +158,7 @@ pub struct Report {
     /// Whether the largest displacement sits at the window's end (it was still growing: a
     /// longer `solver.end_time` would find a larger one; a warning names the window).
     pub max_displacement_at_window_end: bool,
-    /// The beam's largest bending stress over the beam and the window (the modal method);
-    /// null on a half-space, and for now in the fe method.
+    /// The beam's largest bending stress over the beam and the window; null on a half-space.
     pub bending_stress: Option<BendingStress>,
     /// Static stiffness of the beam at the impact point (N/m); null for a half-space or a
     /// free-free beam.
@@ -246,8 +245,8 @@ pub struct Differences {
     pub contact_sequence: f64,
     /// The largest displacement at the impact point.
     pub max_displacement: f64,
-    /// The beam's largest bending stress (`bending_stress.max`); 0 where either run does not
-    /// recover it (a half-space; the fe method for now).
+    /// The beam's largest bending stress (`bending_stress.max`); 0 where either run has none
+    /// (a half-space).
     pub max_stress: f64,
     /// Whether both runs have the same number of significant contacts.
     pub same_contacts: bool,

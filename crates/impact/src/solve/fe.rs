@@ -11,6 +11,7 @@
 //! a kept Newton matrix serves the next steps of the same size.
 
 use super::ball_on_beam::{BallOnBeam, BallOnBeamConfig, Order};
+use super::fe_stress::FeStress;
 use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
@@ -76,6 +77,8 @@ struct Run<'a, L: ContactLaw> {
     history: History,
     contacts: Vec<Contact>,
     max_displacement: (f64, f64),
+    /// The beam's bending stress envelope.
+    stress: FeStress,
     force: f64,
     steps: usize,
     located: usize,
@@ -98,6 +101,9 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         progress: Progress<'a>,
     ) -> Result<Self, ImpactError> {
         let beam = build_beam(target)?;
+        let mut stress =
+            FeStress::new(&beam, target.ends, target.material.youngs_modulus, target.thickness);
+        stress.observe(0.0, &beam, &beam.reference_state());
         let model = BallOnBeam::new(
             beam,
             plan.ball_mass,
@@ -134,6 +140,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             history: History::default(),
             contacts: Vec::new(),
             max_displacement: (0.0, 0.0),
+            stress,
             force: 0.0,
             steps: 0,
             located: 0,
@@ -218,6 +225,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         if w > self.max_displacement.0 {
             self.max_displacement = (w, self.state.t);
         }
+        self.stress.observe(self.state.t, self.model.beam(), &self.state.q.beam);
         Ok(())
     }
 
@@ -452,7 +460,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 static_stiffness,
                 energy,
                 wall_time,
-                bending_stress: None,
+                bending_stress: Some(self.stress.finish(plan.beam_yield_stress)),
                 last_time: self.history.time.last().copied().unwrap_or(0.0),
             },
         );

@@ -1,0 +1,89 @@
+//! The finite-element method's bending stress, from the elements' section strains.
+//!
+//! Each element's rotation is linear, so its curvature kappa = (theta_2 - theta_1)/l_e and its
+//! extension are constant over it: their mean, most accurate at the element's midpoint, where
+//! the stress is recovered. On the struck face (+z at rest, the ball's side; w = -z), the fibre
+//! strain is extension - (h/2) kappa, so sigma = E (extension - (h/2) kappa): the bending stress
+//! M (h/2)/I with tension positive on the struck face, plus the axial stress N/A of the same
+//! fibre. A clamp's stress is extrapolated linearly from its two nearest midpoints; a pinned
+//! end holds no moment and reports its zero (its axial stress aside). The envelope is observed
+//! at every accepted step.
+
+use crate::outcome::{BendingStress, Envelope};
+use simo_beam::{PlanarBeam, PlanarState, Support};
+
+/// The fe beam seen as a stress field.
+pub(crate) struct FeStress {
+    /// E (Pa) and h/2 (m).
+    youngs_modulus: f64,
+    half_thickness: f64,
+    /// Element count; the envelope's points are the midpoints, then the supports.
+    elements: usize,
+    /// For each support: (its point index, whether it is a clamp, (midpoint 0, midpoint 1)
+    /// of its two nearest elements and the extrapolation weight).
+    supports: Vec<(bool, [usize; 2], f64)>,
+    stresses: Vec<f64>,
+    envelope: Envelope,
+}
+
+impl FeStress {
+    /// The stress field of `beam` (reference nodes) held at its ends by `ends`.
+    pub(crate) fn new(
+        beam: &PlanarBeam,
+        ends: (Support, Support),
+        youngs_modulus: f64,
+        thickness: f64,
+    ) -> Self {
+        let nodes = beam.nodes();
+        let elements = beam.elements();
+        let mid: Vec<f64> = nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+        let mut points = mid.clone();
+        let mut supports = Vec::new();
+        let mut positions = Vec::new();
+        let last = nodes.len() - 1;
+        for (support, at, near) in [
+            (ends.0, nodes[0], [0, 1]),
+            (ends.1, nodes[last], [elements - 1, elements.saturating_sub(2)]),
+        ] {
+            if support == Support::Free {
+                continue;
+            }
+            // Linear through the two midpoints, at the end: sigma_0 + w (sigma_0 - sigma_1).
+            let weight = if elements > 1 {
+                (at - mid[near[0]]) / (mid[near[0]] - mid[near[1]])
+            } else {
+                0.0
+            };
+            supports.push((support == Support::Clamped, near, weight));
+            points.push(at);
+            positions.push(at);
+        }
+        let count = points.len();
+        Self {
+            youngs_modulus,
+            half_thickness: 0.5 * thickness,
+            elements,
+            supports,
+            stresses: vec![0.0; count],
+            envelope: Envelope::new(points, &positions),
+        }
+    }
+
+    /// Observes the beam `beam` in configuration `q` at time `t` (s).
+    pub(crate) fn observe(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
+        for e in 0..self.elements {
+            let (extension, _, curvature) = beam.section_strains(e, q);
+            self.stresses[e] = self.youngs_modulus * (extension - self.half_thickness * curvature);
+        }
+        for (k, &(clamped, [a, b], weight)) in self.supports.iter().enumerate() {
+            let (sa, sb) = (self.stresses[a], self.stresses[b]);
+            self.stresses[self.elements + k] = if clamped { sa + weight * (sa - sb) } else { 0.0 };
+        }
+        self.envelope.observe(t, &self.stresses);
+    }
+
+    /// The envelope.
+    pub(crate) fn finish(&self, yield_stress: Option<f64>) -> BendingStress {
+        self.envelope.finish(None, yield_stress)
+    }
+}
