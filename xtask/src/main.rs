@@ -6,6 +6,7 @@ mod beam;
 mod compare;
 mod files;
 mod plot;
+mod plots;
 mod reproduce;
 mod simulate;
 mod sweep;
@@ -44,6 +45,15 @@ enum Command {
         /// Write the time history to this CSV file (never the scene file itself).
         #[arg(long)]
         history: Option<PathBuf>,
+        /// Write the beam's field to this CSV file: displacement, slope, bending moment and
+        /// stress along the beam at every recorded instant (long format, units in the names).
+        #[arg(long)]
+        field: Option<PathBuf>,
+        /// Write the figures of the run into this folder: contact force, displacement at the
+        /// impact point, energy ledger, bending stress at the worst point and the supports, and
+        /// the space-time map of the stress (SVG + CSV).
+        #[arg(long)]
+        plots: Option<PathBuf>,
     },
     /// Run a beam scene with the modal and the finite-element method (and optional lists of
     /// mode and element counts) and print and plot the differences.
@@ -132,9 +142,15 @@ fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Reproduce { out, quick } => reproduce::run(&out, quick),
-        Command::Simulate { scene, json, history } => {
-            simulate::run(&scene, json, history.as_deref())
-        }
+        Command::Simulate { scene, json, history, field, plots } => simulate::run(
+            &scene,
+            &simulate::Outputs {
+                json,
+                history: history.as_deref(),
+                field: field.as_deref(),
+                plots: plots.as_deref(),
+            },
+        ),
         Command::Compare { scene, modes, elements, out } => {
             compare::run(&scene, &modes, &elements, out.as_deref())
         }

@@ -42,16 +42,32 @@ fn bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
 impl Chart<'_> {
     /// Writes `stem.svg` and `stem.csv` (long format: series, x, y) into `dir`.
     pub(crate) fn write(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
-        self.write_scaled(dir, stem, false)
+        self.write_scaled(dir, stem, false, SeriesLabelPosition::MiddleRight)
+    }
+
+    /// [`Chart::write`] with the legend at `legend`, where the curves leave room.
+    pub(crate) fn write_legend_at(
+        &self,
+        dir: &Path,
+        stem: &str,
+        legend: SeriesLabelPosition,
+    ) -> anyhow::Result<()> {
+        self.write_scaled(dir, stem, false, legend)
     }
 
     /// [`Chart::write`] on logarithmic axes (every value must be positive): a work-precision
     /// diagram.
     pub(crate) fn write_log_log(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
-        self.write_scaled(dir, stem, true)
+        self.write_scaled(dir, stem, true, SeriesLabelPosition::MiddleRight)
     }
 
-    fn write_scaled(&self, dir: &Path, stem: &str, log: bool) -> anyhow::Result<()> {
+    fn write_scaled(
+        &self,
+        dir: &Path,
+        stem: &str,
+        log: bool,
+        legend: SeriesLabelPosition,
+    ) -> anyhow::Result<()> {
         let svg = dir.join(format!("{stem}.svg"));
         // The backend writes the file itself: the check that it is no input comes first.
         crate::files::refuse_input(&svg)?;
@@ -82,12 +98,12 @@ impl Chart<'_> {
                 let mut chart = builder
                     .build_cartesian_2d((lx0..lx1).log_scale(), (ly0..ly1).log_scale())
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                self.draw(&mut chart)?;
+                self.draw(&mut chart, legend.clone())?;
             } else {
                 let mut chart = builder
                     .build_cartesian_2d(x0..x1, y0..y1)
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                self.draw(&mut chart)?;
+                self.draw(&mut chart, legend.clone())?;
             }
             root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
         }
@@ -115,6 +131,7 @@ impl Chart<'_> {
     fn draw<'a, X, Y>(
         &self,
         chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
+        legend: SeriesLabelPosition,
     ) -> anyhow::Result<()>
     where
         X: Ranged<ValueType = f64> + ValueFormatter<f64>,
@@ -145,6 +162,7 @@ impl Chart<'_> {
         }
         chart
             .configure_series_labels()
+            .position(legend)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 15))

@@ -1,15 +1,24 @@
 //! `cargo xtask simulate SCENE.toml`: one scene, a readable summary or JSON.
 
-use crate::files::{create, read_input, say};
+use crate::files::{create, read_input, say, OutDir};
 use anyhow::Context;
 use impact::MethodKind;
 use std::path::Path;
 
 /// Reads and runs a scene file.
 pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
+    load_and_run_with(path, false)
+}
+
+/// Reads and runs a scene file, recording the beam's field when `field`.
+fn load_and_run_with(path: &Path, field: bool) -> anyhow::Result<impact::Outcome> {
     let text = read_input(path, "scene file")?;
     let scene =
         impact::Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    let mut plan = impact::Plan::new(&scene).with_context(|| format!("in {}", path.display()))?;
+    if field {
+        plan = plan.with_field().with_context(|| format!("in {}", path.display()))?;
+    }
     // On standard error, and only on a terminal: --json output stays clean.
     let bar = indicatif::ProgressBar::new(1000);
     bar.set_style(
@@ -18,7 +27,7 @@ pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let outcome = impact::simulate_with_progress(&scene, &|fraction| {
+    let outcome = impact::run_with_progress(&plan, &|fraction| {
         bar.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64)
     })
     .with_context(|| format!("in {}", path.display()));
@@ -26,15 +35,34 @@ pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
     outcome
 }
 
-pub(crate) fn run(path: &Path, json: bool, history: Option<&Path>) -> anyhow::Result<bool> {
-    let outcome = load_and_run(path)?;
-    if let Some(h) = history {
-        // `create` refuses the scene file itself: the history never replaces its input.
-        outcome
-            .history
-            .write_csv(create(h)?)
-            .with_context(|| format!("cannot write {}", h.display()))?;
+/// What `simulate` writes besides its report.
+pub(crate) struct Outputs<'a> {
+    pub json: bool,
+    pub history: Option<&'a Path>,
+    pub field: Option<&'a Path>,
+    pub plots: Option<&'a Path>,
+}
+
+pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
+    // The scene is read (and so registered as an input) before any output is opened: an
+    // output that names it is refused before it could be emptied.
+    read_input(path, "scene file")?;
+    // Every output is opened (or its folder proven writable) before the run: a path that
+    // cannot be written fails now, not after the simulation.
+    let history = outputs.history.map(create).transpose()?;
+    let field_file = outputs.field.map(create).transpose()?;
+    let plots = outputs.plots.map(OutDir::create).transpose()?;
+    let outcome = load_and_run_with(path, outputs.field.is_some() || plots.is_some())?;
+    if let (Some(file), Some(h)) = (history, outputs.history) {
+        outcome.history.write_csv(file).with_context(|| format!("cannot write {}", h.display()))?;
     }
+    if let (Some(file), Some(f), Some(field)) = (field_file, outputs.field, &outcome.field) {
+        field.write_csv(file).with_context(|| format!("cannot write {}", f.display()))?;
+    }
+    if let Some(dir) = &plots {
+        crate::plots::one_run(dir.path(), &outcome)?;
+    }
+    let json = outputs.json;
     let r = &outcome.report;
     if json {
         say!("{}", serde_json::to_string_pretty(r)?)?;

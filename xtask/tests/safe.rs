@@ -159,3 +159,27 @@ fn help_lists_every_command() {
         assert!(help.contains(command), "{command} missing from --help:\n{help}");
     }
 }
+
+#[test]
+fn outputs_that_cannot_be_written_fail_before_the_run() {
+    let root = scratch("outputs");
+    let work = root.join("work");
+    let scene = work.join("scene.toml");
+    std::fs::write(&scene, validation("paper-tip.toml")).unwrap();
+    let s = scene.to_str().unwrap();
+    let blocker = work.join("a-file");
+    std::fs::write(&blocker, "not a folder").unwrap();
+    let inside = blocker.join("field.csv");
+    for args in [
+        vec!["simulate", s, "--field", inside.to_str().unwrap()],
+        vec!["simulate", s, "--plots", blocker.to_str().unwrap()],
+    ] {
+        let out = xtask(&work, &args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        // Refused before the run: no report was printed.
+        assert!(out.stdout.is_empty(), "{}", String::from_utf8_lossy(&out.stdout));
+        assert!(stderr.contains("cannot"), "{stderr}");
+    }
+    std::fs::remove_dir_all(&root).ok();
+}

@@ -59,8 +59,8 @@ pub mod study;
 pub use error::ImpactError;
 pub use law::Law;
 pub use outcome::{
-    BendingStress, Contact, Differences, Energy, History, Outcome, Report, Sample, SupportStress,
-    PULSE_FRACTION, SIGNIFICANT_PEAK,
+    BendingStress, Contact, Differences, Energy, Field, History, Outcome, Report, Sample,
+    SupportStress, PULSE_FRACTION, SIGNIFICANT_PEAK,
 };
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{

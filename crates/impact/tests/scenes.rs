@@ -423,3 +423,40 @@ fn the_first_yield_warning_gives_the_central_pressure() {
         r.warnings
     );
 }
+
+#[test]
+fn the_field_agrees_with_the_history_and_the_stress_envelope() {
+    // The paper's tip over 1 ms with its field: at the impact point the field's displacement is
+    // the history's (the same modal series, no residual flexibility), and the largest stress
+    // on the field's points is the report's, found on a coarser-to-finer search of the same
+    // recovery (the field's 65 points hold the report's point within 1.8 cm).
+    let mut s = scene("paper-tip.toml");
+    s.solver.end_time = Some(1e-3);
+    let o = run(&Plan::new(&s).unwrap().with_field().unwrap()).unwrap();
+    let field = o.field.unwrap();
+    let tip = field.displacement_at(1.15);
+    assert_eq!(tip.len(), o.history.time.len());
+    for ((t, w), (th, wh)) in
+        tip.iter().zip(o.history.time.iter().zip(&o.history.beam_displacement))
+    {
+        assert_eq!(t, th);
+        assert!((w - wh).abs() <= 1e-12 * o.report.max_displacement, "{t}: {w} vs {wh}");
+    }
+    let b = o.report.bending_stress.unwrap();
+    let largest = field.stress.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    assert!(largest <= b.max * (1.0 + 1e-12) && largest > 0.97 * b.max, "{largest} vs {}", b.max);
+    // M = EI w'' and sigma = E (h/2) w'': sigma / M = (h/2) / I = 6 / (b h^2).
+    let k = field.stress.iter().position(|v| v.abs() == largest).unwrap();
+    assert!(rel(field.stress[k] / field.moment[k], 6.0 / (0.025 * 0.005 * 0.005)) < 1e-12);
+    // Without the request, no field.
+    assert!(simulate(&s).unwrap().field.is_none());
+}
+
+#[test]
+fn a_field_that_would_not_fit_is_refused_with_its_size() {
+    let mut s = scene("paper-tip.toml");
+    s.solver.output_interval = Some(1e-9);
+    let e = Plan::new(&s).unwrap().with_field().unwrap_err().to_string();
+    assert!(e.starts_with("solver.output_interval = 1e-9: too fine for a field"), "{e}");
+    assert!(Plan::new(&scene("half-space-r10.toml")).unwrap().with_field().is_err());
+}

@@ -1,9 +1,11 @@
 //! What a run produces: the [`Report`] (per-contact metrics, the energy ledger, the largest
 //! displacement, the equivalent static force) and the [`History`] (time series).
 
+mod field;
 mod history;
 mod stress;
 
+pub use field::Field;
 pub use history::{History, Sample};
 pub(crate) use stress::Envelope;
 pub use stress::{BendingStress, SupportStress};
@@ -28,6 +30,9 @@ pub struct Outcome {
     pub report: Report,
     /// Time series.
     pub history: History,
+    /// The beam along its length at each recorded instant, when the plan asked for it
+    /// ([`Plan::with_field`]).
+    pub field: Option<Field>,
 }
 
 /// One contact between the ball and the beam.

@@ -26,6 +26,11 @@ use hertz::{HalfSpaceImpact, Hertz, Material};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
+/// Equal intervals of the beam whose ends (and the impact point) a field holds.
+pub const FIELD_POINTS: usize = 64;
+/// The most values a field may hold (8 bytes each): 400 MB.
+pub const MAX_FIELD_VALUES: f64 = 5e7;
+
 /// Standard gravity (m/s^2).
 pub const GRAVITY: f64 = 9.81;
 /// Default time steps per estimated contact duration: the modal method's largest contact
@@ -169,6 +174,8 @@ pub struct Plan {
     pub(crate) poisson_ratios: [f64; 2],
     /// The beam's yield stress (Pa), if given.
     pub(crate) beam_yield_stress: Option<f64>,
+    /// Whether the run records the beam's field ([`Plan::with_field`]).
+    pub(crate) field: bool,
     /// The beam's first elastic mode's period (s) (Euler-Bernoulli), none on a half-space or
     /// a beam without one.
     pub(crate) first_period: Option<f64>,
@@ -659,6 +666,7 @@ impl Plan {
             width: beam_spec.map(|b| b.width),
             poisson_ratios: [ball_material.poisson_ratio, counterface.poisson_ratio],
             beam_yield_stress: beam_spec.and_then(|b| b.yield_stress),
+            field: false,
             first_period,
             warnings,
         })
@@ -702,6 +710,38 @@ impl Plan {
     /// What was chosen and why, as the report gives it.
     pub fn summary(&self) -> &PlanSummary {
         &self.summary
+    }
+
+    /// The plan, its run recording the beam's field ([`crate::Field`]: displacement, slope,
+    /// moment and stress at [`FIELD_POINTS`] points along the beam, at every recorded instant).
+    ///
+    /// # Errors
+    /// `Inconsistent` on a half-space (no beam), `InvalidField` naming `solver.output_interval`
+    /// when the field would hold more than [`MAX_FIELD_VALUES`] values (its size is said).
+    pub fn with_field(mut self) -> Result<Self, ImpactError> {
+        if matches!(self.method, Method::HalfSpace) {
+            return Err(ImpactError::Inconsistent(
+                "a [half_space] has no beam: no field along it to write".into(),
+            ));
+        }
+        // The free flight's instants plus about 200 a contact of the estimated duration,
+        // counted as if the whole window were contact at worst a tenth of it.
+        let instants = self.end_time / self.output_interval
+            + 0.1 * self.end_time / (self.estimated_duration / 200.0);
+        let values = instants * (FIELD_POINTS + 1) as f64 * 4.0;
+        if values > MAX_FIELD_VALUES {
+            return Err(invalid(
+                "solver.output_interval",
+                show(self.output_interval),
+                &format!(
+                    "too fine for a field: {instants:.2e} instants x {} points x 4 quantities = {values:.2e} values ({:.1e} bytes), above {MAX_FIELD_VALUES:e}; a larger output interval or a shorter solver.end_time",
+                    FIELD_POINTS + 1,
+                    values * 8.0
+                ),
+            ));
+        }
+        self.field = true;
+        Ok(self)
     }
 
     /// Warnings about the scene (accepted, but worth a look).

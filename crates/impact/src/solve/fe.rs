@@ -103,6 +103,9 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let beam = build_beam(target)?;
         let mut stress =
             FeStress::new(&beam, target.ends, target.material.youngs_modulus, target.thickness);
+        if plan.field {
+            stress = stress.with_field(beam.nodes(), target.width);
+        }
         stress.observe(0.0, &beam, &beam.reference_state());
         let model = BallOnBeam::new(
             beam,
@@ -170,6 +173,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
 
     fn record(&mut self) {
         (self.progress)(self.state.t / self.plan.end_time);
+        self.stress.record_field(self.state.t, self.model.beam(), &self.state.q.beam);
         let p = self.model.contact_point(&self.state.q, Order::Value);
         let (nodes, e) = (&self.target.nodes, p.element);
         let contact_point = nodes[e] + p.xi * (nodes[e + 1] - nodes[e]);
@@ -439,7 +443,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         )
     }
 
-    fn finish(self, wall_time: f64) -> Outcome {
+    fn finish(mut self, wall_time: f64) -> Outcome {
         let plan = self.plan;
         let energy = self.energy();
         let mut warnings = plan.warnings.clone();
@@ -464,7 +468,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 last_time: self.history.time.last().copied().unwrap_or(0.0),
             },
         );
-        Outcome { report, history: self.history }
+        let field = self.stress.take_field();
+        Outcome { report, history: self.history, field }
     }
 }
 

@@ -9,7 +9,7 @@
 //! end holds no moment and reports its zero (its axial stress aside). The envelope is observed
 //! at every accepted step.
 
-use crate::outcome::{BendingStress, Envelope};
+use crate::outcome::{BendingStress, Envelope, Field};
 use simo_beam::{PlanarBeam, PlanarState, Support};
 
 /// The fe beam seen as a stress field.
@@ -24,6 +24,10 @@ pub(crate) struct FeStress {
     supports: Vec<(bool, [usize; 2], f64)>,
     stresses: Vec<f64>,
     envelope: Envelope,
+    /// EI (N m^2).
+    ei: f64,
+    /// The field at the nodes, when asked.
+    field: Option<Field>,
 }
 
 impl FeStress {
@@ -66,7 +70,51 @@ impl FeStress {
             supports,
             stresses: vec![0.0; count],
             envelope: Envelope::new(points, &positions),
+            ei: youngs_modulus * thickness.powi(3) / 12.0,
+            field: None,
         }
+    }
+
+    /// Records the field at the nodes at every [`FeStress::record_field`] call: w = -z (the
+    /// impact direction), slope -theta, and the moment and stress averaged over the node's
+    /// elements (an end node takes its one element's); `width` (m) gives EI.
+    pub(crate) fn with_field(mut self, nodes: &[f64], width: f64) -> Self {
+        self.ei *= width;
+        self.field = Some(Field::new(nodes.to_vec()));
+        self
+    }
+
+    /// Adds the field of `beam` in configuration `q` at `t` (s), if asked.
+    pub(crate) fn record_field(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
+        let Some(field) = &mut self.field else { return };
+        field.push_instant(t);
+        let element = |e: usize| {
+            let (extension, _, curvature) = beam.section_strains(e, q);
+            (
+                -self.ei * curvature,
+                self.youngs_modulus * (extension - self.half_thickness * curvature),
+            )
+        };
+        let last = self.elements - 1;
+        for i in 0..=self.elements {
+            let (m, s) = match i {
+                0 => element(0),
+                _ if i > last => element(last),
+                _ => {
+                    let (a, b) = (element(i - 1), element(i));
+                    (0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1))
+                }
+            };
+            field.displacement.push(-q.z[i]);
+            field.slope.push(-q.theta[i]);
+            field.moment.push(m);
+            field.stress.push(s);
+        }
+    }
+
+    /// The recorded field, if any.
+    pub(crate) fn take_field(&mut self) -> Option<Field> {
+        self.field.take()
     }
 
     /// Observes the beam `beam` in configuration `q` at time `t` (s).

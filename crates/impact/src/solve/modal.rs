@@ -142,8 +142,13 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 let shapes = m.beam.modes(m.modes)?;
                 let point = PointModes::new(&m.beam, &shapes, m.position, m.damping)?;
                 let section = plan.thickness.zip(plan.width);
-                let stress =
-                    section.map(|(h, b)| ModalStress::new(&m.beam, shapes, m.position, h, b));
+                let stress = section.map(|(h, b)| {
+                    let mut s = ModalStress::new(&m.beam, shapes, m.position, h, b);
+                    if plan.field {
+                        s.record_field();
+                    }
+                    s
+                });
                 (point, stress)
             }
             Method::HalfSpace | Method::Fe(_) => {
@@ -721,7 +726,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         Ok(next_free)
     }
 
-    fn finish(self, wall_time: f64) -> Outcome {
+    fn finish(mut self, wall_time: f64) -> Outcome {
         let plan = self.plan;
         let energy = self.energy();
         let mut warnings = plan.warnings.clone();
@@ -753,7 +758,8 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 last_time: self.history.time.last().copied().unwrap_or(0.0),
             },
         );
-        Outcome { report, history: self.history }
+        let field = self.stress.as_mut().and_then(ModalStress::take_field);
+        Outcome { report, history: self.history, field }
     }
 }
 

@@ -21,7 +21,8 @@
 //! run the largest is searched again on [`REFINE`] points between its point's neighbours, at
 //! its instant. The hot loop is compiled for the processor's widest vectors (pulp).
 
-use crate::outcome::{BendingStress, Envelope};
+use crate::outcome::{BendingStress, Envelope, Field};
+use crate::plan::FIELD_POINTS;
 use modal::{Beam, Mode, Support};
 
 /// Equal intervals of the beam whose ends are candidates of the largest stress.
@@ -40,6 +41,8 @@ pub(crate) struct ModalStress {
     scale: f64,
     /// Stress per unit curvature on the struck face, E h/2 (Pa m).
     section: f64,
+    /// EI (N m^2).
+    ei: f64,
     /// Impact point (m).
     position: f64,
     length: f64,
@@ -59,6 +62,18 @@ pub(crate) struct ModalStress {
     envelope: Envelope,
     /// The modal coordinates and force at the largest stress so far.
     best: Option<(Vec<f64>, f64)>,
+    /// The field, when asked: its points' phi_n/sqrt(M), phi_n'/sqrt(M), c_n (point-major)
+    /// and corrections, and what it recorded.
+    field: Option<FieldRecorder>,
+}
+
+/// The field's precomputed rows.
+struct FieldRecorder {
+    value: Vec<f64>,
+    slope: Vec<f64>,
+    curvature: Vec<f64>,
+    correction: Vec<f64>,
+    field: Field,
 }
 
 impl ModalStress {
@@ -130,6 +145,7 @@ impl ModalStress {
             shapes,
             scale,
             section,
+            ei: beam.flexural_rigidity(),
             position,
             length,
             beam: static_beam,
@@ -141,7 +157,52 @@ impl ModalStress {
             instants: 0,
             envelope: Envelope::new(points, supports),
             best: None,
+            field: None,
         }
+    }
+
+    /// Records the field at every observed instant, at the ends of [`FIELD_POINTS`] equal
+    /// intervals and the impact point: the displacement and slope by the modal series
+    /// (converging as n^-4 and n^-3: the truncated modes' quasi-static share, which the
+    /// residual flexibility adds at the impact point, is left out along the beam), the moment
+    /// and stress by the same form as the envelope.
+    pub(crate) fn record_field(&mut self) {
+        let mut points: Vec<f64> = (0..=FIELD_POINTS)
+            .map(|k| self.length * k as f64 / FIELD_POINTS as f64)
+            .chain([self.position])
+            .collect();
+        points.sort_by(f64::total_cmp);
+        points.dedup();
+        let n = self.shapes.len();
+        let (shapes, scale) = (&self.shapes, self.scale);
+        let row = |f: &dyn Fn(&Mode, f64) -> f64| -> Vec<f64> {
+            let mut out = Vec::with_capacity(points.len() * n);
+            for x in &points {
+                out.extend(shapes.iter().map(|m| f(m, *x) * scale));
+            }
+            out
+        };
+        let value = row(&|m, x| m.shape.value(x));
+        let slope = row(&|m, x| m.shape.slope(x));
+        let curvature = row(&|m, x| m.shape.curvature(x));
+        let correction = points
+            .iter()
+            .enumerate()
+            .map(|(k, x)| match &self.beam {
+                Some(b) => {
+                    let kept: f64 = (0..n).map(|i| curvature[k * n + i] * self.static_q[i]).sum();
+                    b.static_curvature(self.position, *x).unwrap_or(0.0) - kept
+                }
+                None => 0.0,
+            })
+            .collect();
+        self.field =
+            Some(FieldRecorder { value, slope, curvature, correction, field: Field::new(points) });
+    }
+
+    /// The recorded field, if any.
+    pub(crate) fn take_field(&mut self) -> Option<Field> {
+        self.field.take().map(|f| f.field)
     }
 
     /// Observes the beam at time `t` (s) with modal coordinates `q` under the force `force`;
@@ -158,6 +219,20 @@ impl ModalStress {
             force,
             section: self.section,
         });
+        if let Some(f) = &mut self.field {
+            let dot = |rows: &[f64], k: usize| -> f64 {
+                rows[k * q.len()..(k + 1) * q.len()].iter().zip(q).map(|(a, b)| a * b).sum()
+            };
+            let ei_over_section = self.ei;
+            f.field.push_instant(t);
+            for k in 0..f.field.points.len() {
+                f.field.displacement.push(dot(&f.value, k));
+                f.field.slope.push(dot(&f.slope, k));
+                let curvature = dot(&f.curvature, k) + force * f.correction[k];
+                f.field.moment.push(ei_over_section * curvature);
+                f.field.stress.push(self.section * curvature);
+            }
+        }
         if self.envelope.observe(t, &self.stresses[..used]) {
             match &mut self.best {
                 Some((best_q, best_force)) => {

@@ -1,0 +1,211 @@
+//! `simulate --plots DIR`: the figures a person wants after one run.
+//!
+//! contact_force, displacement (at the impact point), energy (the ledger's terms),
+//! stress_history (the bending stress at the worst point and at each support) and
+//! stress_map (position along the beam against time, colour = stress on the struck face,
+//! the maximum marked), each as SVG with its data as CSV.
+
+use crate::plot::{Chart, Series};
+use impact::Outcome;
+use plotters::prelude::*;
+use std::io::Write as _;
+use std::path::Path;
+
+/// Writes the figures of `outcome` into `dir`.
+pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
+    let h = &outcome.history;
+    let ms = |v: &[f64], scale: f64| -> Vec<(f64, f64)> {
+        h.time.iter().zip(v).map(|(t, y)| (t * 1e3, y * scale)).collect()
+    };
+    let name = impact::study::printable(&outcome.report.name);
+    let title = |what: &str| format!("{name}: {what}");
+    Chart {
+        title: &title("contact force"),
+        x_label: "time (ms)",
+        y_label: "contact force (N)",
+        series: vec![Series { label: "contact force".into(), points: ms(&h.force, 1.0) }],
+        markers: false,
+    }
+    .write_legend_at(dir, "contact_force", SeriesLabelPosition::UpperRight)?;
+    Chart {
+        title: &title("displacement at the impact point"),
+        x_label: "time (ms)",
+        y_label: "displacement (mm)",
+        series: vec![Series {
+            label: "beam at the impact point".into(),
+            points: ms(&h.beam_displacement, 1e3),
+        }],
+        markers: false,
+    }
+    .write_legend_at(dir, "displacement", SeriesLabelPosition::LowerRight)?;
+    let energy = [
+        ("ball (kinetic + gravity)", &h.ball_energy),
+        ("beam (kinetic + strain)", &h.beam_energy),
+        ("contact (stored)", &h.contact_energy),
+        ("dissipated", &h.dissipated_energy),
+    ];
+    Chart {
+        title: &title("energy ledger"),
+        x_label: "time (ms)",
+        y_label: "energy (mJ)",
+        series: energy
+            .iter()
+            .map(|(label, v)| Series { label: (*label).into(), points: ms(v, 1e3) })
+            .collect(),
+        markers: false,
+    }
+    .write_legend_at(dir, "energy", SeriesLabelPosition::MiddleRight)?;
+    if let (Some(field), Some(stress)) = (&outcome.field, &outcome.report.bending_stress) {
+        let mut at: Vec<(String, f64)> =
+            vec![(format!("largest, x = {:.4} m", stress.position), stress.position)];
+        at.extend(
+            stress.supports.iter().map(|s| (format!("support, x = {} m", s.position), s.position)),
+        );
+        let p = field.points.len();
+        let series = at
+            .iter()
+            .map(|(label, x)| {
+                let k = nearest(&field.points, *x);
+                Series {
+                    label: format!("{label} (field point {:.4} m)", field.points[k]),
+                    points: field
+                        .time
+                        .iter()
+                        .enumerate()
+                        .map(|(i, t)| (t * 1e3, field.stress[i * p + k] * 1e-6))
+                        .collect(),
+                }
+            })
+            .collect();
+        Chart {
+            title: &title("bending stress on the struck face"),
+            x_label: "time (ms)",
+            y_label: "stress, tension positive (MPa)",
+            series,
+            markers: false,
+        }
+        .write_legend_at(dir, "stress_history", SeriesLabelPosition::UpperRight)?;
+        let caption = title(&format!(
+            "stress on the struck face; x: largest |stress| {:.2} MPa at {:.4} m, {:.4} ms",
+            stress.max * 1e-6,
+            stress.position,
+            stress.time * 1e3
+        ));
+        stress_map(dir, &caption, field, stress)?;
+    }
+    Ok(())
+}
+
+fn nearest(points: &[f64], x: f64) -> usize {
+    (0..points.len())
+        .min_by(|a, b| (points[*a] - x).abs().total_cmp(&(points[*b] - x).abs()))
+        .unwrap_or(0)
+}
+
+/// Blue (compression) through white to red (tension), for `v` in [-1, 1].
+fn diverging(v: f64) -> RGBColor {
+    let v = v.clamp(-1.0, 1.0);
+    let fade = |c: f64| (255.0 - (255.0 - c) * v.abs()) as u8;
+    if v >= 0.0 {
+        RGBColor(fade(178.0), fade(24.0), fade(43.0))
+    } else {
+        RGBColor(fade(33.0), fade(102.0), fade(172.0))
+    }
+}
+
+/// The space-time map: a cell per field point and instant (time on x, position on y), the
+/// colour scaled to the largest magnitude, the maximum marked; its data as a CSV of the cells.
+fn stress_map(
+    dir: &Path,
+    title: &str,
+    field: &impact::Field,
+    stress: &impact::BendingStress,
+) -> anyhow::Result<()> {
+    let p = field.points.len();
+    let scale = field.stress.iter().fold(0.0_f64, |a, s| a.max(s.abs())).max(f64::MIN_POSITIVE);
+    let (t_end, length) = (
+        field.time.last().copied().unwrap_or(0.0) * 1e3,
+        field.points.last().copied().unwrap_or(1.0),
+    );
+    let svg = dir.join("stress_map.svg");
+    crate::files::refuse_input(&svg)?;
+    {
+        let root = SVGBackend::new(&svg, (900, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let (plot, bar) = root.split_horizontally(800);
+        let mut chart = ChartBuilder::on(&plot)
+            .caption(title, ("sans-serif", 17))
+            .margin(18)
+            .x_label_area_size(48)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..t_end.max(1e-9), 0.0..length)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc("time (ms)")
+            .y_desc("position along the beam (m)")
+            .label_style(("sans-serif", 15))
+            .axis_desc_style(("sans-serif", 17))
+            .disable_mesh()
+            .draw()
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        // Cells: each instant to the next, each point's half-way to its neighbours.
+        let edges: Vec<f64> = std::iter::once(0.0)
+            .chain(field.points.windows(2).map(|w| 0.5 * (w[0] + w[1])))
+            .chain(std::iter::once(length))
+            .collect();
+        // At most 600 columns of instants: a map of every one of thousands is no clearer.
+        let stride = field.time.len().div_ceil(600).max(1);
+        let columns: Vec<usize> = (0..field.time.len()).step_by(stride).collect();
+        let cells = columns.iter().enumerate().flat_map(|(c, &i)| {
+            let t0 = field.time[i] * 1e3;
+            let t1 = columns.get(c + 1).map_or(t_end, |&j| field.time[j] * 1e3);
+            let edges = &edges;
+            (0..p).map(move |k| {
+                let v = field.stress[i * p + k] / scale;
+                Rectangle::new([(t0, edges[k]), (t1, edges[k + 1])], diverging(v).filled())
+            })
+        });
+        chart.draw_series(cells).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mark = (stress.time * 1e3, stress.position);
+        chart
+            .draw_series([Cross::new(mark, 9, BLACK.stroke_width(3))])
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        // The colour bar: -scale to +scale (MPa).
+        let mut key = ChartBuilder::on(&bar)
+            .margin_top(60)
+            .margin_bottom(66)
+            .margin_right(50)
+            .y_label_area_size(0)
+            .right_y_label_area_size(45)
+            .build_cartesian_2d(0.0..1.0, -scale * 1e-6..scale * 1e-6)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        key.configure_mesh()
+            .disable_x_axis()
+            .disable_mesh()
+            .y_desc("MPa")
+            .label_style(("sans-serif", 13))
+            .draw()
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        let steps = 100;
+        key.draw_series((0..steps).map(|s| {
+            let lo = -1.0 + 2.0 * s as f64 / steps as f64;
+            let hi = lo + 2.0 / steps as f64;
+            Rectangle::new(
+                [(0.0, lo * scale * 1e-6), (1.0, hi * scale * 1e-6)],
+                diverging(0.5 * (lo + hi)).filled(),
+            )
+        }))
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    let mut csv = crate::files::create(&dir.join("stress_map.csv"))?;
+    writeln!(csv, "time_ms,x_m,stress_mpa")?;
+    for (i, t) in field.time.iter().enumerate() {
+        for (k, x) in field.points.iter().enumerate() {
+            writeln!(csv, "{:.9e},{x:.6e},{:.9e}", t * 1e3, field.stress[i * p + k] * 1e-6)?;
+        }
+    }
+    csv.flush()?;
+    Ok(())
+}
