@@ -55,6 +55,14 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
         markers: false,
     }
     .write_legend_at(dir, "energy", SeriesLabelPosition::MiddleRight)?;
+    stress_figures(dir, outcome, "")
+}
+
+/// `{prefix}stress_history` (the stress at the worst point and at each support against time)
+/// and `{prefix}stress_map` (the space-time map), when the run recorded its field.
+pub(crate) fn stress_figures(dir: &Path, outcome: &Outcome, prefix: &str) -> anyhow::Result<()> {
+    let name = impact::study::printable(&outcome.report.name);
+    let title = |what: &str| format!("{name}: {what}");
     if let (Some(field), Some(stress)) = (&outcome.field, &outcome.report.bending_stress) {
         let mut at: Vec<(String, f64)> =
             vec![(format!("largest, x = {:.4} m", stress.position), stress.position)];
@@ -84,14 +92,18 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
             series,
             markers: false,
         }
-        .write_legend_at(dir, "stress_history", SeriesLabelPosition::UpperRight)?;
+        .write_legend_at(
+            dir,
+            &format!("{prefix}stress_history"),
+            SeriesLabelPosition::UpperRight,
+        )?;
         let caption = title(&format!(
             "stress on the struck face; x: largest |stress| {:.2} MPa at {:.4} m, {:.4} ms",
             stress.max * 1e-6,
             stress.position,
             stress.time * 1e3
         ));
-        stress_map(dir, &caption, field, stress)?;
+        stress_map(dir, &format!("{prefix}stress_map"), &caption, field, stress)?;
     }
     Ok(())
 }
@@ -117,6 +129,7 @@ fn diverging(v: f64) -> RGBColor {
 /// colour scaled to the largest magnitude, the maximum marked; its data as a CSV of the cells.
 fn stress_map(
     dir: &Path,
+    stem: &str,
     title: &str,
     field: &impact::Field,
     stress: &impact::BendingStress,
@@ -127,7 +140,7 @@ fn stress_map(
         field.time.last().copied().unwrap_or(0.0) * 1e3,
         field.points.last().copied().unwrap_or(1.0),
     );
-    let svg = dir.join("stress_map.svg");
+    let svg = dir.join(format!("{stem}.svg"));
     crate::files::refuse_input(&svg)?;
     {
         let root = SVGBackend::new(&svg, (900, 560)).into_drawing_area();
@@ -199,7 +212,7 @@ fn stress_map(
         .map_err(|e| anyhow::anyhow!("{e}"))?;
         root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
     }
-    let mut csv = crate::files::create(&dir.join("stress_map.csv"))?;
+    let mut csv = crate::files::create(&dir.join(format!("{stem}.csv")))?;
     writeln!(csv, "time_ms,x_m,stress_mpa")?;
     for (i, t) in field.time.iter().enumerate() {
         for (k, x) in field.points.iter().enumerate() {

@@ -130,6 +130,25 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
         r.max_displacement,
         r.max_displacement_time
     )?;
+    if let Some(b) = &r.bending_stress {
+        let ratio =
+            b.yield_ratio.map_or_else(String::new, |y| format!(", {y:.3} of the yield stress"));
+        say!(
+            "largest bending stress {:.4e} Pa ({}) at x = {:.4} m, t = {:.4e} s{ratio}{}",
+            b.max,
+            if b.value >= 0.0 {
+                "tension on the struck face"
+            } else {
+                "compression on the struck face"
+            },
+            b.position,
+            b.time,
+            if b.at_window_end { " (at the window's end: not yet the maximum)" } else { "" }
+        )?;
+        for s in &b.supports {
+            say!("  at the support x = {} m: {:.4e} Pa, t = {:.4e} s", s.position, s.max, s.time)?;
+        }
+    }
     if let Some(f) = r.equivalent_static_force {
         say!(
             "equivalent static force {f:.4} N (static stiffness {:.4e} N/m)",
