@@ -1,6 +1,6 @@
 //! `solver.tolerance` with the modal method: on scenes of every support and impact position,
 //! chattering and single-contact, the report's significant contacts agree with a converged run
-//! within the tolerance, its estimated error is at most the tolerance and not optimistic, and
+//! (and the beam's largest bending stress) within the tolerance, its estimated error is at most the tolerance and not optimistic, and
 //! the modes it ends on are within two doublings of the cheapest that would have met it.
 #![allow(clippy::unwrap_used)] // helpers stop on bad fixtures
 
@@ -86,6 +86,8 @@ fn a_tolerance_chooses_the_modes_for_every_contact() {
             let converged = simulate(&with_modes(&s, 4 * r.plan.modes)).unwrap().report;
             let actual = r.differences_from(&converged);
             assert!(actual.same_contacts, "{label}, {tolerance}: contacts differ");
+            // The beam's largest bending stress is among what the tolerance covers.
+            assert!(actual.max_stress <= tolerance, "{label}, {tolerance}: stress {actual:?}");
             assert!(
                 actual.worst() <= tolerance && actual.worst() <= estimated,
                 "{label}, {tolerance}: actual {} against estimated {estimated}",

@@ -18,8 +18,8 @@
 //! run (about 200 per contact and one per output interval in free flight) near the ball
 //! (the impact point and points L/2^k away on each side, k = 4..9) and at the supports, and
 //! at every [`GLOBAL_EVERY`]-th instant on [`GRID`] equal intervals of the beam; after the
-//! run the largest is searched again on [`REFINE`] points between its point's neighbours, at
-//! its instant. The hot loop is compiled for the processor's widest vectors (pulp).
+//! run the largest is searched again between its point's neighbours at its instant ([`REFINE`]
+//! intervals, then golden-section search around the best). The hot loop is compiled for the processor's widest vectors (pulp).
 
 use crate::outcome::{BendingStress, Envelope, Field};
 use crate::plan::FIELD_POINTS;
@@ -28,11 +28,13 @@ use modal::{Beam, Mode, Support};
 /// Equal intervals of the beam whose ends are candidates of the largest stress.
 pub(crate) const GRID: usize = 32;
 /// The beam-wide grid is observed at every this many recorded instants.
-pub(crate) const GLOBAL_EVERY: usize = 4;
+pub(crate) const GLOBAL_EVERY: usize = 8;
 /// Points near the ball: L/2^k away on each side for k in this range.
 const NEAR_LEVELS: std::ops::RangeInclusive<i32> = 4..=9;
-/// Points of the final search around the best candidate, between its neighbours.
-pub(crate) const REFINE: usize = 64;
+/// Intervals of the final search's coarse look between the best candidate's neighbours.
+pub(crate) const REFINE: usize = 8;
+/// Golden-section steps of the final search (the bracket shrinks 0.618 a step: 1e-4 of it).
+const GOLDEN_STEPS: usize = 20;
 
 /// The modal beam seen as a stress field.
 pub(crate) struct ModalStress {
@@ -270,30 +272,45 @@ impl ModalStress {
             let below = points.iter().filter(|x| **x < centre).fold(0.0, |a: f64, x| a.max(*x));
             let above =
                 points.iter().filter(|x| **x > centre).fold(self.length, |a: f64, x| a.min(*x));
-            (0..=REFINE)
-                .map(|k| {
-                    let x = below + (above - below) * k as f64 / REFINE as f64;
-                    (x, self.stress_at(x, q, *force))
-                })
-                .fold(
-                    (centre, 0.0_f64),
-                    |best: (f64, f64), s| {
-                        if s.1.abs() > best.1.abs() {
-                            s
-                        } else {
-                            best
-                        }
-                    },
-                )
+            // A coarse look between the neighbours, then golden-section search around its best
+            // (the stress between two candidates has one extremum there in practice).
+            let at = |x: f64| (x, self.stress_at(x, q, *force));
+            let step = (above - below) / REFINE as f64;
+            let coarse: Vec<(f64, f64)> =
+                (0..=REFINE).map(|k| at(below + step * k as f64)).collect();
+            let k = (0..coarse.len())
+                .max_by(|a, b| coarse[*a].1.abs().total_cmp(&coarse[*b].1.abs()))
+                .unwrap_or(0);
+            let golden = 0.5 * (5f64.sqrt() - 1.0);
+            let (mut lo, mut hi) =
+                ((coarse[k].0 - step).max(below), (coarse[k].0 + step).min(above));
+            let mut best = coarse[k];
+            for _ in 0..GOLDEN_STEPS {
+                let (a, b) = (at(hi - golden * (hi - lo)), at(lo + golden * (hi - lo)));
+                for c in [a, b] {
+                    if c.1.abs() > best.1.abs() {
+                        best = c;
+                    }
+                }
+                if a.1.abs() > b.1.abs() {
+                    hi = b.0;
+                } else {
+                    lo = a.0;
+                }
+            }
+            if best.1.abs() > 0.0 {
+                best
+            } else {
+                (centre, 0.0)
+            }
         });
         self.envelope.finish(refined, yield_stress)
     }
 }
 
 /// sigma_p = E h/2 (F correction_p + sum_n c_n(x_p) q_n) for the points of `stresses`: a dot
-/// product a point, summed in eight interleaved lanes so that the compiler vectorises it for
-/// the instructions pulp finds at run time (the order is fixed, so the result is the same on
-/// every path).
+/// product a point in the widest vectors pulp finds at run time, fused multiply-adds in two
+/// interleaved chains.
 struct StressKernel<'a> {
     stresses: &'a mut [f64],
     correction: &'a [f64],
@@ -308,23 +325,30 @@ impl pulp::WithSimd for StressKernel<'_> {
     type Output = ();
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
         let Self { stresses, correction, curvature, q, force, section } = self;
         let n = q.len();
+        let (q_head, q_tail) = S::as_simd_f64s(q);
         for ((s, c), row) in stresses.iter_mut().zip(correction).zip(curvature.chunks_exact(n)) {
-            let mut lanes = [0.0; 8];
-            for (a, b) in row.chunks_exact(8).zip(q.chunks_exact(8)) {
-                for k in 0..8 {
-                    lanes[k] += a[k] * b[k];
-                }
+            let (head, tail) = S::as_simd_f64s(row);
+            // Two interleaved vector sums (independent chains), then the lanes and the tail,
+            // in a fixed order: the same result on every run of the same processor.
+            let (mut even, mut odd) = (simd.splat_f64s(0.0), simd.splat_f64s(0.0));
+            let pairs = head.len() / 2;
+            for k in 0..pairs {
+                even = simd.mul_add_f64s(head[2 * k], q_head[2 * k], even);
+                odd = simd.mul_add_f64s(head[2 * k + 1], q_head[2 * k + 1], odd);
             }
-            let mut tail = 0.0;
-            for j in n - n % 8..n {
-                tail += row[j] * q[j];
+            if head.len() % 2 == 1 {
+                let k = head.len() - 1;
+                even = simd.mul_add_f64s(head[k], q_head[k], even);
             }
-            let dynamic = ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]))
-                + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]))
-                + tail;
+            let total = simd.add_f64s(even, odd);
+            let lanes: &[f64] = pulp::bytemuck::cast_slice(std::slice::from_ref(&total));
+            let mut dynamic: f64 = lanes.iter().sum();
+            for (a, b) in tail.iter().zip(q_tail) {
+                dynamic += a * b;
+            }
             *s = section * (force * c + dynamic);
         }
     }
