@@ -486,8 +486,8 @@ fn tip_stress(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
 
 /// The engineer's companion of Figs. 5 and 6, will it yield: the largest bending stress
 /// against drop height, with the yield stress drawn. Its own runs at 128 modes: the stress
-/// under the ball needs the modes up to omega t_c of about 30 (validation/REFERENCES.md 1.5:
-/// 64 modes are 5.5e-2 off, 128 1.5e-3), more than the displacement of Fig. 5.
+/// under the ball needs more modes than the displacement of Fig. 5 (validation/REFERENCES.md
+/// 1.5: 64 modes are 5.5e-2 off, 128 1.5e-3).
 fn stress_vs_height(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     let heights: Vec<f64> = if quick {
         vec![0.05, 0.4, 1.0]

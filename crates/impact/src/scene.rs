@@ -259,6 +259,11 @@ pub struct SolverSpec {
     /// the mode-acceleration method does: the modes above the cutoff answer the force
     /// quasi-statically. Default false.
     pub residual_flexibility: Option<bool>,
+    /// Modal method: recover the bending stress by the plain modal series
+    /// M = EI sum q_n phi_n'' instead of the mode-acceleration form (which adds the truncated
+    /// modes' quasi-static share and converges far faster near the ball); for studies of the
+    /// series itself. Default false.
+    pub plain_stress_series: Option<bool>,
     /// Interval of the recorded history in free flight (s).
     pub output_interval: Option<f64>,
     /// Number of equal finite elements (fe method); default a mesh graded from the impact point.

@@ -330,8 +330,9 @@ fn half_space(s: &SolverSpec, reasons: &mut Vec<String>) -> Result<Method, Impac
         || s.modes.is_some()
         || s.tolerance.is_some()
         || s.residual_flexibility.is_some()
+        || s.plain_stress_series.is_some()
     {
-        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step, tolerance, modes nor residual_flexibility: the block is rigid".into()));
+        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step, tolerance, modes, residual_flexibility nor plain_stress_series: the block is rigid".into()));
     }
     reasons.push(
         "massive half-space: no beam model, the ball meets a rigid-backed Hertz contact".into(),
@@ -406,6 +407,11 @@ fn beam_method(
             false
         }
     };
+    if use_fe && s.plain_stress_series.is_some() {
+        return Err(ImpactError::Inconsistent(
+            "solver.plain_stress_series belongs to the modal method; the fe method recovers the stress from its elements".into(),
+        ));
+    }
     if use_fe && s.residual_flexibility.is_some() {
         return Err(ImpactError::Inconsistent(
             "solver.residual_flexibility belongs to the modal method; the fe method models the whole beam".into(),

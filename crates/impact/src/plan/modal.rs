@@ -27,6 +27,9 @@ pub struct ModalPlan {
     /// Whether the truncated modes' static compliance sits in series with the contact
     /// (`solver.residual_flexibility`).
     pub(crate) residual_flexibility: bool,
+    /// Whether the bending stress is the plain series (`solver.plain_stress_series`), not the
+    /// mode-acceleration form.
+    pub(crate) plain_stress_series: bool,
 }
 
 impl ModalPlan {
@@ -61,6 +64,10 @@ pub(super) fn plan(
     // against 4.2e-3) and the contact sequence's 60 times (3.6e-4 against 2.2e-2), so the
     // tolerance is met with a quarter of the modes (validation/REFERENCES.md 1.4).
     let residual_flexibility = s.residual_flexibility.unwrap_or(s.tolerance.is_some());
+    let plain_stress_series = s.plain_stress_series.unwrap_or(false);
+    if plain_stress_series {
+        reasons.push("bending stress by the plain modal series, as asked (no quasi-static share of the truncated modes: it converges as 1/N near the ball)".into());
+    }
     if residual_flexibility {
         if beam.static_flexibility(position).is_none() {
             return Err(ImpactError::Inconsistent(
@@ -84,6 +91,7 @@ pub(super) fn plan(
             modes: needed,
             tolerance: Some(tolerance),
             residual_flexibility,
+            plain_stress_series,
         });
     }
     let modes = match s.modes {
@@ -100,7 +108,15 @@ pub(super) fn plan(
             needed
         }
     };
-    Ok(ModalPlan { beam, position, damping, modes, tolerance: None, residual_flexibility })
+    Ok(ModalPlan {
+        beam,
+        position,
+        damping,
+        modes,
+        tolerance: None,
+        residual_flexibility,
+        plain_stress_series,
+    })
 }
 
 /// Number of modes with omega_n t_c <= MODE_CUTOFF (at least 4, so the lowest modes that carry

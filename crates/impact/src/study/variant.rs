@@ -5,8 +5,8 @@ use crate::scene::{MethodName, Scene};
 /// `scene` run by `method` (modal or fe), at `resolution` (modes or equal elements) when
 /// given, else at the scene's own resolution of that method (its modes or mesh, or its
 /// `solver.tolerance`). The other method's keys are dropped, so that any valid beam scene
-/// gives valid variants: the modal method's `modes`, `residual_flexibility`, `adaptive_step`
-/// and `energy_tolerance`; the fe method's `elements`, `element_size`, `alpha` and
+/// gives valid variants: the modal method's `modes`, `residual_flexibility`,
+/// `plain_stress_series`, `adaptive_step` and `energy_tolerance`; the fe method's `elements`, `element_size`, `alpha` and
 /// `time_step`. A given resolution replaces `solver.tolerance` (which would choose its own)
 /// and a graded mesh. Shared keys (`end_time`, `samples_per_pulse`, `output_interval`) stay.
 ///
@@ -29,6 +29,7 @@ pub fn variant(scene: &Scene, method: MethodName, resolution: Option<usize>) -> 
         MethodName::Fe => {
             solver.modes = None;
             solver.residual_flexibility = None;
+            solver.plain_stress_series = None;
             solver.adaptive_step = None;
             solver.energy_tolerance = None;
             if resolution.is_some() {
