@@ -12,6 +12,7 @@
 
 use super::ball_on_beam::{BallOnBeam, BallOnBeamConfig, Order};
 use super::fe_stress::FeStress;
+use super::observe::{BeamView, Instant, Recorders};
 use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
@@ -65,8 +66,6 @@ impl WithLaw for FeRun<'_> {
 struct Run<'a, L: ContactLaw> {
     plan: &'a Plan,
     target: &'a FePlan,
-    /// Told the fraction of the window done at every recorded instant.
-    progress: Progress<'a>,
     model: BallOnBeam<'a, L>,
     integrator: Integrator,
     state: State<BallOnBeamConfig>,
@@ -74,11 +73,11 @@ struct Run<'a, L: ContactLaw> {
     ball_start: Vector2<f64>,
     /// The impact point's element and local coordinate (material point, fixed).
     impact_element: (usize, f64),
-    history: History,
+    /// The history, the progress and the beam's stress and field: fed at every recorded
+    /// instant, and at every accepted step for the stress envelope.
+    recorders: Recorders<'a>,
     contacts: Vec<Contact>,
     max_displacement: (f64, f64),
-    /// The beam's bending stress envelope.
-    stress: FeStress,
     force: f64,
     steps: usize,
     located: usize,
@@ -106,7 +105,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         if plan.field {
             stress = stress.with_field(beam.nodes(), target.width);
         }
-        stress.observe(0.0, &beam, &beam.reference_state());
+        stress.observe_beam(0.0, &beam, &beam.reference_state());
         let model = BallOnBeam::new(
             beam,
             plan.ball_mass,
@@ -134,16 +133,19 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         Ok(Self {
             plan,
             target,
-            progress,
             model,
             integrator,
             state,
             ball_start,
             impact_element: (i, xi),
-            history: History::default(),
+            recorders: Recorders::new(
+                History::default(),
+                progress,
+                plan.end_time,
+                Some(Box::new(stress)),
+            ),
             contacts: Vec::new(),
             max_displacement: (0.0, 0.0),
-            stress,
             force: 0.0,
             steps: 0,
             located: 0,
@@ -172,12 +174,10 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     }
 
     fn record(&mut self) {
-        (self.progress)(self.state.t / self.plan.end_time);
-        self.stress.record_field(self.state.t, self.model.beam(), &self.state.q.beam);
         let p = self.model.contact_point(&self.state.q, Order::Value);
         let (nodes, e) = (&self.target.nodes, p.element);
         let contact_point = nodes[e] + p.xi * (nodes[e + 1] - nodes[e]);
-        self.history.push(Sample::with_energy(
+        let sample = Sample::with_energy(
             self.state.t,
             self.force,
             p.delta,
@@ -186,7 +186,13 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             self.beam_displacement(),
             contact_point,
             &self.energy(),
-        ));
+        );
+        self.recorders.observe(Instant {
+            t: self.state.t,
+            sample: Some(sample),
+            beam: BeamView::Fe { beam: self.model.beam(), state: &self.state.q.beam },
+            last: self.state.t >= self.plan.end_time,
+        });
     }
 
     /// One integrator step of `h` from the current state, committing nothing.
@@ -229,7 +235,12 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         if w > self.max_displacement.0 {
             self.max_displacement = (w, self.state.t);
         }
-        self.stress.observe(self.state.t, self.model.beam(), &self.state.q.beam);
+        self.recorders.observe(Instant {
+            t: self.state.t,
+            sample: None,
+            beam: BeamView::Fe { beam: self.model.beam(), state: &self.state.q.beam },
+            last: false,
+        });
         Ok(())
     }
 
@@ -443,7 +454,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         )
     }
 
-    fn finish(mut self, wall_time: f64) -> Outcome {
+    fn finish(self, wall_time: f64) -> Outcome {
         let plan = self.plan;
         let energy = self.energy();
         let mut warnings = plan.warnings.clone();
@@ -454,6 +465,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             "{} HHT steps ({} Newton iterations, {} Newton matrices factorised, {} step halvings, {} contact steps rejected by the error control), {} events located by re-stepping",
             self.steps, self.newton_iterations, self.integrator.factorisations, self.halvings, self.rejected, self.located
         ));
+        let last_time = self.recorders.last_time();
+        let (history, bending_stress, field) = self.recorders.finish(plan.beam_yield_stress);
         let report = Report::assemble(
             plan,
             Ending {
@@ -464,12 +477,11 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 static_stiffness,
                 energy,
                 wall_time,
-                bending_stress: Some(self.stress.finish(plan.beam_yield_stress)),
-                last_time: self.history.time.last().copied().unwrap_or(0.0),
+                bending_stress,
+                last_time,
             },
         );
-        let field = self.stress.take_field();
-        Outcome { report, history: self.history, field }
+        Outcome { report, history, field }
     }
 }
 

@@ -9,6 +9,7 @@
 //! end holds no moment and reports its zero (its axial stress aside). The envelope is observed
 //! at every accepted step.
 
+use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
 use simo_beam::{PlanarBeam, PlanarState, Support};
 
@@ -85,7 +86,7 @@ impl FeStress {
     }
 
     /// Adds the field of `beam` in configuration `q` at `t` (s), if asked.
-    pub(crate) fn record_field(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
+    fn record_field(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
         let Some(field) = &mut self.field else { return };
         field.push_instant(t);
         let element = |e: usize| {
@@ -112,13 +113,8 @@ impl FeStress {
         }
     }
 
-    /// The recorded field, if any.
-    pub(crate) fn take_field(&mut self) -> Option<Field> {
-        self.field.take()
-    }
-
     /// Observes the beam `beam` in configuration `q` at time `t` (s).
-    pub(crate) fn observe(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
+    pub(crate) fn observe_beam(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
         for e in 0..self.elements {
             let (extension, _, curvature) = beam.section_strains(e, q);
             self.stresses[e] = self.youngs_modulus * (extension - self.half_thickness * curvature);
@@ -129,9 +125,25 @@ impl FeStress {
         }
         self.envelope.observe(t, &self.stresses);
     }
+}
 
-    /// The envelope.
-    pub(crate) fn finish(&self, yield_stress: Option<f64>) -> BendingStress {
+impl BeamRecorder for FeStress {
+    /// The envelope at every instant handed over (every accepted step), the field at the
+    /// recorded ones.
+    fn observe(&mut self, at: &Instant<'_>) {
+        if let BeamView::Fe { beam, state } = at.beam {
+            self.observe_beam(at.t, beam, state);
+            if at.sample.is_some() {
+                self.record_field(at.t, beam, state);
+            }
+        }
+    }
+
+    fn finish(&self, yield_stress: Option<f64>) -> BendingStress {
         self.envelope.finish(None, yield_stress)
+    }
+
+    fn take_field(&mut self) -> Option<Field> {
+        self.field.take()
     }
 }

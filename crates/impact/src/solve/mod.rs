@@ -12,6 +12,7 @@ mod fe;
 mod fe_stress;
 mod modal;
 mod modal_stress;
+mod observe;
 mod refine;
 
 pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};

@@ -12,6 +12,7 @@
 //! Onset and separation are located by root finding on the approach.
 
 use super::modal_stress::ModalStress;
+use super::observe::{BeamRecorder, BeamView, Instant, Recorders};
 use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
@@ -47,11 +48,10 @@ impl WithLaw for ModalRun<'_> {
 struct Solver<'a, L: ContactLaw> {
     plan: &'a Plan,
     law: &'a L,
-    /// Told the fraction of the window done at every recorded instant.
-    progress: Progress<'a>,
     modes: PointModes,
-    /// The beam's bending stress envelope (none on a half-space).
-    stress: Option<ModalStress>,
+    /// The history, the progress and the beam's stress and field, fed at every recorded
+    /// instant.
+    recorders: Recorders<'a>,
     /// Contact steps by level (the plan's step / 2^level), built on first use; shared so that
     /// a step can use one while the solver's state changes.
     contact_steps: Vec<Option<Rc<Transition>>>,
@@ -80,7 +80,6 @@ struct Solver<'a, L: ContactLaw> {
     residual: f64,
     // Bookkeeping.
     damping_work: f64,
-    history: History,
     contacts: Vec<Contact>,
     max_displacement: (f64, f64),
     /// In contact a row is recorded once this much time has passed since the last (about 200
@@ -185,9 +184,17 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         Ok(Self {
             plan,
             law,
-            progress,
             modes,
-            stress,
+            recorders: Recorders::new(
+                // The free flight's rows plus a few thousand in contact (the paper's 5 ms run
+                // records 3500 in all).
+                History::with_capacity(
+                    (plan.end_time / plan.output_interval).min(1e6) as usize + 4096,
+                ),
+                progress,
+                plan.end_time,
+                stress.map(|s| Box::new(s) as Box<dyn BeamRecorder + 'a>),
+            ),
             contact_steps: vec![None; FINEST_LEVEL + 1],
             free_steps: Vec::new(),
             t: 0.0,
@@ -205,11 +212,6 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             damped,
             residual,
             damping_work: 0.0,
-            // The free flight's rows plus a few thousand in contact (the paper's 5 ms run
-            // records 3500 in all).
-            history: History::with_capacity(
-                (plan.end_time / plan.output_interval).min(1e6) as usize + 4096,
-            ),
             contacts: Vec::new(),
             max_displacement: (0.0, 0.0),
             record_spacing: plan.estimated_duration / 200.0,
@@ -254,12 +256,8 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
 
     /// Records the current state with its ledger, already summed.
     fn record_with(&mut self, energy: &Energy) {
-        (self.progress)(self.t / self.plan.end_time);
-        if let Some(stress) = &mut self.stress {
-            stress.observe(self.t, &self.beam.q, self.force, self.t >= self.plan.end_time);
-        }
         let w = self.beam_displacement();
-        self.history.push(Sample::with_energy(
+        let sample = Sample::with_energy(
             self.t,
             self.force,
             self.ball_position - w,
@@ -268,7 +266,13 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             w,
             self.contact_point,
             energy,
-        ));
+        );
+        self.recorders.observe(Instant {
+            t: self.t,
+            sample: Some(sample),
+            beam: BeamView::Modal { q: &self.beam.q, force: self.force },
+            last: self.t >= self.plan.end_time,
+        });
     }
 
     fn check_finite(&self, value: f64, what: &str) -> Result<(), ImpactError> {
@@ -733,7 +737,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         Ok(next_free)
     }
 
-    fn finish(mut self, wall_time: f64) -> Outcome {
+    fn finish(self, wall_time: f64) -> Outcome {
         let plan = self.plan;
         let energy = self.energy();
         let mut warnings = plan.warnings.clone();
@@ -751,7 +755,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 // for those far faster than the pulse (see STRESS_REACH).
                 let reach =
                     self.modes.omega().last().copied().unwrap_or(0.0) * plan.estimated_duration;
-                if self.stress.is_some() && reach < STRESS_REACH {
+                if self.recorders.has_beam() && reach < STRESS_REACH {
                     warnings.push(format!(
                         "{} modes reach only omega_N t_c = {reach:.1} (the highest mode's frequency times the contact's estimated duration), below {STRESS_REACH}: the bending stress near the ball is not resolved (several per cent to several times off); more modes, or solver.tolerance",
                         m.modes
@@ -761,6 +765,8 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             }
             Method::HalfSpace | Method::Fe(_) => None,
         };
+        let last_time = self.recorders.last_time();
+        let (history, bending_stress, field) = self.recorders.finish(plan.beam_yield_stress);
         let report = Report::assemble(
             plan,
             Ending {
@@ -771,12 +777,11 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 static_stiffness,
                 energy,
                 wall_time,
-                bending_stress: self.stress.as_ref().map(|s| s.finish(plan.beam_yield_stress)),
-                last_time: self.history.time.last().copied().unwrap_or(0.0),
+                bending_stress,
+                last_time,
             },
         );
-        let field = self.stress.as_mut().and_then(ModalStress::take_field);
-        Outcome { report, history: self.history, field }
+        Outcome { report, history, field }
     }
 }
 

@@ -22,6 +22,7 @@
 //! run the largest is searched again between its point's neighbours at its instant ([`REFINE`]
 //! intervals, then golden-section search around the best). The hot loop is compiled for the processor's widest vectors (pulp).
 
+use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
 use crate::plan::FIELD_POINTS;
 use modal::{Beam, Mode, Support};
@@ -207,13 +208,13 @@ impl ModalStress {
     }
 
     /// The recorded field, if any.
-    pub(crate) fn take_field(&mut self) -> Option<Field> {
+    fn take_recorded_field(&mut self) -> Option<Field> {
         self.field.take().map(|f| f.field)
     }
 
     /// Observes the beam at time `t` (s) with modal coordinates `q` under the force `force`;
     /// `last` for the run's final instant (the whole grid is observed then).
-    pub(crate) fn observe(&mut self, t: f64, q: &[f64], force: f64, last: bool) {
+    pub(crate) fn observe_modes(&mut self, t: f64, q: &[f64], force: f64, last: bool) {
         let all = last || self.instants % GLOBAL_EVERY == 0;
         self.instants += 1;
         let used = if all { self.stresses.len() } else { self.near_count };
@@ -267,7 +268,7 @@ impl ModalStress {
     }
 
     /// The envelope, its largest searched again around its point at its instant.
-    pub(crate) fn finish(&self, yield_stress: Option<f64>) -> BendingStress {
+    pub(crate) fn envelope(&self, yield_stress: Option<f64>) -> BendingStress {
         let refined = self.best.as_ref().map(|(q, force)| {
             let (point, _) = self.envelope.best_point();
             let points = &self.envelope.points;
@@ -320,6 +321,22 @@ impl ModalStress {
             }
         });
         self.envelope.finish(refined, yield_stress)
+    }
+}
+
+impl BeamRecorder for ModalStress {
+    fn observe(&mut self, at: &Instant<'_>) {
+        if let BeamView::Modal { q, force } = at.beam {
+            self.observe_modes(at.t, q, force, at.last);
+        }
+    }
+
+    fn finish(&self, yield_stress: Option<f64>) -> BendingStress {
+        self.envelope(yield_stress)
+    }
+
+    fn take_field(&mut self) -> Option<Field> {
+        self.take_recorded_field()
     }
 }
 
@@ -411,8 +428,8 @@ mod tests {
             assert!((plain - exact).abs() > 1e-2 * exact.abs(), "{support:?}: {plain} vs {exact}");
             // The envelope of one observation: the static moment's largest, where the tables
             // put it (the clamp of a cantilever, the load on a pinned beam).
-            s.observe(0.0, &q, force, true);
-            let e = s.finish(None);
+            s.observe_modes(0.0, &q, force, true);
+            let e = s.envelope(None);
             let tables = (0..=1150)
                 .map(|k| b.static_curvature(c, k as f64 / 1000.0).unwrap().abs())
                 .fold(0.0, f64::max)
