@@ -105,4 +105,36 @@ impl ModeShape {
     pub fn curvature(&self, x: f64) -> f64 {
         self.derivative(2, x)
     }
+
+    /// phi''(x) (1/m^2) at x = x0 + k dx for k = 0 .. count, as [`ModeShape::curvature`] gives
+    /// it but with two exponentials and one sine and cosine for the whole grid: each term is
+    /// carried from point to point by its factor over dx (the decaying exponentials each from
+    /// the end where it is largest, the trigonometric pair by a rotation), to about `count`
+    /// ulps of the largest term.
+    pub fn curvatures_on_grid(&self, x0: f64, dx: f64, count: usize) -> Vec<f64> {
+        let mut out = vec![0.0; count];
+        if count == 0 {
+            return out;
+        }
+        let b2 = self.beta * self.beta;
+        let step = (-self.beta * dx).exp();
+        // a exp(-beta (L - x)): largest at the last point, carried downward.
+        let last = x0 + dx * (count - 1) as f64;
+        let mut right = self.a * (-self.beta * (self.length - last)).exp();
+        for v in out.iter_mut().rev() {
+            *v += right;
+            right *= step;
+        }
+        // b exp(-beta x): largest at the first point, carried upward.
+        let mut left = self.b * (-self.beta * x0).exp();
+        let (mut sn, mut cs) = (self.beta * x0).sin_cos();
+        let (rs, rc) = (self.beta * dx).sin_cos();
+        for v in &mut out {
+            // The second derivative of c cos + d sin is -(c cos + d sin) beta^2.
+            *v = b2 * (*v + left - (self.c * cs + self.d * sn));
+            left *= step;
+            (cs, sn) = (cs * rc - sn * rs, sn * rc + cs * rs);
+        }
+        out
+    }
 }
