@@ -20,7 +20,9 @@
 //! (the impact point and points L/2^k away on each side, k = 4..9) and at the supports, and
 //! at every [`GLOBAL_EVERY`]-th instant on [`GRID`] equal intervals of the beam; after the
 //! run the largest is searched again between its point's neighbours at its instant ([`REFINE`]
-//! intervals, then golden-section search around the best). The hot loop is compiled for the processor's widest vectors (pulp).
+//! intervals, then golden-section search around the best). The hot loop is compiled for the
+//! processor's widest vectors (pulp) with fused multiply-adds, so the stress's last bits may
+//! differ between processors (the motion, which it does not feed, does not).
 
 use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
@@ -35,7 +37,7 @@ pub(crate) const GLOBAL_EVERY: usize = 8;
 const NEAR_LEVELS: std::ops::RangeInclusive<i32> = 4..=9;
 /// Intervals of the final search's coarse look between the best candidate's neighbours.
 pub(crate) const REFINE: usize = 8;
-/// Golden-section steps of the final search (the bracket, a quarter of the candidates' spacing,
+/// Golden-section steps of the final search (its bracket, two of the coarse look's intervals,
 /// shrinks 0.618 a step: to 1e-3 of it, some microns on the paper's beam).
 const GOLDEN_STEPS: usize = 14;
 
@@ -83,7 +85,7 @@ struct FieldRecorder {
 
 impl ModalStress {
     /// The stress field of `shapes` of `beam` struck at `position`, of section `width` x
-    /// `thickness` (m).
+    /// `thickness` (m); by the plain series when `plain`.
     pub(crate) fn new(
         beam: &Beam,
         shapes: Vec<Mode>,
