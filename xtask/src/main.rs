@@ -18,7 +18,7 @@ use std::path::PathBuf;
 /// Impact of a hard ball on a flexible beam: reproduce the paper, simulate a scene, compare
 /// the methods, measure speed against error, sweep a scene, run a beam, validate.
 #[derive(Parser)]
-#[command(name = "cargo xtask", version, about)]
+#[command(name = "cargo xtask", bin_name = "cargo xtask", version, about)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
