@@ -156,8 +156,9 @@ fn run_with(request: &Request<'_>, runner: Runner<'_>) -> anyhow::Result<bool> {
         (false, false) => format!("{shown}/{TABLE} (no figure: no finite value to draw)"),
     };
     say!(
-        "{} points ({failed} failed; {} run now) in {:.2} s: {what}",
+        "{} point{} ({failed} failed; {} run now) in {:.2} s: {what}",
         rows.len(),
+        if rows.len() == 1 { "" } else { "s" },
         todo.len(),
         clock.elapsed().as_secs_f64()
     )?;
