@@ -489,21 +489,8 @@ fn tip_stress(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
 /// under the ball needs more modes than the displacement of Fig. 5 (validation/REFERENCES.md
 /// 1.5: 64 modes are 5.5e-2 off, 128 1.5e-3).
 fn stress_vs_height(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
-    let heights: Vec<f64> = if quick {
-        vec![0.05, 0.4, 1.0]
-    } else {
-        [0.05].into_iter().chain((1..=10).map(|k| 0.1 * k as f64)).collect()
-    };
-    let (modes, end) = if quick { (128, 0.02) } else { (128, 0.1) };
-    let scenes = paper_sweep(
-        &[],
-        &[
-            ("solver.modes", toml::Value::Integer(modes as i64)),
-            ("solver.end_time", toml::Value::Float(end)),
-        ],
-        &[("impact.drop_height", heights.iter().map(|h| toml::Value::Float(*h)).collect())],
-    )?;
-    let runs = run_all("stress: drop heights", scenes.clone())?;
+    let (modes, end) = (128, if quick { 0.02 } else { 0.1 });
+    let (heights, scenes, runs) = drop_heights("stress: drop heights", quick, modes, end)?;
     let stress_of = |r: &impact::Report| r.bending_stress.as_ref().map_or(0.0, |b| b.max);
     let clamp_of = |r: &impact::Report| {
         r.bending_stress.as_ref().and_then(|b| b.supports.first()).map_or(0.0, |s| s.max)
@@ -551,15 +538,19 @@ fn stress_vs_height(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     }])
 }
 
-fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
+/// The paper's tip dropped from each height (0.05 m, then 0.1 to 1 m; three for `quick`),
+/// increasing, with `modes` over `end` (s): the heights, their scenes and their runs.
+fn drop_heights(
+    label: &str,
+    quick: bool,
+    modes: usize,
+    end: f64,
+) -> anyhow::Result<(Vec<f64>, Vec<Scene>, Vec<impact::Outcome>)> {
     let heights: Vec<f64> = if quick {
         vec![0.05, 0.4, 1.0]
     } else {
-        (1..=10).map(|k| 0.1 * k as f64).chain([0.05]).collect()
+        [0.05].into_iter().chain((1..=10).map(|k| 0.1 * k as f64)).collect()
     };
-    let mut heights = heights;
-    heights.sort_by(f64::total_cmp);
-    let (modes, end) = if quick { (8, 0.02) } else { (64, 0.1) };
     let scenes = paper_sweep(
         &[],
         &[
@@ -568,7 +559,13 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         ],
         &[("impact.drop_height", heights.iter().map(|h| toml::Value::Float(*h)).collect())],
     )?;
-    let runs = run_all("5-6: drop heights", scenes.clone())?;
+    let runs = run_all(label, scenes.clone())?;
+    Ok((heights, scenes, runs))
+}
+
+fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
+    let (modes, end) = if quick { (8, 0.02) } else { (64, 0.1) };
+    let (heights, scenes, runs) = drop_heights("5-6: drop heights", quick, modes, end)?;
     let error =
         doubled_modes_error("5-6: error check", &scenes, &runs, true, |r| r.max_displacement)?;
     let disp = vec![Series {

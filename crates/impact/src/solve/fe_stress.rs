@@ -20,8 +20,8 @@ pub(crate) struct FeStress {
     half_thickness: f64,
     /// Element count; the envelope's points are the midpoints, then the supports.
     elements: usize,
-    /// For each support: (its point index, whether it is a clamp, (midpoint 0, midpoint 1)
-    /// of its two nearest elements and the extrapolation weight).
+    /// For each support, in the order of its envelope point after the midpoints: whether it
+    /// is a clamp, its two nearest elements and the extrapolation weight.
     supports: Vec<(bool, [usize; 2], f64)>,
     stresses: Vec<f64>,
     envelope: Envelope,
