@@ -1,16 +1,48 @@
-//! A uniform Euler-Bernoulli beam and its modes.
+//! A uniform beam, Euler-Bernoulli or Timoshenko, and its modes.
 
 use crate::error::{positive, ModalError};
 use crate::shape::ModeShape;
 use crate::support::Support;
+use crate::timoshenko::Timoshenko;
 
-/// A uniform Euler-Bernoulli beam: EI w'''' + rho A w-double-dot = f(x, t) on 0 <= x <= L.
+/// A uniform beam on 0 <= x <= L: Euler-Bernoulli, EI w'''' + rho A w-double-dot = f(x, t), or,
+/// with [`Shear`], Timoshenko (shear deformation and rotary inertia, `crate::timoshenko`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Beam {
     flexural_rigidity: f64,
     mass_per_length: f64,
     length: f64,
     support: Support,
+    shear: Option<Shear>,
+}
+
+/// What a Timoshenko beam adds to an Euler-Bernoulli one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shear {
+    /// Shear rigidity k G A (N), k the section's shear coefficient (5/6 for a rectangle).
+    pub rigidity: f64,
+    /// Rotary inertia per unit length rho I (kg m).
+    pub rotary_inertia: f64,
+}
+
+/// The beam theory of a [`Beam`]: the one place a third theory would be added (a variant here,
+/// its modes in a module of its own, its static flexibility and moment in [`Beam`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Theory {
+    /// Plane sections stay normal to the axis; no rotary inertia.
+    EulerBernoulli,
+    /// Shear deformation and rotary inertia (Timoshenko 1921).
+    Timoshenko,
+}
+
+impl Theory {
+    /// The scene-file name, e.g. `timoshenko`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Theory::EulerBernoulli => "euler-bernoulli",
+            Theory::Timoshenko => "timoshenko",
+        }
+    }
 }
 
 /// One natural mode of a beam.
@@ -38,7 +70,75 @@ impl Beam {
         positive("flexural_rigidity", flexural_rigidity, "N m^2")?;
         positive("mass_per_length", mass_per_length, "kg/m")?;
         positive("length", length, "m")?;
-        Ok(Self { flexural_rigidity, mass_per_length, length, support })
+        Ok(Self { flexural_rigidity, mass_per_length, length, support, shear: None })
+    }
+
+    /// The same beam with shear deformation and rotary inertia (a Timoshenko beam): shear
+    /// rigidity k G A (N) and rotary inertia per unit length rho I (kg m).
+    ///
+    /// # Errors
+    /// `InvalidParameter` naming the first value that is not finite and positive.
+    pub fn with_shear(self, shear_rigidity: f64, rotary_inertia: f64) -> Result<Self, ModalError> {
+        positive("shear_rigidity", shear_rigidity, "N")?;
+        positive("rotary_inertia", rotary_inertia, "kg m")?;
+        Ok(Self { shear: Some(Shear { rigidity: shear_rigidity, rotary_inertia }), ..self })
+    }
+
+    /// The same beam as Euler-Bernoulli would model it.
+    pub fn euler_bernoulli(self) -> Self {
+        Self { shear: None, ..self }
+    }
+
+    /// Its beam theory.
+    pub fn theory(&self) -> Theory {
+        match self.shear {
+            None => Theory::EulerBernoulli,
+            Some(_) => Theory::Timoshenko,
+        }
+    }
+
+    /// Shear rigidity and rotary inertia, for a Timoshenko beam.
+    pub fn shear(&self) -> Option<Shear> {
+        self.shear
+    }
+
+    fn timoshenko(&self) -> Option<Timoshenko> {
+        self.shear.map(|s| Timoshenko {
+            ei: self.flexural_rigidity,
+            rho_a: self.mass_per_length,
+            kga: s.rigidity,
+            rho_i: s.rotary_inertia,
+            length: self.length,
+            support: self.support,
+        })
+    }
+
+    /// Shear flexibility 1/(k G A) (1/N); 0 for Euler-Bernoulli.
+    fn shear_flexibility(&self) -> f64 {
+        self.shear.map_or(0.0, |s| 1.0 / s.rigidity)
+    }
+
+    /// The circular frequency (rad/s) above which a Timoshenko beam's second (shear) branch
+    /// travels, sqrt(k G A / rho I); `None` for Euler-Bernoulli.
+    pub fn shear_cutoff(&self) -> Option<f64> {
+        self.timoshenko().map(|t| t.cutoff())
+    }
+
+    /// Number of natural frequencies (rigid-body modes included) below `omega` (rad/s): for
+    /// Timoshenko the exact Wittrick-Williams count of both branches.
+    ///
+    /// # Errors
+    /// `RootNotBracketed` should not occur.
+    pub fn count_below(&self, omega: f64) -> Result<usize, ModalError> {
+        if let Some(t) = self.timoshenko() {
+            return Ok(t.count_below(omega));
+        }
+        let rigid = if omega > 0.0 { self.support.rigid_modes() } else { 0 };
+        let mut n = 0;
+        while n < 1_000_000 && self.omega(self.support.eigenvalue(n + 1)?) < omega {
+            n += 1;
+        }
+        Ok(rigid + n)
     }
 
     /// A rectangular section of `width` x `thickness` (m), bending across the thickness:
@@ -88,13 +188,14 @@ impl Beam {
         self.mass_per_length * self.length
     }
 
-    /// omega for a root beta L (rad/s).
+    /// Euler-Bernoulli omega for a root beta L (rad/s).
     pub fn omega(&self, beta_l: f64) -> f64 {
         let l2 = self.length * self.length;
         beta_l * beta_l / l2 * (self.flexural_rigidity / self.mass_per_length).sqrt()
     }
 
-    /// The first `count` modes in order of frequency (rigid-body modes first for free-free).
+    /// The first `count` modes in order of frequency (rigid-body modes first for free-free),
+    /// of the beam's theory; a Timoshenko beam's list holds both branches as they come.
     ///
     /// # Errors
     /// `InvalidParameter` if `count` is zero; `RootNotBracketed` should not occur.
@@ -107,6 +208,9 @@ impl Beam {
                 allowed: "at least one mode",
             });
         }
+        if let Some(t) = self.timoshenko() {
+            return t.modes(count);
+        }
         let rigid = self.support.rigid_modes();
         (0..count)
             .map(|i| {
@@ -114,7 +218,7 @@ impl Beam {
                     let shape = if i == 0 {
                         ModeShape::translation(self.length)
                     } else {
-                        ModeShape::rotation(self.length)
+                        ModeShape::rigid_rotation(self.length, 0.0)
                     };
                     return Ok(Mode { beta_l: 0.0, omega: 0.0, shape });
                 }
@@ -125,54 +229,73 @@ impl Beam {
             .collect()
     }
 
-    /// Static flexibility w(c)/P (m/N) under a point force P at x = c, at the force: the
-    /// closed forms of beam tables (Roark, Table 8.1): clamped-free c^3/(3EI); pinned-pinned
-    /// c^2 (L-c)^2/(3EIL); clamped-clamped c^3 (L-c)^3/(3EIL^3); clamped-pinned
-    /// c^3 (L-c)^2 (3L + (L-c))/(12EIL^3). `None` for free-free, which has no static stiffness.
+    /// Static flexibility w(c)/P (m/N) under a point force P at x = c, at the force, shear
+    /// included for a Timoshenko beam (g = 1/(k G A), 0 for Euler-Bernoulli). The closed forms of
+    /// beam tables (Roark, Table 8.1) with the shear deflection of the unit-load method:
+    /// clamped-free c^3/(3EI) + c g; pinned-pinned c^2 (L-c)^2/(3EIL) + c (L-c) g / L. The two
+    /// statically indeterminate supports by the force method on the cantilever clamped at 0
+    /// (`redundants`). `None` for free-free, which has no static stiffness.
     pub fn static_flexibility(&self, c: f64) -> Option<f64> {
-        let (l, ei) = (self.length, self.flexural_rigidity);
+        let (l, ei, g) = (self.length, self.flexural_rigidity, self.shear_flexibility());
         let b = l - c;
         match self.support {
-            Support::ClampedFree => Some(c.powi(3) / (3.0 * ei)),
-            Support::PinnedPinned => Some(c * c * b * b / (3.0 * ei * l)),
-            Support::ClampedClamped => Some(c.powi(3) * b.powi(3) / (3.0 * ei * l.powi(3))),
-            Support::ClampedPinned => {
-                Some(c.powi(3) * b * b * (3.0 * l + b) / (12.0 * ei * l.powi(3)))
-            }
+            Support::PinnedPinned => Some(c * c * b * b / (3.0 * ei * l) + c * b * g / l),
             Support::FreeFree => None,
+            _ => {
+                let (force, moment) = self.redundants(c)?;
+                Some(
+                    self.cantilever(c, c)
+                        + force * self.cantilever(c, l)
+                        + moment * c * c / (2.0 * ei),
+                )
+            }
         }
     }
 
-    /// Static curvature w''(x) (1/m^2 per N) under a unit point force at x = c, both in the
-    /// direction of w: the bending moment diagram of beam tables divided by EI (Roark, Table
-    /// 8.1), M(x) = EI w''(x). Clamped-free (clamped at 0): (c - x)/EI for x < c, else 0.
-    /// Pinned-pinned: -x (L - c)/(L EI) for x <= c, -c (L - x)/(L EI) beyond. Clamped-clamped
-    /// and clamped-pinned (clamped at 0): the sagging moment M_s(x) = M_0 + R_0 x - (x - c)_+
-    /// with the clamp's moment and reaction of the tables, w'' = -M_s/EI: clamped-clamped
-    /// M_0 = -c b^2/L^2, R_0 = b^2 (3c + b)/L^3; clamped-pinned from the pinned end's reaction
-    /// R_L = c^2 (3L - c)/(2L^3), M_s(x) = R_L (L - x) - (c - x)_+. `None` for free-free.
+    /// Deflection at x of the cantilever clamped at 0 under a unit force at a (m/N):
+    /// x^2 (3a - x)/(6EI) + x g for x <= a, symmetric in x and a (Maxwell).
+    fn cantilever(&self, x: f64, a: f64) -> f64 {
+        let (x, a) = if x <= a { (x, a) } else { (a, x) };
+        x * x * (3.0 * a - x) / (6.0 * self.flexural_rigidity) + x * self.shear_flexibility()
+    }
+
+    /// The force (N, along w) and moment (N m, turning as +Psi) that the support at x = L puts on
+    /// the cantilever clamped at 0 under a unit force at c, from w(L) = 0 (and Psi(L) = 0 for a
+    /// clamp): the force method with the tip flexibilities L^3/(3EI) + L g, L^2/(2EI), L/EI and
+    /// the load's tip deflection and rotation, cantilever(L, c) and c^2/(2EI). Zero for a free
+    /// end; `None` for pinned-pinned and free-free (not clamped at 0).
+    fn redundants(&self, c: f64) -> Option<(f64, f64)> {
+        let (l, ei) = (self.length, self.flexural_rigidity);
+        let deflection = self.cantilever(l, c);
+        match self.support {
+            Support::ClampedFree => Some((0.0, 0.0)),
+            Support::ClampedPinned => Some((-deflection / self.cantilever(l, l), 0.0)),
+            Support::ClampedClamped => {
+                let (f11, f12, f22) = (self.cantilever(l, l), l * l / (2.0 * ei), l / ei);
+                let rotation = c * c / (2.0 * ei);
+                let det = f11 * f22 - f12 * f12;
+                Some((
+                    -(f22 * deflection - f12 * rotation) / det,
+                    -(f11 * rotation - f12 * deflection) / det,
+                ))
+            }
+            Support::PinnedPinned | Support::FreeFree => None,
+        }
+    }
+
+    /// Static bending curvature Psi'(x) = M(x)/EI (1/m^2 per N) under a unit point force at
+    /// x = c, both in the direction of w (W'' for Euler-Bernoulli): the bending moment diagram
+    /// of beam tables (Roark, Table 8.1). Pinned-pinned: -x (L - c)/(L EI) for x <= c,
+    /// -c (L - x)/(L EI) beyond. Supports clamped at 0: the cantilever's (c - x)_+ plus the far
+    /// support's force F and moment M (`redundants`, shear included): ((c - x)_+ + F (L - x) +
+    /// M)/EI. `None` for free-free.
     pub fn static_curvature(&self, c: f64, x: f64) -> Option<f64> {
         let (l, ei) = (self.length, self.flexural_rigidity);
-        let b = l - c;
-        let after = (x - c).max(0.0);
-        let sagging = match self.support {
-            Support::ClampedFree => -(c - x).max(0.0),
-            Support::PinnedPinned => {
-                if x <= c {
-                    x * b / l
-                } else {
-                    c * (l - x) / l
-                }
-            }
-            Support::ClampedClamped => {
-                -c * b * b / (l * l) + b * b * (3.0 * c + b) / l.powi(3) * x - after
-            }
-            Support::ClampedPinned => {
-                let r_l = c * c * (3.0 * l - c) / (2.0 * l.powi(3));
-                r_l * (l - x) - (c - x).max(0.0)
-            }
-            Support::FreeFree => return None,
-        };
-        Some(-sagging / ei)
+        if self.support == Support::PinnedPinned {
+            let sagging = if x <= c { x * (l - c) / l } else { c * (l - x) / l };
+            return Some(-sagging / ei);
+        }
+        let (force, moment) = self.redundants(c)?;
+        Some(((c - x).max(0.0) + force * (l - x) + moment) / ei)
     }
 }

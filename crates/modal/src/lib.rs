@@ -44,8 +44,9 @@ mod error;
 mod propagate;
 mod shape;
 mod support;
+mod timoshenko;
 
-pub use beam::{Beam, Mode};
+pub use beam::{Beam, Mode, Shear, Theory};
 pub use duhamel::duhamel_series;
 pub use error::ModalError;
 pub use propagate::{Hold, ModalState, OneStep, PointModes, Transition};

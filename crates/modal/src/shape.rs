@@ -1,29 +1,67 @@
-//! Mode shapes in a bounded form that stays exact to high mode numbers.
+//! Mode shapes as a few bounded exponential waves, exact to high mode numbers for either beam
+//! theory.
 
 use crate::support::Support;
+use num_complex::Complex64;
 
-/// A mode shape scaled so that integral_0^L phi^2 dx = L (the textbook scaling of Blevins,
-/// Table 8-1; with it the clamped-free tip value is 2 (-1)^(n+1)), written as
+/// One wave of a mode shape: W = Re(w e^(lambda (x - anchor))), Psi = Re(psi e^(lambda (x -
+/// anchor))). A growing exponential (Re lambda > 0) is anchored at x = L so that it never
+/// exceeds its coefficient on the beam; the others are anchored at x = 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Wave {
+    pub(crate) lambda: Complex64,
+    pub(crate) anchor: f64,
+    pub(crate) w: Complex64,
+    pub(crate) psi: Complex64,
+}
+
+impl Wave {
+    /// e^(lambda (x - anchor)), with one exp and one sin_cos at most.
+    fn factor(&self, x: f64) -> Complex64 {
+        let t = x - self.anchor;
+        let magnitude = (self.lambda.re * t).exp();
+        if self.lambda.im == 0.0 {
+            Complex64::new(magnitude, 0.0)
+        } else {
+            let (s, c) = (self.lambda.im * t).sin_cos();
+            Complex64::new(magnitude * c, magnitude * s)
+        }
+    }
+}
+
+const NO_WAVE: Wave = Wave {
+    lambda: Complex64::new(0.0, 0.0),
+    anchor: 0.0,
+    w: Complex64::new(0.0, 0.0),
+    psi: Complex64::new(0.0, 0.0),
+};
+
+/// A mode shape: the transverse displacement W(x) and the section rotation Psi(x), scaled so
+/// that integral_0^L (W^2 + (rho I / rho A) Psi^2) dx = L. For an Euler-Bernoulli beam
+/// Psi = W' and the rotary term is absent, which is the textbook scaling of Blevins, Table 8-1
+/// (with it the clamped-free tip value is 2 (-1)^(n+1)); the mass-normalised shape is then
+/// W / sqrt(rho A L) for either theory.
 ///
-/// phi(x) = a exp(-beta (L - x)) + b exp(-beta x) + c cos(beta x) + d sin(beta x) + p + r x/L.
+/// The shape is a sum of at most three waves (a trigonometric pair and two exponentials, or two
+/// trigonometric pairs above a Timoshenko beam's cut-off) plus a rigid-body part p + r x/L:
+///
+/// W(x) = Re sum_j w_j e^(lambda_j (x - a_j)) + p + r x/L,  Psi(x) = Re sum_j psi_j e^(...) + r/L.
 ///
 /// Every coefficient is of order one and no exponential grows, so there is no cancellation:
 /// the textbook cosh/sinh form loses about log10(exp(beta L)) digits and is wrong by 100 % past
-/// mode 14 (validation/REFERENCES.md 1.3). The linear part carries the rigid-body modes of a free-free beam.
+/// mode 14 (validation/REFERENCES.md 1.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModeShape {
     beta: f64,
     length: f64,
-    a: f64,
-    b: f64,
-    c: f64,
-    d: f64,
+    waves: [Wave; 3],
+    count: usize,
     p: f64,
     r: f64,
 }
 
 impl ModeShape {
-    /// The elastic mode with root `beta_l` = beta L of a beam of length `length` (m).
+    /// The Euler-Bernoulli elastic mode with root `beta_l` = beta L of a beam of length `length` (m).
     ///
     /// Derivation: with cosh = (e^x + e^-x)/2, the textbook
     /// cosh(bx) -+ cos(bx) - s (sinh(bx) -+ sin(bx)) becomes
@@ -34,11 +72,10 @@ impl ModeShape {
     /// A = (cos - sin - e)/D (sin, cos of bL).
     pub(crate) fn elastic(support: Support, beta_l: f64, length: f64) -> Self {
         let beta = beta_l / length;
-        let zero = Self { beta, length, a: 0.0, b: 0.0, c: 0.0, d: 0.0, p: 0.0, r: 0.0 };
         let e = (-beta_l).exp();
         let (sn, cs) = beta_l.sin_cos();
         let (s, a) = match support {
-            Support::PinnedPinned => return Self { d: std::f64::consts::SQRT_2, ..zero },
+            Support::PinnedPinned => (0.0, 0.0),
             Support::ClampedFree => {
                 let den = 1.0 - e * e + 2.0 * e * sn;
                 ((1.0 + e * e + 2.0 * e * cs) / den, (sn - cs - e) / den)
@@ -48,93 +85,201 @@ impl ModeShape {
                 ((1.0 + e * e - 2.0 * e * cs) / den, (cs - sn - e) / den)
             }
         };
-        let trig = if support == Support::FreeFree { 1.0 } else { -1.0 };
-        Self { a, b: 0.5 * (1.0 + s), c: trig, d: -trig * s, ..zero }
+        // phi = a e^(-beta (L - x)) + b e^(-beta x) + c cos(beta x) + d sin(beta x).
+        let (b, c, d) = match support {
+            Support::PinnedPinned => (0.0, 0.0, std::f64::consts::SQRT_2),
+            Support::FreeFree => (0.5 * (1.0 + s), 1.0, -s),
+            _ => (0.5 * (1.0 + s), -1.0, s),
+        };
+        // For Euler-Bernoulli Psi = W': each wave's psi is lambda times its w.
+        let wave = |lambda: Complex64, anchor: f64, w: Complex64| Wave {
+            lambda,
+            anchor,
+            w,
+            psi: lambda * w,
+        };
+        let waves = [
+            wave(Complex64::new(0.0, beta), 0.0, Complex64::new(c, -d)),
+            wave(Complex64::new(beta, 0.0), length, Complex64::new(a, 0.0)),
+            wave(Complex64::new(-beta, 0.0), 0.0, Complex64::new(b, 0.0)),
+        ];
+        Self { beta, length, waves, count: 3, p: 0.0, r: 0.0 }
     }
 
-    /// Rigid-body translation of a free-free beam: phi = 1.
+    /// A shape from its waves (unnormalised), with bending wavenumber `beta` (1/m).
+    pub(crate) fn from_waves(beta: f64, length: f64, waves: &[Wave]) -> Self {
+        let mut all = [NO_WAVE; 3];
+        all[..waves.len()].copy_from_slice(waves);
+        Self { beta, length, waves: all, count: waves.len(), p: 0.0, r: 0.0 }
+    }
+
+    /// Length of the beam (m).
+    pub(crate) fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// The waves.
+    pub(crate) fn waves(&self) -> &[Wave] {
+        &self.waves[..self.count]
+    }
+
+    /// The shape times `factor`.
+    pub(crate) fn scaled(mut self, factor: f64) -> Self {
+        for wave in &mut self.waves {
+            wave.w *= factor;
+            wave.psi *= factor;
+        }
+        self.p *= factor;
+        self.r *= factor;
+        self
+    }
+
+    /// Rigid-body translation of a free-free beam: W = 1, Psi = 0.
     pub(crate) fn translation(length: f64) -> Self {
-        Self { beta: 0.0, length, a: 0.0, b: 0.0, c: 0.0, d: 0.0, p: 1.0, r: 0.0 }
+        Self { beta: 0.0, length, waves: [NO_WAVE; 3], count: 0, p: 1.0, r: 0.0 }
     }
 
-    /// Rigid-body rotation about the centre of a free-free beam: phi = sqrt(3) (2x/L - 1).
-    pub(crate) fn rotation(length: f64) -> Self {
-        let k = 3f64.sqrt();
-        Self { beta: 0.0, length, a: 0.0, b: 0.0, c: 0.0, d: 0.0, p: -k, r: 2.0 * k }
+    /// Rigid-body rotation about the centre of a free-free beam: W = k sqrt(3) (2x/L - 1),
+    /// Psi = W' = 2 k sqrt(3)/L, with k = 1/sqrt(1 + 12 rotary/L^2) for the rotary term
+    /// `rotary` = rho I / rho A (m^2; 0 for Euler-Bernoulli).
+    pub(crate) fn rigid_rotation(length: f64, rotary: f64) -> Self {
+        let k = 3f64.sqrt() / (1.0 + 12.0 * rotary / (length * length)).sqrt();
+        Self { beta: 0.0, length, waves: [NO_WAVE; 3], count: 0, p: -k, r: 2.0 * k }
     }
 
-    /// Wavenumber beta (1/m); zero for a rigid-body mode.
+    /// Bending wavenumber beta (1/m); zero for a rigid-body mode.
     pub fn beta(&self) -> f64 {
         self.beta
     }
 
-    /// The k-th derivative d^k phi / dx^k at x (m), k = 0 (value), 1 (slope, 1/m),
-    /// 2 (curvature, 1/m^2), 3 (1/m^3).
+    /// The k-th derivative d^k W / dx^k at x (m), k = 0 (value), 1 (slope, 1/m),
+    /// 2 (1/m^2), 3 (1/m^3).
     pub fn derivative(&self, k: u32, x: f64) -> f64 {
-        let bk = self.beta.powi(k as i32);
-        let right = self.a * (-self.beta * (self.length - x)).exp();
-        let left = self.b * (-self.beta * x).exp();
-        let left_sign = if k % 2 == 0 { 1.0 } else { -1.0 };
-        let (s, c) = (self.beta * x).sin_cos();
-        // d^k/dx^k of (c cos + d sin) cycles through (cos, -sin, -cos, sin) times beta^k.
-        let trig = match k % 4 {
-            0 => self.c * c + self.d * s,
-            1 => -self.c * s + self.d * c,
-            2 => -self.c * c - self.d * s,
-            _ => self.c * s - self.d * c,
-        };
+        let waves: f64 =
+            self.waves().iter().map(|w| (w.w * w.lambda.powu(k) * w.factor(x)).re).sum();
         let linear = match k {
             0 => self.p + self.r * x / self.length,
             1 => self.r / self.length,
             _ => 0.0,
         };
-        bk * (right + left_sign * left + trig) + linear
+        waves + linear
     }
 
-    /// phi(x).
+    /// W(x).
     pub fn value(&self, x: f64) -> f64 {
         self.derivative(0, x)
     }
 
-    /// phi'(x) (1/m).
+    /// W'(x) (1/m).
     pub fn slope(&self, x: f64) -> f64 {
         self.derivative(1, x)
     }
 
-    /// phi''(x) (1/m^2).
-    pub fn curvature(&self, x: f64) -> f64 {
-        self.derivative(2, x)
+    /// Section rotation Psi(x) (1/m): the slope W' for an Euler-Bernoulli beam, the slope less
+    /// the shear strain for a Timoshenko beam.
+    pub fn rotation_at(&self, x: f64) -> f64 {
+        self.waves().iter().map(|w| (w.psi * w.factor(x)).re).sum::<f64>() + self.r / self.length
     }
 
-    /// phi''(x) (1/m^2) at x = x0 + k dx for k = 0 .. count, as [`ModeShape::curvature`] gives
-    /// it but with two exponentials and one sine and cosine for the whole grid: each term is
-    /// carried from point to point by its factor over dx (the decaying exponentials each from
-    /// the end where it is largest, the trigonometric pair by a rotation), to about `count`
+    /// Bending curvature Psi'(x) (1/m^2), so that the bending moment is EI Psi': W'' for an
+    /// Euler-Bernoulli beam.
+    pub fn curvature(&self, x: f64) -> f64 {
+        self.waves().iter().map(|w| (w.psi * w.lambda * w.factor(x)).re).sum()
+    }
+
+    /// Psi'(x) (1/m^2) at x = x0 + k dx for k = 0 .. count, as [`ModeShape::curvature`] gives
+    /// it but with one exponential per wave for the whole grid: each wave is carried from point
+    /// to point by its factor over dx (a growing one downward from the last point, the others
+    /// upward from the first, so each is carried from where it is largest), to about `count`
     /// ulps of the largest term.
     pub fn curvatures_on_grid(&self, x0: f64, dx: f64, count: usize) -> Vec<f64> {
         let mut out = vec![0.0; count];
         if count == 0 {
             return out;
         }
-        let b2 = self.beta * self.beta;
-        let step = (-self.beta * dx).exp();
-        // a exp(-beta (L - x)): largest at the last point, carried downward.
         let last = x0 + dx * (count - 1) as f64;
-        let mut right = self.a * (-self.beta * (self.length - last)).exp();
-        for v in out.iter_mut().rev() {
-            *v += right;
-            right *= step;
-        }
-        // b exp(-beta x): largest at the first point, carried upward.
-        let mut left = self.b * (-self.beta * x0).exp();
-        let (mut sn, mut cs) = (self.beta * x0).sin_cos();
-        let (rs, rc) = (self.beta * dx).sin_cos();
-        for v in &mut out {
-            // The second derivative of c cos + d sin is -(c cos + d sin) beta^2.
-            *v = b2 * (*v + left - (self.c * cs + self.d * sn));
-            left *= step;
-            (cs, sn) = (cs * rc - sn * rs, sn * rc + cs * rs);
+        for wave in self.waves() {
+            let coefficient = wave.psi * wave.lambda;
+            let step = (wave.lambda * dx).exp();
+            if wave.lambda.re > 0.0 {
+                let mut term = coefficient * wave.factor(last);
+                let back = 1.0 / step;
+                for v in out.iter_mut().rev() {
+                    *v += term.re;
+                    term *= back;
+                }
+            } else {
+                let mut term = coefficient * wave.factor(x0);
+                for v in &mut out {
+                    *v += term.re;
+                    term *= step;
+                }
+            }
         }
         out
+    }
+
+    /// integral_0^L (W_a W_b + rotary Psi_a Psi_b) dx of the wave parts of two shapes, in closed
+    /// form: with Re X Re Y = (Re XY + Re X conj(Y))/2 every product is one exponential.
+    pub(crate) fn wave_inner(&self, other: &Self, rotary: f64) -> f64 {
+        let length = self.length;
+        let mut total = 0.0;
+        for a in self.waves() {
+            for b in other.waves() {
+                for conjugate in [false, true] {
+                    let (lb, wb, pb) = if conjugate {
+                        (b.lambda.conj(), b.w.conj(), b.psi.conj())
+                    } else {
+                        (b.lambda, b.w, b.psi)
+                    };
+                    let mu = a.lambda + lb;
+                    let shift = a.lambda * a.anchor + lb * b.anchor;
+                    let integral = exp_integral(mu, shift, length);
+                    total += 0.5 * ((a.w * wb + rotary * a.psi * pb) * integral).re;
+                }
+            }
+        }
+        total
+    }
+}
+
+/// integral_0^L e^(mu x - shift) dx without overflow: the exponential is factored at the end
+/// where it is largest, e^(mu L - shift) L h(mu L) for Re mu >= 0 and e^(-shift) L h(-mu L)
+/// otherwise, with h(z) = (1 - e^-z)/z.
+fn exp_integral(mu: Complex64, shift: Complex64, length: f64) -> Complex64 {
+    let z = mu * length;
+    if mu.re >= 0.0 {
+        (z - shift).exp() * length * relaxation(z)
+    } else {
+        (-shift).exp() * length * relaxation(-z)
+    }
+}
+
+/// h(z) = (1 - e^-z)/z for Re z >= 0, by its Taylor series sum (-z)^k/(k+1)! near 0.
+fn relaxation(z: Complex64) -> Complex64 {
+    if z.norm() < 0.5 {
+        // 18 terms: 0.5^18/19! < 1e-22.
+        let mut sum = Complex64::new(0.0, 0.0);
+        for k in (0..18).rev() {
+            sum = sum * (-z) / (k as f64 + 2.0) + 1.0;
+        }
+        sum
+    } else {
+        (1.0 - (-z).exp()) / z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relaxation_is_continuous_at_its_switch() {
+        for z in [Complex64::new(0.4999, 0.0), Complex64::new(0.3, 0.39), Complex64::new(0.0, 0.49)]
+        {
+            let series = relaxation(z);
+            let direct = (1.0 - (-z).exp()) / z;
+            assert!((series - direct).norm() < 1e-15, "{z}: {series} vs {direct}");
+        }
     }
 }
