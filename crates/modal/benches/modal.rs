@@ -1,4 +1,5 @@
-//! Cost of building modes and transitions and of one exact step, for 64 and 256 modes.
+//! Cost of building modes (Euler-Bernoulli and Timoshenko) and transitions and of one exact
+//! step, for 64 and 256 modes; Timoshenko modes also at 4096 (the paper tip's reference).
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -22,6 +23,16 @@ fn propagation(c: &mut Criterion) {
         let mut s = ModalState::at_rest(n);
         group.bench_with_input(BenchmarkId::new("step", n), &n, |b, _| {
             b.iter(|| t.advance(&mut s, black_box(10.0), 11.0))
+        });
+    }
+    // The paper's tip as a Timoshenko beam (steel, nu = 0.3, k = 5/6).
+    let g = 2.1e11 / 2.6;
+    let thick = beam
+        .with_shear(5.0 / 6.0 * g * 0.025 * 0.005, 7850.0 * 0.025 * 0.005f64.powi(3) / 12.0)
+        .expect("valid shear");
+    for n in [64usize, 256, 4096] {
+        group.bench_with_input(BenchmarkId::new("timoshenko modes", n), &n, |b, &n| {
+            b.iter(|| thick.modes(black_box(n)))
         });
     }
     group.finish();

@@ -238,45 +238,44 @@ impl Timoshenko {
         let stiffness = self.segment_stiffness(omega, self.length / segments as f64);
         let (left, right) = ends(self.support);
         let dofs = 2 * (segments + 1);
-        let held = |dof: usize| {
-            let (end, node_dof) = if dof < 2 {
-                (left, dof)
-            } else if dof >= dofs - 2 {
-                (right, dof - (dofs - 2))
-            } else {
-                return false;
-            };
-            match end {
-                End::Clamped => true,
-                End::Pinned => node_dof == 0,
-                End::Free => false,
-            }
-        };
-        // Banded LDL^T without interchanges (half-bandwidth 3); held dofs are decoupled unit
-        // rows, which add a positive pivot and change no count.
-        let entry = |i: usize, j: usize| -> f64 {
-            // A(i, j), i >= j, of the assembled matrix.
-            if held(i) || held(j) {
-                return if i == j { 1.0 } else { 0.0 };
-            }
-            let mut a = 0.0;
-            let (ni, nj) = (i / 2, j / 2);
-            // Segment e joins nodes e and e + 1; dof d of node n is local 2 (n - e) + d.
-            for e in ni.saturating_sub(1)..=ni.min(segments - 1) {
-                if nj < e || nj > e + 1 {
-                    continue;
+        // The assembled matrix as its lower band: band[i][d] = A(i, i - d), d = 0..=3. Every
+        // segment adds the same 4 x 4 block on the dofs of its two nodes.
+        let mut band = vec![[0.0; 4]; dofs];
+        for e in 0..segments {
+            for a in 0..4 {
+                for b in 0..=a {
+                    band[2 * e + a][a - b] += stiffness[(a, b)];
                 }
-                a += stiffness[(2 * (ni - e) + i % 2, 2 * (nj - e) + j % 2)];
             }
-            a
+        }
+        // Held dofs become decoupled unit rows: a positive pivot that changes no count.
+        let mut hold = |dof: usize| {
+            for d in 0..4 {
+                band[dof][d] = if d == 0 { 1.0 } else { 0.0 };
+                if dof + d < dofs && d > 0 {
+                    band[dof + d][d] = 0.0;
+                }
+            }
         };
+        for (end, node) in [(left, 0), (right, segments)] {
+            match end {
+                End::Clamped => {
+                    hold(2 * node);
+                    hold(2 * node + 1);
+                }
+                End::Pinned => hold(2 * node),
+                End::Free => {}
+            }
+        }
+        // Banded LDL^T without interchanges; the count is the number of negative pivots
+        // (Sylvester's law of inertia).
         let mut pivots = vec![0.0; dofs];
-        let mut lower = vec![[0.0; 3]; dofs]; // lower[i][k] = L(i, i - 1 - k)
+        let mut lower = vec![[0.0; 4]; dofs]; // lower[i][d] = L(i, i - d)
         let mut negative = 0;
         for j in 0..dofs {
-            let mut d = entry(j, j);
+            let mut d = band[j][0];
             for k in 1..=3.min(j) {
-                let l = lower[j][k - 1];
+                let l = lower[j][k];
                 d -= l * l * pivots[j - k];
             }
             if d == 0.0 {
@@ -287,11 +286,11 @@ impl Timoshenko {
             }
             pivots[j] = d;
             for i in j + 1..(j + 4).min(dofs) {
-                let mut a = entry(i, j);
-                for k in (i.saturating_sub(3))..j {
-                    a -= lower[i][i - 1 - k] * lower[j][j - 1 - k] * pivots[k];
+                let mut a = band[i][i - j];
+                for k in i.saturating_sub(3)..j {
+                    a -= lower[i][i - k] * lower[j][j - k] * pivots[k];
                 }
-                lower[i][i - 1 - j] = a / d;
+                lower[i][i - j] = a / d;
             }
         }
         negative
@@ -340,18 +339,34 @@ impl Timoshenko {
         if count <= rigid {
             return Ok(modes);
         }
-        // An upper bound: the Euler-Bernoulli frequency of the mode (shear and rotary inertia
-        // only lower each frequency), doubled until the count holds.
-        let eb_root = self.support.eigenvalue(count - rigid)?;
-        let scale = (self.ei / self.rho_a).sqrt() / (self.length * self.length);
-        let mut hi = eb_root * eb_root * scale * 1.01;
-        let mut j_hi = self.count_below(hi);
-        let mut doublings = 0;
-        while j_hi < count {
+        // An upper bound: where the asymptotic count (beta + k) L / pi (k the shear
+        // wavenumber above the cut-off) passes the modes asked for, raised until the exact
+        // count holds.
+        let estimate = |omega: f64| {
+            let w = self.waves(omega);
+            (w.beta + (-w.s).max(0.0).sqrt()) * self.length / PI
+        };
+        let target = (count + 2) as f64;
+        let (mut below, mut hi) = (0.0, 1.0);
+        while estimate(hi) < target {
+            below = hi;
             hi *= 2.0;
+        }
+        for _ in 0..60 {
+            let mid = 0.5 * (below + hi);
+            if estimate(mid) < target {
+                below = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let mut j_hi = self.count_below(hi);
+        let mut raises = 0;
+        while j_hi < count {
+            hi *= 1.1;
             j_hi = self.count_below(hi);
-            doublings += 1;
-            if doublings > 60 {
+            raises += 1;
+            if raises > 200 {
                 return Err(ModalError::RootNotBracketed {
                     mode: count,
                     support: self.support.name(),
@@ -359,6 +374,7 @@ impl Timoshenko {
                 });
             }
         }
+        let scale = (self.ei / self.rho_a).sqrt() / (self.length * self.length);
         // Below a tenth of the first Euler-Bernoulli frequency only the rigid-body modes lie.
         let first = self.support.eigenvalue(1)?;
         let lo = 1e-3 * first * first * scale;
@@ -401,17 +417,45 @@ impl Timoshenko {
         let samples = 8 * n + 1;
         let grid: Vec<f64> =
             (0..=samples).map(|k| lo + (hi - lo) * k as f64 / samples as f64).collect();
-        if let Some(basis) = self.basis_over(&grid) {
-            let det: Vec<f64> =
-                grid.iter().map(|&w| self.conditions(w, basis).determinant()).collect();
-            let changes: Vec<usize> = (0..samples).filter(|&k| det[k] * det[k + 1] < 0.0).collect();
-            if changes.len() == n {
-                for k in changes {
-                    let root = self.polish(grid[k], grid[k + 1], det[k], det[k + 1], basis);
-                    out.push((root, 1));
+        let Some(basis) = self.basis_over(&grid) else {
+            let mid = 0.5 * (lo + hi);
+            let j_mid = self.count_below(mid);
+            self.slice(lo, mid, j_lo, j_mid, out, wanted);
+            self.slice(mid, hi, j_mid, j_hi, out, wanted);
+            return;
+        };
+        let det = |w: f64| self.conditions(w, basis).determinant();
+        let mut points: Vec<(f64, f64)> = grid.iter().map(|&w| (w, det(w))).collect();
+        // Two roots closer than the scan leave no sign change but a dip of |det| between
+        // samples of one sign: sample the dips more finely, a few times, before counting.
+        for _ in 0..6 {
+            let changes = points.windows(2).filter(|p| p[0].1 * p[1].1 < 0.0).count();
+            if changes == n {
+                for p in points.windows(2).filter(|p| p[0].1 * p[1].1 < 0.0) {
+                    out.push((self.polish(p[0].0, p[1].0, p[0].1, p[1].1, basis), 1));
                 }
                 return;
             }
+            if changes > n {
+                break;
+            }
+            let dips: Vec<usize> = (1..points.len() - 1)
+                .filter(|&k| {
+                    let (a, b, c) = (points[k - 1].1, points[k].1, points[k + 1].1);
+                    a * b > 0.0 && b * c > 0.0 && b.abs() < a.abs() && b.abs() < c.abs()
+                })
+                .collect();
+            if dips.is_empty() {
+                break;
+            }
+            let mut extra = Vec::new();
+            for k in dips {
+                let (x0, x1) = (points[k - 1].0, points[k + 1].0);
+                extra.extend((1..16).map(|i| x0 + (x1 - x0) * i as f64 / 16.0));
+            }
+            points.extend(extra.into_iter().map(|w| (w, det(w))));
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            points.dedup_by(|a, b| a.0.total_cmp(&b.0).is_eq());
         }
         let mid = 0.5 * (lo + hi);
         let j_mid = self.count_below(mid);
@@ -479,7 +523,9 @@ impl Timoshenko {
             m.column_mut(j).scale_mut(1.0 / scale);
         }
         let svd = m.svd(false, true);
-        let v_t = svd.v_t.expect("asked for V");
+        let Some(v_t) = svd.v_t else {
+            return Vec::new();
+        };
         let mut order: Vec<usize> = (0..4).collect();
         order.sort_by(|&i, &j| svd.singular_values[i].total_cmp(&svd.singular_values[j]));
         let w = self.waves(omega);

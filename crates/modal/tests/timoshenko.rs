@@ -1,4 +1,5 @@
 //! Timoshenko modes against closed forms, the Euler-Bernoulli limit and their own identities
+#![allow(clippy::unwrap_used)] // helpers stop on bad fixtures
 //! (validation/REFERENCES.md 1.6).
 
 use modal::{Beam, PointModes, Support};
@@ -216,7 +217,7 @@ fn static_flexibility_with_shear_is_the_modal_sum() {
         let beam = steel(0.1, 0.01, support);
         let modes = beam.modes(1500).unwrap();
         for c in [0.03, 0.05, 0.1] {
-            if c == 0.1 && support != Support::ClampedFree {
+            if c > 0.09 && support != Support::ClampedFree {
                 continue;
             }
             let point = PointModes::new(&beam, &modes, c, 0.0).unwrap();
