@@ -65,7 +65,7 @@ pub use outcome::{
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,
-    SolverSpec, SupportName,
+    SolverSpec, SupportName, TheoryName,
 };
 pub use solve::{run, run_with_progress, BallOnBeam, BallOnBeamConfig, Progress};
 

@@ -91,6 +91,13 @@ impl TryFrom<toml::Value> for MethodName {
     }
 }
 
+impl TryFrom<toml::Value> for TheoryName {
+    type Error = String;
+    fn try_from(value: toml::Value) -> Result<Self, String> {
+        named(value, &[("euler-bernoulli", Self::EulerBernoulli), ("timoshenko", Self::Timoshenko)])
+    }
+}
+
 impl From<SupportName> for modal::Support {
     fn from(s: SupportName) -> Self {
         match s {
@@ -234,6 +241,16 @@ pub enum MethodName {
     Fe,
 }
 
+/// Beam theories of the modal method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", try_from = "toml::Value")]
+pub enum TheoryName {
+    /// Plane sections stay normal to the axis; no rotary inertia.
+    EulerBernoulli,
+    /// Shear deformation and rotary inertia.
+    Timoshenko,
+}
+
 /// Method and resolution; every field has a default.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -243,6 +260,10 @@ pub struct SolverSpec {
     pub method: MethodName,
     /// Number of modes (modal method); default chosen by the plan.
     pub modes: Option<usize>,
+    /// Beam theory of the modal method's modes, "euler-bernoulli" or "timoshenko"; default
+    /// chosen by the plan (Timoshenko unless shear and rotary inertia change nothing the
+    /// contact excites). The fe beam always has shear and rotary inertia.
+    pub beam_theory: Option<TheoryName>,
     /// Simulated time (s) from first touch.
     pub end_time: Option<f64>,
     /// Time steps per estimated contact duration (the largest contact step of the modal and

@@ -86,6 +86,8 @@ fn adaptive_step_error_follows_its_tolerance() {
     let run = |tol: f64| {
         let mut s = paper_scene(64, plan::DEFAULT_SAMPLES_PER_PULSE, false);
         s.solver.energy_tolerance = Some(tol);
+        // The uniform-step limit below was measured with Euler-Bernoulli modes.
+        s.solver.beam_theory = Some(TheoryName::EulerBernoulli);
         let out = simulate(&s).unwrap();
         let steps: usize = out.report.contacts.iter().map(|c| c.steps).sum();
         (out.report.energy.balance_error.abs() / out.report.energy.initial, steps, out)
@@ -267,9 +269,12 @@ fn paper_scene_reports_are_complete_and_finite() {
     assert!(r.warnings.iter().any(|w| w.contains("implies a density")));
     assert!(r.contact_count > 5, "the ball chases the tip: {} contacts", r.contact_count);
     assert!(r.equivalent_static_force.unwrap() > 0.0);
-    // Static stiffness of the tip, 3EI/L^3.
+    // Static stiffness of the tip with shear (Timoshenko modes by default): 1/(L^3/(3EI) +
+    // L/(kGA)), k = 5/6, G = E/2.6; the shear term is 3.1e-5 of the bending one.
     let ei = 2.1e11 * 0.025 * 0.005f64.powi(3) / 12.0;
-    assert!(rel(r.static_stiffness.unwrap(), 3.0 * ei / 1.15f64.powi(3)) < 1e-12);
+    let kga = 5.0 / 6.0 * 2.1e11 / 2.6 * 0.025 * 0.005;
+    let flexibility = 1.15f64.powi(3) / (3.0 * ei) + 1.15 / kga;
+    assert!(rel(r.static_stiffness.unwrap(), 1.0 / flexibility) < 1e-12);
     assert!(out.history.len() > 100);
 }
 
@@ -516,6 +521,7 @@ fn the_modal_stress_converges_at_third_order_in_the_modes() {
         let mut s = scene("paper-tip.toml");
         s.solver.modes = Some(modes);
         s.solver.end_time = Some(1e-3);
+        s.solver.beam_theory = Some(TheoryName::EulerBernoulli);
         simulate(&s).unwrap().report.bending_stress.unwrap().max
     };
     let converged = stress(2048);
@@ -546,6 +552,7 @@ fn the_plain_series_is_kept_where_asked_and_is_further_off_under_the_ball() {
         let mut s = scene("paper-tip.toml");
         s.solver.modes = Some(modes);
         s.solver.end_time = Some(1e-3);
+        s.solver.beam_theory = Some(TheoryName::EulerBernoulli);
         s.solver.plain_stress_series = Some(plain);
         simulate(&s).unwrap().report.bending_stress.unwrap().max
     };

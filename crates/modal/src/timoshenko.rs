@@ -216,6 +216,13 @@ impl Timoshenko {
         }
     }
 
+    /// (beta + k) L / pi, k the shear wavenumber above the cut-off: the number of half waves of
+    /// both branches that fit the beam, within a few of the count below omega.
+    fn asymptotic_count(&self, omega: f64) -> f64 {
+        let w = self.waves(omega);
+        (w.beta + (-w.s).max(0.0).sqrt()) * self.length / PI
+    }
+
     /// The number of natural frequencies below omega (rigid-body modes included), exactly: the
     /// Wittrick-Williams count J = J0 + s{K} with segments so short that J0 = 0.
     ///
@@ -226,6 +233,12 @@ impl Timoshenko {
     pub(crate) fn count_below(&self, omega: f64) -> usize {
         if omega <= 0.0 {
             return 0;
+        }
+        // Past a million modes the segments would take gigabytes: the asymptotic count
+        // (beta + k) L / pi is within a few of the exact one there.
+        let estimate = self.asymptotic_count(omega);
+        if estimate > 1e6 {
+            return estimate as usize;
         }
         // Keep omega^2 below the bound with a margin of 1.25.
         let w2 = 1.25 * omega * omega;
@@ -342,10 +355,7 @@ impl Timoshenko {
         // An upper bound: where the asymptotic count (beta + k) L / pi (k the shear
         // wavenumber above the cut-off) passes the modes asked for, raised until the exact
         // count holds.
-        let estimate = |omega: f64| {
-            let w = self.waves(omega);
-            (w.beta + (-w.s).max(0.0).sqrt()) * self.length / PI
-        };
+        let estimate = |omega: f64| self.asymptotic_count(omega);
         let target = (count + 2) as f64;
         let (mut below, mut hi) = (0.0, 1.0);
         while estimate(hi) < target {

@@ -11,6 +11,7 @@
 
 mod fe;
 mod modal;
+mod theory;
 
 pub(crate) use fe::uniform;
 pub use fe::{
@@ -18,6 +19,7 @@ pub use fe::{
     FE_LADDER_START, FE_SAMPLES_PER_PULSE,
 };
 pub use modal::{ModalPlan, MODAL_LADDER_END, MODE_CUTOFF};
+pub use theory::{MIN_SLENDERNESS, MIN_WAVELENGTH, NEGLIGIBLE_CORRECTION, NOTABLE_CORRECTION};
 
 use crate::error::{bounded, invalid, positive, range, show, ImpactError};
 use crate::law::{Law, LawContext};
@@ -176,7 +178,7 @@ pub struct Plan {
     pub(crate) beam_yield_stress: Option<f64>,
     /// Whether the run records the beam's field ([`Plan::with_field`]).
     pub(crate) field: bool,
-    /// The beam's first elastic mode's period (s) (Euler-Bernoulli), none on a half-space or
+    /// The beam's first elastic mode's period (s) (Timoshenko for the fe method), none on a half-space or
     /// a beam without one.
     pub(crate) first_period: Option<f64>,
     pub(crate) summary: PlanSummary,
@@ -331,8 +333,9 @@ fn half_space(s: &SolverSpec, reasons: &mut Vec<String>) -> Result<Method, Impac
         || s.tolerance.is_some()
         || s.residual_flexibility.is_some()
         || s.plain_stress_series.is_some()
+        || s.beam_theory.is_some()
     {
-        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step, tolerance, modes, residual_flexibility nor plain_stress_series: the block is rigid".into()));
+        return Err(ImpactError::Inconsistent("a [half_space] scene needs no solver.method = \"fe\", elements, alpha, time_step, tolerance, modes, residual_flexibility, plain_stress_series nor beam_theory: the block is rigid".into()));
     }
     reasons.push(
         "massive half-space: no beam model, the ball meets a rigid-backed Hertz contact".into(),
@@ -347,20 +350,17 @@ fn beam_method(
     beam: &BeamSpec,
     pulse: &Pulse,
     reasons: &mut Vec<String>,
+    warnings: &mut Vec<String>,
 ) -> Result<Method, ImpactError> {
     let s = &scene.solver;
     let length = bounded("beam.length", beam.length, range::LENGTH, "m")?;
     bounded("beam.width", beam.width, range::LENGTH, "m")?;
     bounded("beam.thickness", beam.thickness, range::LENGTH, "m")?;
     bounded("beam.density", beam.density, range::DENSITY, "kg/m^3")?;
-    let m = ::modal::Beam::rectangular(
-        beam.youngs_modulus,
-        beam.density,
-        beam.width,
-        beam.thickness,
-        length,
-        beam.support.into(),
-    )?;
+    let both = theory::beams(beam)?;
+    // Shear adds to the static flexibility: the Timoshenko beam's is the closer one.
+    let m = both.1;
+    theory::limits(beam, &m, pulse, warnings);
     let position = scene.impact.position.ok_or_else(|| {
         ImpactError::Inconsistent("impact.position (m) is required with a [beam]".into())
     })?;
@@ -417,11 +417,20 @@ fn beam_method(
             "solver.residual_flexibility belongs to the modal method; the fe method models the whole beam".into(),
         ));
     }
+    if use_fe && s.beam_theory.is_some() {
+        return Err(ImpactError::Inconsistent(
+            "solver.beam_theory belongs to the modal method; the fe beam always has shear and rotary inertia".into(),
+        ));
+    }
     if use_fe {
         let fe = fe::plan(beam, s, m, position, damping, pulse, reasons)?;
         Ok(Method::Fe(fe))
     } else {
-        Ok(Method::Modal(modal::plan(s, m, position, damping, pulse.duration, reasons)?))
+        let (chosen, model_error) =
+            theory::choose(s.beam_theory, beam, both, pulse, reasons, warnings);
+        let mut plan = modal::plan(s, chosen, position, damping, pulse.duration, reasons)?;
+        plan.model_error = model_error;
+        Ok(Method::Modal(plan))
     }
 }
 
@@ -607,7 +616,7 @@ impl Plan {
         };
         let method = match beam_spec {
             None => half_space(s, &mut reasons)?,
-            Some(beam) => beam_method(scene, beam, &pulse, &mut reasons)?,
+            Some(beam) => beam_method(scene, beam, &pulse, &mut reasons, &mut warnings)?,
         };
         let (time_step, energy_tolerance) =
             contact_step(&method, s, estimated_duration, &mut reasons)?;

@@ -57,7 +57,17 @@ pub fn run_with_progress(plan: &Plan, progress: Progress<'_>) -> Result<Outcome,
     let unchecked = match &plan.method {
         Method::HalfSpace => return plan.law.with(modal::ModalRun { plan, progress }),
         Method::Modal(target) => match target.tolerance {
-            Some(tolerance) => return refine::run_modal(plan, target, tolerance, progress),
+            Some(tolerance) => {
+                let mut out = refine::run_modal(plan, target, tolerance, progress)?;
+                // The refinement estimates the numerical error only; the beam theory's share
+                // is the plan's to add.
+                if let (Some(error), Some(model)) =
+                    (out.report.estimated_error.as_mut(), target.model_error)
+                {
+                    *error = error.max(model);
+                }
+                return Ok(out);
+            }
             None => plan.law.with(modal::ModalRun { plan, progress })?,
         },
         Method::Fe(target) => match target.tolerance {
