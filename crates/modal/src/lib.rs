@@ -1,8 +1,10 @@
-//! # modal: uniform Euler-Bernoulli beams, exactly and stably
+//! # modal: uniform Euler-Bernoulli and Timoshenko beams, exactly and stably
 //!
 //! Natural modes of a uniform beam EI w'''' + rho A w-double-dot = f(x, t) with any of five end
-//! conditions ([`Support`]), and the exact time propagation of its modes under a point force:
-//! the building blocks of Goldsmith's analytic impact method (the paper's eq. 1).
+//! conditions ([`Support`]), or of a Timoshenko beam ([`Beam::with_shear`]: shear deformation and
+//! rotary inertia, both branches of its spectrum, validation/REFERENCES.md 1.6), and the exact
+//! time propagation of its modes under a point force: the building blocks of Goldsmith's
+//! analytic impact method (the paper's eq. 1).
 //!
 //! **Eigenvalues.** beta_n L solves the characteristic equation written in a bounded form
 //! (cos x + sech x = 0 for a cantilever, validation/REFERENCES.md 1.1), found by safeguarded Newton in a
