@@ -35,16 +35,6 @@ pub enum Theory {
     Timoshenko,
 }
 
-impl Theory {
-    /// The scene-file name, e.g. `timoshenko`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Theory::EulerBernoulli => "euler-bernoulli",
-            Theory::Timoshenko => "timoshenko",
-        }
-    }
-}
-
 /// One natural mode of a beam.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Mode {
@@ -208,25 +198,32 @@ impl Beam {
                 allowed: "at least one mode",
             });
         }
-        if let Some(t) = self.timoshenko() {
-            return t.modes(count);
-        }
-        let rigid = self.support.rigid_modes();
-        (0..count)
+        let rigid = self.support.rigid_modes().min(count);
+        // rho I / rho A, the rotary term of the shapes' scaling (0 for Euler-Bernoulli).
+        let rotary = self.shear.map_or(0.0, |s| s.rotary_inertia / self.mass_per_length);
+        let mut modes: Vec<Mode> = (0..rigid)
             .map(|i| {
-                if i < rigid {
-                    let shape = if i == 0 {
-                        ModeShape::translation(self.length)
-                    } else {
-                        ModeShape::rigid_rotation(self.length, 0.0)
-                    };
-                    return Ok(Mode { beta_l: 0.0, omega: 0.0, shape });
-                }
-                let beta_l = self.support.eigenvalue(i + 1 - rigid)?;
-                let shape = ModeShape::elastic(self.support, beta_l, self.length);
-                Ok(Mode { beta_l, omega: self.omega(beta_l), shape })
+                let shape = if i == 0 {
+                    ModeShape::translation(self.length)
+                } else {
+                    ModeShape::rigid_rotation(self.length, rotary)
+                };
+                Mode { beta_l: 0.0, omega: 0.0, shape }
             })
-            .collect()
+            .collect();
+        let elastic = count - rigid;
+        if let Some(t) = self.timoshenko() {
+            if elastic > 0 {
+                modes.extend(t.elastic_modes(elastic)?);
+            }
+            return Ok(modes);
+        }
+        for n in 1..=elastic {
+            let beta_l = self.support.eigenvalue(n)?;
+            let shape = ModeShape::elastic(self.support, beta_l, self.length);
+            modes.push(Mode { beta_l, omega: self.omega(beta_l), shape });
+        }
+        Ok(modes)
     }
 
     /// Static flexibility w(c)/P (m/N) under a point force P at x = c, at the force, shear

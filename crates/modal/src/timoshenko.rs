@@ -335,36 +335,22 @@ impl Timoshenko {
         0.5 * (k + k.transpose())
     }
 
-    /// The first `count` modes (rigid-body modes first for free-free), in order of frequency.
-    pub(crate) fn modes(&self, count: usize) -> Result<Vec<crate::Mode>, ModalError> {
-        let rigid = self.support.rigid_modes();
-        let mut modes: Vec<crate::Mode> = (0..rigid.min(count))
-            .map(|i| crate::Mode {
-                beta_l: 0.0,
-                omega: 0.0,
-                shape: if i == 0 {
-                    ModeShape::translation(self.length)
-                } else {
-                    ModeShape::rigid_rotation(self.length, self.rotary())
-                },
-            })
-            .collect();
-        if count <= rigid {
-            return Ok(modes);
-        }
+    /// The first `wanted` elastic modes in order of frequency (the rigid-body modes of a
+    /// free-free beam, which come before them, are the caller's).
+    pub(crate) fn elastic_modes(&self, wanted: usize) -> Result<Vec<crate::Mode>, ModalError> {
+        let count = self.support.rigid_modes() + wanted;
         // An upper bound: where the asymptotic count (beta + k) L / pi (k the shear
         // wavenumber above the cut-off) passes the modes asked for, raised until the exact
         // count holds.
-        let estimate = |omega: f64| self.asymptotic_count(omega);
         let target = (count + 2) as f64;
         let (mut below, mut hi) = (0.0, 1.0);
-        while estimate(hi) < target {
+        while self.asymptotic_count(hi) < target {
             below = hi;
             hi *= 2.0;
         }
         for _ in 0..60 {
             let mid = 0.5 * (below + hi);
-            if estimate(mid) < target {
+            if self.asymptotic_count(mid) < target {
                 below = mid;
             } else {
                 hi = mid;
@@ -385,16 +371,17 @@ impl Timoshenko {
             }
         }
         let scale = (self.ei / self.rho_a).sqrt() / (self.length * self.length);
-        // Below a tenth of the first Euler-Bernoulli frequency only the rigid-body modes lie.
+        // Below a thousandth of the first Euler-Bernoulli frequency only the rigid-body modes lie.
         let first = self.support.eigenvalue(1)?;
         let lo = 1e-3 * first * first * scale;
         let j_lo = self.count_below(lo);
         let mut roots = Vec::new();
-        self.slice(lo, hi, j_lo, j_hi, &mut roots, count - rigid);
+        self.slice(lo, hi, j_lo, j_hi, &mut roots, wanted);
         roots.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut modes = Vec::with_capacity(wanted);
         for (omega, multiplicity) in roots {
             for shape in self.shapes(omega, multiplicity) {
-                if modes.len() == count {
+                if modes.len() == wanted {
                     break;
                 }
                 let beta_l = self.waves(omega).beta * self.length;
