@@ -98,12 +98,12 @@ impl Chart<'_> {
                 let mut chart = builder
                     .build_cartesian_2d((lx0..lx1).log_scale(), (ly0..ly1).log_scale())
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                self.draw(&mut chart, legend.clone())?;
+                self.draw(&mut chart, legend.clone(), true)?;
             } else {
                 let mut chart = builder
                     .build_cartesian_2d(x0..x1, y0..y1)
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                self.draw(&mut chart, legend.clone())?;
+                self.draw(&mut chart, legend.clone(), false)?;
             }
             root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
         }
@@ -132,14 +132,20 @@ impl Chart<'_> {
         &self,
         chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
         legend: SeriesLabelPosition,
+        log: bool,
     ) -> anyhow::Result<()>
     where
         X: Ranged<ValueType = f64> + ValueFormatter<f64>,
         Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
     {
-        chart
-            .configure_mesh()
-            .x_desc(self.x_label)
+        // A logarithmic axis's ticks are powers of ten (and their multiples) computed in
+        // floating point: printed as they come they read "9.999999999e-5".
+        let decade = |v: &f64| format!("{v:.0e}");
+        let mut mesh = chart.configure_mesh();
+        if log {
+            mesh.x_label_formatter(&decade).y_label_formatter(&decade);
+        }
+        mesh.x_desc(self.x_label)
             .y_desc(self.y_label)
             .label_style(("sans-serif", 15))
             .axis_desc_style(("sans-serif", 17))

@@ -108,3 +108,104 @@ fn beam_theory_belongs_to_the_modal_method() {
     let message = Scene::from_toml(text).unwrap_err().to_string();
     assert!(message.contains("\"euler-bernoulli\", \"timoshenko\""), "{message}");
 }
+
+/// The lowest `count` bending frequencies (rad/s) across the thickness (z) of the linearised
+/// 3D Simo beam with `elements` equal elements and `ends` held as given: the modes whose
+/// shape lives mostly in z translation and rotation about y, rigid-body modes left out.
+fn fe_bending_frequencies(
+    length: f64,
+    section: &simo_beam::Section,
+    ends: [simo_beam::Support; 2],
+    elements: usize,
+    count: usize,
+) -> Vec<f64> {
+    let mesh = simo_beam::Mesh::straight(
+        nalgebra::Vector3::zeros(),
+        nalgebra::Vector3::new(length, 0.0, 0.0),
+        elements,
+        *section,
+        nalgebra::Vector3::z(),
+    )
+    .unwrap();
+    let mut model = simo_beam::BeamModel::new(mesh).unwrap();
+    for (node, end) in [(0, ends[0]), (elements, ends[1])] {
+        model = model.support(node, end).unwrap();
+    }
+    let mut out = Vec::new();
+    for mode in simo_beam::natural_modes(&model, 6 * (elements + 1)).unwrap() {
+        let (mut bending, mut total) = (0.0, 0.0);
+        for node in 0..=elements {
+            for k in 0..6 {
+                if let Some(i) = model.dof(node, k) {
+                    let s = mode.shape[i] * mode.shape[i];
+                    total += s;
+                    if k == 2 || k == 4 {
+                        bending += s;
+                    }
+                }
+            }
+        }
+        if mode.omega > 1.0 && bending > 0.5 * total {
+            out.push(mode.omega);
+            if out.len() == count {
+                break;
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn timoshenko_frequencies_meet_the_fe_beam_for_every_support() {
+    // An independent discretisation of the same theory for the supports without a closed
+    // form: the geometrically exact beam linearised (shear and rotary inertia, k = 5/6) at 80
+    // and 160 equal elements, extrapolated at its second order (80 elements alone are 2e-5 to
+    // 2e-3 off). A thick beam, L/h = 5, whose first four bending frequencies lie 3 to 51 %
+    // below Euler-Bernoulli's. Measured: the extrapolated fe frequencies meet the modal
+    // Timoshenko ones within 8e-10 to 2.5e-7 for every support (the Richardson remainder).
+    use simo_beam::Support as End;
+    let (e, nu, rho, width, thickness, length) = (2.1e11, 0.3, 7850.0, 0.04, 0.01, 0.05);
+    let steel = simo_beam::Material::new(e, nu, rho).unwrap();
+    let section = simo_beam::Section::rectangle(&steel, width, thickness).unwrap();
+    let g = e / (2.0 * (1.0 + nu));
+    let supports = [
+        (modal::Support::ClampedFree, [End::Clamped, End::Free]),
+        (modal::Support::ClampedClamped, [End::Clamped, End::Clamped]),
+        (modal::Support::ClampedPinned, [End::Clamped, End::Pinned]),
+        (modal::Support::FreeFree, [End::Free, End::Free]),
+    ];
+    for (support, ends) in supports {
+        let beam = modal::Beam::rectangular(e, rho, width, thickness, length, support)
+            .unwrap()
+            .with_shear(
+                simo_beam::SHEAR_FACTOR_RECTANGLE * g * width * thickness,
+                rho * width * thickness.powi(3) / 12.0,
+            )
+            .unwrap();
+        let timoshenko: Vec<f64> =
+            beam.modes(8).unwrap().iter().map(|m| m.omega).filter(|&w| w > 1.0).take(4).collect();
+        let euler_bernoulli: Vec<f64> = beam
+            .euler_bernoulli()
+            .modes(8)
+            .unwrap()
+            .iter()
+            .map(|m| m.omega)
+            .filter(|&w| w > 1.0)
+            .take(4)
+            .collect();
+        let coarse = fe_bending_frequencies(length, &section, ends, 80, 4);
+        let fine = fe_bending_frequencies(length, &section, ends, 160, 4);
+        for k in 0..4 {
+            let extrapolated = fine[k] + (fine[k] - coarse[k]) / 3.0;
+            let error = (timoshenko[k] - extrapolated).abs() / extrapolated;
+            let shift = (euler_bernoulli[k] - timoshenko[k]) / euler_bernoulli[k];
+            assert!(
+                error < 1e-6,
+                "{support:?} mode {}: {} vs {extrapolated}",
+                k + 1,
+                timoshenko[k]
+            );
+            assert!(shift > 0.02, "{support:?} mode {}: {shift}", k + 1);
+        }
+    }
+}

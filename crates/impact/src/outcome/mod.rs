@@ -268,6 +268,28 @@ impl Differences {
     }
 }
 
+impl std::fmt::Display for Differences {
+    /// Each difference by name, e.g. "first contact 4.8e-4 in duration and 5.6e-4 in peak
+    /// force, contact sequence 8.4e-3, largest displacement 2.0e-5, largest stress 1.0e-4".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "first contact {:.1e} in duration and {:.1e} in peak force, ",
+            self.first_duration, self.first_peak_force
+        )?;
+        if self.same_contacts {
+            write!(f, "contact sequence {:.1e}", self.contact_sequence)?;
+        } else {
+            write!(f, "a significant contact in one run only")?;
+        }
+        write!(
+            f,
+            ", largest displacement {:.1e}, largest stress {:.1e}",
+            self.max_displacement, self.max_stress
+        )
+    }
+}
+
 impl Report {
     /// Relative differences from `reference`. A contact is significant when its peak force is
     /// at least [`SIGNIFICANT_PEAK`] times its run's first peak; the significant contacts of

@@ -23,7 +23,9 @@ pub use theory::{MIN_SLENDERNESS, MIN_WAVELENGTH, NEGLIGIBLE_CORRECTION, NOTABLE
 
 use crate::error::{bounded, invalid, positive, range, show, ImpactError};
 use crate::law::{Law, LawContext};
-use crate::scene::{BallSpec, BeamSpec, ImpactSpec, LawName, MethodName, Scene, SolverSpec};
+use crate::scene::{
+    BallSpec, BeamSpec, ImpactSpec, LawName, MethodName, Scene, SolverSpec, TheoryName,
+};
 use hertz::{HalfSpaceImpact, Hertz, Material};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -139,6 +141,10 @@ pub struct PlanSummary {
     pub time_step: f64,
     /// The contact law.
     pub contact_law: LawName,
+    /// The modal method's beam theory; absent for the fe method (its geometrically exact
+    /// beam always has shear and rotary inertia) and a half-space.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beam_theory: Option<TheoryName>,
     /// Why each choice was made.
     pub reasons: Vec<String>,
 }
@@ -650,10 +656,10 @@ impl Plan {
             ));
         }
 
-        let (modes, elements) = match &method {
-            Method::Modal(m) => (m.modes, 0),
-            Method::Fe(fe) => (0, fe.elements()),
-            Method::HalfSpace => (0, 0),
+        let (modes, elements, beam_theory) = match &method {
+            Method::Modal(m) => (m.modes, 0, Some(theory::name(&m.beam))),
+            Method::Fe(fe) => (0, fe.elements(), None),
+            Method::HalfSpace => (0, 0, None),
         };
         let first_period = first_period(&method);
         Ok(Self {
@@ -664,6 +670,7 @@ impl Plan {
                 elements,
                 time_step,
                 contact_law: law.name(),
+                beam_theory,
                 reasons,
             },
             method,

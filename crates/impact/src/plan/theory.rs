@@ -71,6 +71,14 @@ pub(crate) fn correction(spec: &BeamSpec, beam: &Beam, pulse: &Pulse) -> f64 {
     0.5 * beta * beta * r2 * (1.0 + rigidity_ratio)
 }
 
+/// The scene's name of `beam`'s theory.
+pub(crate) fn name(beam: &Beam) -> TheoryName {
+    match beam.theory() {
+        modal::Theory::EulerBernoulli => TheoryName::EulerBernoulli,
+        modal::Theory::Timoshenko => TheoryName::Timoshenko,
+    }
+}
+
 /// The modal method's beam: as asked, else Timoshenko unless its correction is negligible,
 /// with the reason; and the model error an Euler-Bernoulli run leaves out (with its warning)
 /// when it is notable.

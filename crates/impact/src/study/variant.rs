@@ -32,6 +32,7 @@ pub fn variant(scene: &Scene, method: MethodName, resolution: Option<usize>) -> 
             solver.plain_stress_series = None;
             solver.adaptive_step = None;
             solver.energy_tolerance = None;
+            solver.beam_theory = None;
             if resolution.is_some() {
                 solver.elements = resolution;
                 solver.element_size = None;
@@ -56,6 +57,7 @@ mod tests {
         modal.solver.method = MethodName::Modal;
         modal.solver.residual_flexibility = Some(true);
         modal.solver.energy_tolerance = Some(1e-4);
+        modal.solver.beam_theory = Some(crate::TheoryName::EulerBernoulli);
         let mut fe = variant(&modal, MethodName::Fe, None);
         fe.solver.alpha = Some(-0.1);
         fe.solver.element_size = Some(0.02);
