@@ -100,6 +100,23 @@ fn scenes_past_beam_theory_warn_with_the_ratio() {
 }
 
 #[test]
+fn a_patch_over_a_free_end_warns() {
+    // The paper's tip: the ball's centre on the end, Hertz's radius about 0.37 mm on a rigid
+    // support; 1 mm inside the patch stays on the face. A clamped end is no edge of the face.
+    let paper = include_str!("../../../validation/scenes/paper-tip.toml");
+    let warns = |text: &str| {
+        let plan = Plan::new(&Scene::from_toml(text).unwrap()).unwrap();
+        plan.warnings().iter().any(|w| w.contains("from a free end of the beam"))
+    };
+    assert!(warns(paper));
+    assert!(!warns(&paper.replace("position = 1.15", "position = 1.149")));
+    let clamped = paper.replace("\"clamped-free\"", "\"clamped-clamped\"");
+    assert!(!warns(&clamped));
+    let free = paper.replace("\"clamped-free\"", "\"free-free\"");
+    assert!(warns(&free.replace("position = 1.15", "position = 0.0001")));
+}
+
+#[test]
 fn beam_theory_belongs_to_the_modal_method() {
     let fe = thick(0.09, 0.015, 0.011, 1.0, "method = \"fe\"\nbeam_theory = \"timoshenko\"");
     let message = Plan::new(&fe).unwrap_err().to_string();

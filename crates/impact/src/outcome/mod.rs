@@ -334,10 +334,6 @@ impl Report {
     }
 }
 
-/// Hertz's theory (and Thornton's on it) holds for a contact radius small against the ball's
-/// radius, a = sqrt(R delta) < 0.3 R (delta < 0.09 R), and an approach small against what it
-/// presses into (a tenth of the beam's thickness); a print is a contact radius too. Past either
-/// the numbers are extrapolations: say so, with the first contact that goes past.
 /// Whether the largest displacement is not yet one: found at the last instant observed, still
 /// growing, or in the window's last tenth while the first swing (the first contact's start
 /// plus the first mode's quarter period) has not ended with the window. The ripple of later
@@ -393,6 +389,10 @@ fn contact_stresses(plan: &Plan, c: &mut Contact) {
     (c.body_max_shear, c.body_max_shear_depth) = (body.0 * p0, body.1 * a);
 }
 
+/// Hertz's theory (and Thornton's on it) holds for a contact radius small against the ball's
+/// radius, a = sqrt(R delta) < 0.3 R (delta < 0.09 R), and an approach small against what it
+/// presses into (a tenth of the beam's thickness); a print is a contact radius too. Past either
+/// the numbers are extrapolations: say so, with the first contact that goes past.
 fn small_strain_warnings(plan: &Plan, contacts: &[Contact], warnings: &mut Vec<String>) {
     let radius = plan.ball_radius;
     if let Some((i, c)) = contacts
