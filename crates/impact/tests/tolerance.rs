@@ -160,6 +160,14 @@ fn a_default_modal_run_warns_that_later_contacts_are_unchecked() {
     free.solver.residual_flexibility = Some(true);
     let message = Plan::new(&free).unwrap_err().to_string();
     assert!(message.contains("residual_flexibility") && message.contains("free-free"), "{message}");
+    // Not asked for, a tolerance on a free-free beam goes without it and says so.
+    free.solver.residual_flexibility = None;
+    let plan = Plan::new(&free).unwrap();
+    assert!(
+        plan.summary().reasons.iter().any(|r| r.starts_with("no residual flexibility")),
+        "{:?}",
+        plan.summary().reasons
+    );
     let mut fe = scene(&[], 0.01);
     fe.solver.method = MethodName::Fe;
     fe.solver.residual_flexibility = Some(true);

@@ -67,13 +67,19 @@ pub(super) fn plan(
     // paper's tip (1 ms) it cuts the first contact's error 160 times at 128 modes (2.6e-5
     // against 4.2e-3) and the contact sequence's 60 times (3.6e-4 against 2.2e-2), so the
     // tolerance is met with a quarter of the modes (validation/REFERENCES.md 1.4).
-    let residual_flexibility = s.residual_flexibility.unwrap_or(s.tolerance.is_some());
+    // A free-free beam has no static flexibility to take it from: refused where asked,
+    // left out (with the reason) where the tolerance would have chosen it.
+    let supported = beam.static_flexibility(position).is_some();
+    let residual_flexibility = s.residual_flexibility.unwrap_or(s.tolerance.is_some() && supported);
+    if s.residual_flexibility.is_none() && s.tolerance.is_some() && !supported {
+        reasons.push("no residual flexibility with the tolerance: a free-free beam has no static flexibility to take it from, so the modes alone converge (more of them)".into());
+    }
     let plain_stress_series = s.plain_stress_series.unwrap_or(false);
     if plain_stress_series {
         reasons.push("bending stress by the plain modal series, as asked (no quasi-static share of the truncated modes: it converges as 1/N near the ball)".into());
     }
     if residual_flexibility {
-        if beam.static_flexibility(position).is_none() {
+        if !supported {
             return Err(ImpactError::Inconsistent(
                 "solver.residual_flexibility needs a supported beam: a free-free beam has no static flexibility".into(),
             ));
