@@ -775,7 +775,7 @@ fn work_precision(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
              compliance in series with the contact), and with looser energy tolerances of its contact step, and by the finite-element \
              method on a ladder of uniform meshes (and other contact steps and HHT alphas): report wall time against the relative error of the first contact's duration and peak force, \
              of the contact sequence (worst start, duration or peak over the contacts with a peak of at least {} of the first's) and of the largest displacement, each from its own \
-             method's converged run: {}. The two converged runs differ by {}: the models' own difference ({}). {}\
+             method's converged run: {}. The two references differ by {}: the models' own difference ({}) where both are converged, more where one is not (validation/REFERENCES.md 1.6 gives the full study's). {}\
              Cheapest setting with every error within 1e-2: modal {}, fe {}; within 1e-3: modal {}, fe {}. The modal series converges at about third order in the modes \
              (each doubling cuts the error about eight times), far faster with the residual flexibility (128 modes then beat 512 without it), the fe mesh at second order (four times). Data: work_precision.csv (one row a run).",
             impact::SIGNIFICANT_PEAK,
