@@ -142,7 +142,7 @@ pub fn settings(scene: &Scene, l: &Ladders) -> Result<Vec<Setting>, ImpactError>
         };
         out.push(Setting { method, series, label, ladder, role, scene });
     };
-    // The modal reference with the residual flexibility: the same Euler-Bernoulli model,
+    // The modal reference with the residual flexibility: the same beam model as the ladder,
     // converged far faster (validation/REFERENCES.md 1.4).
     for (n, role) in [(l.modal_reference, Role::Reference), (l.modal_reference / 2, Role::Check)] {
         let tag = if role == Role::Reference { "reference" } else { "check" };
