@@ -299,9 +299,12 @@ fn paper_tip_256_elements_matches_the_peer_contact_for_contact() {
 #[test]
 fn a_tolerance_chooses_the_mesh_for_every_contact() {
     // validation/reference/fe_tip_converged.csv: the FE method's own converged contacts 2 and
-    // 3 (Richardson from 1024 and 2048 elements). With tolerance = 0.01 the refinement stops
-    // at 512 elements (measured: estimated 8.2e-3; contacts 2 and 3 start 0.72 % and 0.75 %
-    // late, durations within 0.15 %), and the estimate is not optimistic.
+    // 3 (Richardson from 1024 and 2048 elements). With tolerance = 0.01 the mesh refinement
+    // stops at 512 elements (estimated 8.2e-3), and the steps' at a quarter of the contact
+    // step (uniform; the plan's adaptive steps and half the contact step differ by 5.1e-3 on
+    // the third contact's duration, half and a quarter by 8.7e-4: the steps get the 1.8e-3
+    // the mesh leaves). Measured: estimated 9.05e-3; contacts 2 and 3 start 0.68 % and 0.70 %
+    // late, durations within 0.15 %; the estimate is not optimistic.
     let mut scene = paper_tip_fe_without_gravity(8e-4);
     scene.solver.tolerance = Some(0.01);
     let out = simulate(&scene).unwrap();
@@ -322,6 +325,11 @@ fn a_tolerance_chooses_the_mesh_for_every_contact() {
         "{:?}",
         r.plan.reasons
     );
+    let steps = r.plan.reasons.iter().find(|x| x.contains("step divisions tried: 1")).unwrap();
+    assert!(steps.contains(", 4 ("), "{steps}");
+    let planned = Plan::new(&scene).unwrap().summary().time_step;
+    assert!((r.plan.time_step - planned / 4.0).abs() < 1e-9 * planned, "{}", r.plan.time_step);
+    assert!(r.plan.reasons.iter().any(|x| x.contains("(the mesh limiting)")));
     // The tolerance chooses the mesh itself; with the modal method it chooses the modes.
     let mut both = scene.clone();
     both.solver.elements = Some(100);

@@ -174,7 +174,7 @@ fn mesh(
             ));
         }
         let tolerance = super::checked_tolerance(tolerance)?;
-        reasons.push(format!("uniform meshes from {FE_LADDER_START} elements, doubled until two successive ones agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (second-order Richardson estimate of the finer mesh's error)"));
+        reasons.push(format!("uniform meshes from {FE_LADDER_START} elements, doubled until two successive ones agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (second-order Richardson estimate of the finer mesh's error); then, on that mesh, uniform steps of the contact step divided by 2, 4, ... until two runs agree again (the steps' error is their whole difference), the estimated error being the mesh's plus the steps'"));
         return Ok(uniform(length, FE_LADDER_START));
     }
     match s.elements {

@@ -165,6 +165,14 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         -((1.0 - xi) * z[i] + xi * z[i + 1])
     }
 
+    /// Its velocity (m/s), along -z.
+    fn beam_velocity(&self) -> f64 {
+        let (i, xi) = self.impact_element;
+        let beam = self.model.beam();
+        let v = |node: usize| beam.dof(node, 1).map_or(0.0, |d| self.state.v[d]);
+        -((1.0 - xi) * v(i) + xi * v(i + 1))
+    }
+
     fn ball_position(&self) -> f64 {
         self.ball_start.y - self.state.q.ball.y
     }
@@ -229,11 +237,17 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         } else {
             0.0
         };
+        let before = (self.state.t, self.beam_displacement(), self.beam_velocity());
         self.state = s;
         self.steps += 1;
-        let w = self.beam_displacement();
-        if w > self.max_displacement.0 {
-            self.max_displacement = (w, self.state.t);
+        let after = (self.state.t, self.beam_displacement(), self.beam_velocity());
+        // The largest displacement between the steps too: a free-flight step is up to eight
+        // contact steps long, and the step's ends alone miss a swing's peak by up to
+        // (omega h)^2 / 8 of it, wherever the step grid happens to fall.
+        for (w, t) in [(after.1, after.0)].into_iter().chain(hermite_peak(before, after)) {
+            if w > self.max_displacement.0 {
+                self.max_displacement = (w, t);
+            }
         }
         self.recorders.observe(Instant {
             t: self.state.t,
@@ -485,6 +499,37 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     }
 }
 
+/// The interior maximum (value, time) of the cubic Hermite interpolant through `(t0, w0, v0)`
+/// and `(t1, w1, v1)` (time, value, rate), where the rate falls through zero from positive to
+/// negative within the interval; `None` otherwise.
+fn hermite_peak(
+    (t0, w0, v0): (f64, f64, f64),
+    (t1, w1, v1): (f64, f64, f64),
+) -> Option<(f64, f64)> {
+    let h = t1 - t0;
+    if !(h > 0.0 && v0 > 0.0 && v1 < 0.0) {
+        return None;
+    }
+    // w(s) = w0 + v0 h s + c s^2 + d s^3 on s in [0, 1], dw/ds = v0 h + 2c s + 3d s^2.
+    let dw = w1 - w0;
+    let c = 3.0 * dw - h * (2.0 * v0 + v1);
+    let d = -2.0 * dw + h * (v0 + v1);
+    // dw/ds is v0 h > 0 at s = 0 and v1 h < 0 at s = 1: its root between, by bisection
+    // (robust for d ~ 0, where the quadratic formula cancels).
+    let rate = |s: f64| v0 * h + 2.0 * c * s + 3.0 * d * s * s;
+    let (mut a, mut b) = (0.0, 1.0);
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        if rate(m) > 0.0 {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    let s = 0.5 * (a + b);
+    Some((w0 + v0 * h * s + c * s * s + d * s * s * s, t0 + s * h))
+}
+
 /// The largest `h_min 2^k` not above `h` (at least `h_min`): steps from a short ladder, so a
 /// Newton matrix factorised for one step size serves the next steps of the same size.
 fn quantised(h: f64, h_min: f64) -> f64 {
@@ -496,4 +541,27 @@ fn quantised(h: f64, h_min: f64) -> f64 {
 
 fn fail(t: f64, source: hht::HhtError) -> ImpactError {
     ImpactError::Integrator { t, source }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hermite_peak;
+
+    #[test]
+    fn the_hermite_peak_is_the_cubic_s_maximum() {
+        // w(t) = sin(t) sampled at 1.2 and 1.9 (the peak pi/2 between): the cubic through the
+        // values and slopes peaks within h^4/384 = 6e-4 of 1 (6.2e-4 measured), where the
+        // ends miss it by 5.4 %.
+        let f = |t: f64| (t, t.sin(), t.cos());
+        let (w, t) = hermite_peak(f(1.2), f(1.9)).unwrap_or((0.0, 0.0));
+        assert!((w - 1.0).abs() < 7e-4, "{w}");
+        assert!((t - std::f64::consts::FRAC_PI_2).abs() < 2e-2, "{t}");
+        // No interior peak where the rate does not turn from rising to falling.
+        assert!(hermite_peak(f(0.2), f(0.9)).is_none());
+        assert!(hermite_peak(f(1.7), f(2.4)).is_none());
+        // A cubic is its own interpolant: w = t (1 - t)^2 peaks at t = 1/3, w = 4/27.
+        let g = |t: f64| (t, t * (1.0 - t) * (1.0 - t), (1.0 - t) * (1.0 - 3.0 * t));
+        let (w, t) = hermite_peak(g(0.0), g(0.8)).unwrap_or((0.0, 0.0));
+        assert!((w - 4.0 / 27.0).abs() < 1e-12 && (t - 1.0 / 3.0).abs() < 1e-9, "{w} {t}");
+    }
 }

@@ -92,7 +92,7 @@ fn warn_unchecked(plan: &Plan, mut out: Outcome) -> Outcome {
         .filter(|c| c.peak_force >= crate::outcome::SIGNIFICANT_PEAK * first_peak)
         .count();
     let resolution = match report.plan.method {
-        crate::MethodKind::Fe => format!("{} elements", report.plan.elements),
+        crate::MethodKind::Fe => format!("{} elements at the plan's steps", report.plan.elements),
         _ => format!("{} modes", report.plan.modes),
     };
     if later > 0 && report.estimated_error.is_none() {
