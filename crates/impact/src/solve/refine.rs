@@ -34,7 +34,9 @@ use crate::outcome::{Outcome, Report};
 use crate::plan::{uniform, FePlan, Method, ModalPlan, Plan, FE_LADDER_END, MODAL_LADDER_END};
 
 /// Runs `target` on doubling uniform meshes until the estimated relative error of the finer
-/// is within `tolerance` (or the mesh reaches [`FE_LADDER_END`] elements, with a warning).
+/// is within `tolerance` (or the mesh reaches [`FE_LADDER_END`] elements, with a warning),
+/// then on that mesh with steps divided by 2, 4, ... (at most [`TIME_LADDER_END`]) until the
+/// steps' estimated error is within what the mesh's leaves of it.
 pub(super) fn run_fe(
     plan: &Plan,
     target: &FePlan,
