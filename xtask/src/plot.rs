@@ -1,6 +1,8 @@
 //! Line charts (SVG, plotters) and CSV files of series.
 
 use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use std::io::Write;
 use std::path::Path;
@@ -20,17 +22,45 @@ pub(crate) struct Chart<'a> {
     pub markers: bool,
 }
 
-const COLOURS: [RGBColor; 9] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(23, 190, 207),
+/// Okabe & Ito's palette (2008), told apart with the common colour-vision deficiencies; the
+/// ninth series on is dashed, so sixteen stay distinct.
+const COLOURS: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),
+    RGBColor(230, 159, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(213, 94, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(204, 121, 167),
+    RGBColor(0, 0, 0),
+    RGBColor(240, 228, 66),
 ];
+
+/// The colour and whether the line of series `i` is dashed.
+fn style(i: usize) -> (RGBColor, bool) {
+    (COLOURS[i % COLOURS.len()], (i / COLOURS.len()) % 2 == 1)
+}
+
+/// Tick labels of a linear axis over `lo..hi` with the fewest digits that tell its ticks
+/// apart (plotters puts about ten, at 1, 2 or 5 times a power of ten): "1400", "0.05",
+/// "2.5e-6"; never "-0".
+fn tick_label(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
+    let step = ((hi - lo).abs() / 10.0).max(f64::MIN_POSITIVE);
+    let magnitude = lo.abs().max(hi.abs()).max(f64::MIN_POSITIVE);
+    let step_exponent = step.log10().floor();
+    move |v: &f64| {
+        if v.abs() < 1e-6 * step {
+            return "0".into();
+        }
+        let text = if !(1e-3..1e5).contains(&magnitude) {
+            let digits = (magnitude.log10().floor() - step_exponent).clamp(0.0, 5.0) as usize;
+            format!("{v:.digits$e}")
+        } else {
+            let decimals = (-step_exponent).clamp(0.0, 6.0) as usize;
+            format!("{v:.decimals$}")
+        };
+        text
+    }
+}
 
 fn bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     let lo = values.clone().fold(f64::INFINITY, f64::min);
@@ -42,32 +72,16 @@ fn bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
 impl Chart<'_> {
     /// Writes `stem.svg` and `stem.csv` (long format: series, x, y) into `dir`.
     pub(crate) fn write(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
-        self.write_scaled(dir, stem, false, SeriesLabelPosition::MiddleRight)
-    }
-
-    /// [`Chart::write`] with the legend at `legend`, where the curves leave room.
-    pub(crate) fn write_legend_at(
-        &self,
-        dir: &Path,
-        stem: &str,
-        legend: SeriesLabelPosition,
-    ) -> anyhow::Result<()> {
-        self.write_scaled(dir, stem, false, legend)
+        self.write_scaled(dir, stem, false)
     }
 
     /// [`Chart::write`] on logarithmic axes (every value must be positive): a work-precision
     /// diagram.
     pub(crate) fn write_log_log(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
-        self.write_scaled(dir, stem, true, SeriesLabelPosition::MiddleRight)
+        self.write_scaled(dir, stem, true)
     }
 
-    fn write_scaled(
-        &self,
-        dir: &Path,
-        stem: &str,
-        log: bool,
-        legend: SeriesLabelPosition,
-    ) -> anyhow::Result<()> {
+    fn write_scaled(&self, dir: &Path, stem: &str, log: bool) -> anyhow::Result<()> {
         let svg = dir.join(format!("{stem}.svg"));
         // The backend writes the file itself: the check that it is no input comes first.
         crate::files::refuse_input(&svg)?;
@@ -86,9 +100,15 @@ impl Chart<'_> {
         let (lx0, lx1) = log_bounds(all.clone().map(|p| p.0));
         let (ly0, ly1) = log_bounds(all.map(|p| p.1));
         {
-            let root = SVGBackend::new(&svg, (900, 560)).into_drawing_area();
+            // The legend has a column of its own right of the axes, as wide as its longest
+            // label: no curve passes under it.
+            let longest = self.series.iter().map(|s| s.label.chars().count()).max().unwrap_or(0);
+            let legend_width = (LEGEND_SAMPLE + 7 * longest as u32 + 24).clamp(140, 420);
+            let root =
+                SVGBackend::new(&svg, (PLOT_WIDTH + legend_width, HEIGHT)).into_drawing_area();
             root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-            let mut builder = ChartBuilder::on(&root);
+            let (plot, legend) = root.split_horizontally(PLOT_WIDTH);
+            let mut builder = ChartBuilder::on(&plot);
             builder
                 .caption(self.title, ("sans-serif", 22))
                 .margin(18)
@@ -98,13 +118,17 @@ impl Chart<'_> {
                 let mut chart = builder
                     .build_cartesian_2d((lx0..lx1).log_scale(), (ly0..ly1).log_scale())
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                self.draw(&mut chart, legend.clone(), true)?;
+                // A logarithmic axis's ticks are powers of ten (and their multiples) computed
+                // in floating point: printed as they come they read "9.999999999e-5".
+                let decade = |v: &f64| format!("{v:.0e}");
+                self.draw(&mut chart, &decade, &decade)?;
             } else {
                 let mut chart = builder
                     .build_cartesian_2d(x0..x1, y0..y1)
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                self.draw(&mut chart, legend.clone(), false)?;
+                self.draw(&mut chart, &tick_label(x0, x1), &tick_label(y0, y1))?;
             }
+            self.draw_legend(&legend)?;
             root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
         }
         let csv = dir.join(format!("{stem}.csv"));
@@ -127,56 +151,81 @@ impl Chart<'_> {
 }
 
 impl Chart<'_> {
-    /// The axes, the curves (and markers) and the legend.
+    /// The axes with tick labels by `x_tick` and `y_tick`, and the curves (and markers).
     fn draw<'a, X, Y>(
         &self,
         chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
-        legend: SeriesLabelPosition,
-        log: bool,
+        x_tick: &dyn Fn(&f64) -> String,
+        y_tick: &dyn Fn(&f64) -> String,
     ) -> anyhow::Result<()>
     where
         X: Ranged<ValueType = f64> + ValueFormatter<f64>,
         Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
     {
-        // A logarithmic axis's ticks are powers of ten (and their multiples) computed in
-        // floating point: printed as they come they read "9.999999999e-5".
-        let decade = |v: &f64| format!("{v:.0e}");
-        let mut mesh = chart.configure_mesh();
-        if log {
-            mesh.x_label_formatter(&decade).y_label_formatter(&decade);
-        }
-        mesh.x_desc(self.x_label)
+        chart
+            .configure_mesh()
+            .x_label_formatter(x_tick)
+            .y_label_formatter(y_tick)
+            .x_desc(self.x_label)
             .y_desc(self.y_label)
             .label_style(("sans-serif", 15))
             .axis_desc_style(("sans-serif", 17))
             .draw()
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         for (i, s) in self.series.iter().enumerate() {
-            let colour = COLOURS[i % COLOURS.len()];
-            chart
-                .draw_series(LineSeries::new(s.points.iter().copied(), colour.stroke_width(2)))
-                .map_err(|e| anyhow::anyhow!("{e}"))?
-                .label(s.label.clone())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
+            let (colour, dashed) = style(i);
+            let line = colour.stroke_width(2);
+            let points = s.points.iter().copied();
+            if dashed {
+                chart.draw_series(DashedLineSeries::new(points, 8, 5, line))
+            } else {
+                chart.draw_series(LineSeries::new(points, line))
+            }
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
             if self.markers {
                 chart
                     .draw_series(s.points.iter().map(|p| Circle::new(*p, 4, colour.filled())))
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
             }
         }
-        chart
-            .configure_series_labels()
-            .position(legend)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .draw()
+        Ok(())
+    }
+
+    /// The legend in its own column: each series' line (and marker) and its label.
+    fn draw_legend(&self, area: &DrawingArea<SVGBackend<'_>, Shift>) -> anyhow::Result<()> {
+        let font = ("sans-serif", 15).into_font().color(&BLACK);
+        for (i, s) in self.series.iter().enumerate() {
+            let (colour, dashed) = style(i);
+            let y = LEGEND_TOP + LEGEND_ROW * i as i32;
+            let line = colour.stroke_width(2);
+            let sample = LEGEND_SAMPLE as i32;
+            let ends = [(4, y), (4 + sample, y)];
+            if dashed {
+                area.draw(&DashedPathElement::new(ends, 8, 5, line))
+            } else {
+                area.draw(&PathElement::new(ends.to_vec(), line))
+            }
             .map_err(|e| anyhow::anyhow!("{e}"))?;
+            if self.markers {
+                area.draw(&Circle::new((4 + sample / 2, y), 4, colour.filled()))
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+            }
+            area.draw(&Text::new(s.label.clone(), (sample + 12, y - 8), font.clone()))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
         Ok(())
     }
 }
+
+/// The axes' part of a figure (px); the legend's column comes on its right.
+const PLOT_WIDTH: u32 = 820;
+/// A figure's height (px).
+const HEIGHT: u32 = 560;
+/// The legend: the first row's centre below the top, the rows' pitch, a line sample's length
+/// (px).
+const LEGEND_TOP: i32 = 70;
+const LEGEND_ROW: i32 = 22;
+const LEGEND_SAMPLE: u32 = 34;
 
 /// Bounds of positive values with a margin of a factor 1.3 either side (1 to 10 when there are
 /// none).
@@ -187,5 +236,33 @@ fn log_bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
         (lo / 1.3, hi * 1.3)
     } else {
         (1.0, 10.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{style, tick_label};
+
+    #[test]
+    fn tick_labels_have_the_digits_that_tell_ticks_apart() {
+        let f = tick_label(0.0, 1500.0);
+        assert_eq!((f(&1400.0), f(&0.0), f(&-1e-13)), ("1400".into(), "0".into(), "0".into()));
+        let f = tick_label(-0.02, 0.1);
+        assert_eq!(
+            (f(&0.05), f(&0.09999999999999998), f(&-0.0)),
+            ("0.05".into(), "0.10".into(), "0".into())
+        );
+        let f = tick_label(0.0, 5e-6);
+        assert_eq!(f(&2.5e-6), "2.5e-6");
+        let f = tick_label(3.0e5, 3.6e5);
+        assert_eq!(f(&3.45e5), "3.45e5");
+    }
+
+    #[test]
+    fn sixteen_series_have_sixteen_styles() {
+        let styles: Vec<_> = (0..16).map(style).collect();
+        for (i, a) in styles.iter().enumerate() {
+            assert_eq!(styles.iter().filter(|b| *b == a).count(), 1, "series {i}");
+        }
     }
 }

@@ -26,7 +26,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
         series: vec![Series { label: "contact force".into(), points: ms(&h.force, 1.0) }],
         markers: false,
     }
-    .write_legend_at(dir, "contact_force", SeriesLabelPosition::UpperRight)?;
+    .write(dir, "contact_force")?;
     Chart {
         title: &title("displacement at the impact point"),
         x_label: "time (ms)",
@@ -37,7 +37,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
         }],
         markers: false,
     }
-    .write_legend_at(dir, "displacement", SeriesLabelPosition::LowerRight)?;
+    .write(dir, "displacement")?;
     let energy = [
         ("ball (kinetic + gravity)", &h.ball_energy),
         ("beam (kinetic + strain)", &h.beam_energy),
@@ -54,7 +54,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
             .collect(),
         markers: false,
     }
-    .write_legend_at(dir, "energy", SeriesLabelPosition::MiddleRight)?;
+    .write(dir, "energy")?;
     stress_figures(dir, outcome, "")
 }
 
@@ -92,11 +92,7 @@ pub(crate) fn stress_figures(dir: &Path, outcome: &Outcome, prefix: &str) -> any
             series,
             markers: false,
         }
-        .write_legend_at(
-            dir,
-            &format!("{prefix}stress_history"),
-            SeriesLabelPosition::UpperRight,
-        )?;
+        .write(dir, &format!("{prefix}stress_history"))?;
         let caption = title(&format!(
             "stress on the struck face; x: largest |stress| {:.2} MPa at {:.4} m, {:.4} ms",
             stress.max * 1e-6,
