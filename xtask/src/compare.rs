@@ -88,7 +88,7 @@ pub(crate) fn run(
         table,
         "{:<34} {:>12} {:>10} {:>11} {:>10} {:>8} {:>13} {:>10} {:>16} {:>10} {:>9}",
         "run",
-        "t_c (us)",
+        "t_c (µs)",
         "diff",
         "peak F (N)",
         "diff",
@@ -159,7 +159,7 @@ pub(crate) fn run(
     let window = if d0 > 0.0 { 1.5 * d0 } else { end };
     Chart {
         title: "Contact force, first contact",
-        x_label: "time (us)",
+        x_label: "time (µs)",
         y_label: "contact force (N)",
         series: history(|h| &h.force, 1e6, 1.0, window),
         markers: false,

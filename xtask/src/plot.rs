@@ -72,16 +72,22 @@ fn bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
 impl Chart<'_> {
     /// Writes `stem.svg` and `stem.csv` (long format: series, x, y) into `dir`.
     pub(crate) fn write(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
-        self.write_scaled(dir, stem, false)
+        self.write_scaled(dir, stem, false, false)
     }
 
     /// [`Chart::write`] on logarithmic axes (every value must be positive): a work-precision
     /// diagram.
     pub(crate) fn write_log_log(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
-        self.write_scaled(dir, stem, true)
+        self.write_scaled(dir, stem, true, true)
     }
 
-    fn write_scaled(&self, dir: &Path, stem: &str, log: bool) -> anyhow::Result<()> {
+    /// [`Chart::write`] with a logarithmic x axis (every x must be positive): a history whose
+    /// events crowd its start, as an energy ledger's.
+    pub(crate) fn write_log_x(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {
+        self.write_scaled(dir, stem, true, false)
+    }
+
+    fn write_scaled(&self, dir: &Path, stem: &str, log_x: bool, log: bool) -> anyhow::Result<()> {
         let svg = dir.join(format!("{stem}.svg"));
         // The backend writes the file itself: the check that it is no input comes first.
         crate::files::refuse_input(&svg)?;
@@ -91,7 +97,7 @@ impl Chart<'_> {
             "figure {stem}: a value is not finite"
         );
         anyhow::ensure!(
-            !log || all.clone().all(|(x, y)| *x > 0.0 && *y > 0.0),
+            !log_x || all.clone().all(|(x, y)| *x > 0.0 && (!log || *y > 0.0)),
             "figure {stem}: a value is not positive on a logarithmic axis"
         );
         let (x0, x1) = bounds(all.clone().map(|p| p.0));
@@ -122,6 +128,11 @@ impl Chart<'_> {
                 // in floating point: printed as they come they read "9.999999999e-5".
                 let decade = |v: &f64| format!("{v:.0e}");
                 self.draw(&mut chart, &decade, &decade)?;
+            } else if log_x {
+                let mut chart = builder
+                    .build_cartesian_2d((lx0..lx1).log_scale(), y0..y1)
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+                self.draw(&mut chart, &|v: &f64| format!("{v:.0e}"), &tick_label(y0, y1))?;
             } else {
                 let mut chart = builder
                     .build_cartesian_2d(x0..x1, y0..y1)
@@ -134,7 +145,9 @@ impl Chart<'_> {
         let csv = dir.join(format!("{stem}.csv"));
         let mut f = crate::files::create(&csv)?;
         let col = |label: &str| {
+            // Column names stay ASCII: "time (µs)" is "time_us".
             label
+                .replace('µ', "u")
                 .replace([' ', '(', ')', '/'], "_")
                 .replace("__", "_")
                 .trim_matches('_')

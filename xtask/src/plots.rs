@@ -1,13 +1,16 @@
 //! `simulate --plots DIR`: the figures a person wants after one run.
 //!
-//! contact_force, displacement (at the impact point), energy (the ledger's terms),
+//! contact_force (and contact_force_first, the first pulse in µs), displacement (at the
+//! impact point), energy (the ledger's terms, on a logarithmic time axis),
 //! stress_history (the bending stress at the worst point and at each support) and
 //! stress_map (position along the beam against time, colour = stress on the struck face,
-//! the maximum marked), each as SVG with its data as CSV.
+//! the maximum marked), each as SVG with its data as CSV, and index.html: the report's
+//! numbers and warnings above the figures.
 
 use crate::plot::{Chart, Series};
 use impact::Outcome;
 use plotters::prelude::*;
+use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 
@@ -27,6 +30,27 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
         markers: false,
     }
     .write(dir, "contact_force")?;
+    // The first pulse on its own time scale: in a window of milliseconds it is a spike.
+    if let Some(first) = outcome.report.contacts.first() {
+        let end = first.start + 1.2 * first.duration.max(f64::MIN_POSITIVE);
+        let points: Vec<(f64, f64)> = h
+            .time
+            .iter()
+            .zip(&h.force)
+            .filter(|(t, _)| **t >= first.start - 0.1 * first.duration && **t <= end)
+            .map(|(t, f)| (t * 1e6, *f))
+            .collect();
+        if points.len() > 1 {
+            Chart {
+                title: &title("the first contact"),
+                x_label: "time (µs)",
+                y_label: "contact force (N)",
+                series: vec![Series { label: "contact force".into(), points }],
+                markers: false,
+            }
+            .write(dir, "contact_force_first")?;
+        }
+    }
     Chart {
         title: &title("displacement at the impact point"),
         x_label: "time (ms)",
@@ -48,14 +72,83 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
         title: &title("energy ledger"),
         x_label: "time (ms)",
         y_label: "energy (mJ)",
+        // On a logarithmic time axis: the exchange happens in the first contact's tens of
+        // microseconds of a window of milliseconds (t = 0 has no place on it).
         series: energy
             .iter()
-            .map(|(label, v)| Series { label: (*label).into(), points: ms(v, 1e3) })
+            .map(|(label, v)| {
+                let points = ms(v, 1e3).into_iter().filter(|p| p.0 > 0.0).collect();
+                Series { label: (*label).into(), points }
+            })
             .collect(),
         markers: false,
     }
-    .write(dir, "energy")?;
-    stress_figures(dir, outcome, "")
+    .write_log_x(dir, "energy")?;
+    stress_figures(dir, outcome, "")?;
+    index(dir, outcome)
+}
+
+/// The figures that `one_run` wrote, with their captions.
+const FIGURES: [(&str, &str); 6] = [
+    ("contact_force", "Contact force over the window."),
+    ("contact_force_first", "The first contact on its own time scale."),
+    ("displacement", "Displacement of the beam at the impact point (towards the beam positive)."),
+    ("energy", "The energy ledger on a logarithmic time axis: the exchange happens within the first contact."),
+    ("stress_history", "Bending stress on the struck face at the worst point and at each support."),
+    ("stress_map", "Bending stress on the struck face along the beam (vertical) against time; the largest marked."),
+];
+
+/// index.html: the report's numbers and warnings, then the figures, on one page.
+fn index(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
+    let r = &outcome.report;
+    let escape = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let mut html = format!(
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>{0}</title><style>body{{font-family:sans-serif;max-width:960px;margin:2em auto;padding:0 1em;line-height:1.45}}img{{width:100%;border:1px solid #ccc}}table{{border-collapse:collapse}}td,th{{padding:2px 8px;text-align:right;border-bottom:1px solid #ddd}}li{{margin:.3em 0}}</style></head><body><h1>{0}</h1>",
+        escape(&r.name)
+    );
+    let _ = write!(
+        html,
+        "<p>Method {:?}; impact speed {:.4} m/s; {} contact(s); largest displacement at the impact point {:.4} mm at {:.4} ms; equivalent static force {}; estimated error {}.</p>",
+        r.plan.method,
+        r.impact_speed,
+        r.contact_count,
+        r.max_displacement * 1e3,
+        r.max_displacement_time * 1e3,
+        r.equivalent_static_force.map_or("none".into(), |f| format!("{f:.2} N")),
+        r.estimated_error.map_or("not estimated (no solver.tolerance)".into(), |e| format!("{e:.1e}")),
+    );
+    html.push_str("<table><tr><th>#</th><th>start (µs)</th><th>duration (µs)</th><th>peak force (N)</th><th>peak pressure (MPa)</th><th>print radius (mm)</th></tr>");
+    for (i, c) in r.contacts.iter().enumerate() {
+        let _ = write!(
+            html,
+            "<tr><td>{}</td><td>{:.2}</td><td>{:.2}{}</td><td>{:.2}</td><td>{:.0}</td><td>{:.4}</td></tr>",
+            i + 1,
+            c.start * 1e6,
+            c.duration * 1e6,
+            if c.complete { "" } else { " (cut by the window)" },
+            c.peak_force,
+            c.max_pressure * 1e-6,
+            c.print_radius * 1e3
+        );
+    }
+    html.push_str("</table>");
+    if !r.warnings.is_empty() {
+        html.push_str("<h2>Warnings</h2><ul>");
+        for w in &r.warnings {
+            let _ = write!(html, "<li>{}</li>", escape(w));
+        }
+        html.push_str("</ul>");
+    }
+    for (stem, caption) in FIGURES {
+        if dir.join(format!("{stem}.svg")).exists() {
+            let _ = write!(
+                html,
+                "<figure><img src=\"{stem}.svg\" alt=\"{stem}\"><figcaption>{caption} Data: {stem}.csv.</figcaption></figure>"
+            );
+        }
+    }
+    html.push_str("<p>Every number and the reasons for each choice are in the report (simulate --json).</p></body></html>\n");
+    crate::files::write_atomic(&dir.join("index.html"), html.as_bytes())
 }
 
 /// `{prefix}stress_history` (the stress at the worst point and at each support against time)
