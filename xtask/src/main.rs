@@ -4,6 +4,7 @@
 mod accuracy;
 mod beam;
 mod compare;
+mod figures;
 mod files;
 mod plot;
 mod plots;
@@ -130,6 +131,12 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Check every SVG figure under a folder for what a reader would trip on (tick labels of
+    /// more than six significant digits, "us" for microseconds); non-zero exit on a problem.
+    CheckFigures {
+        /// The folder (searched recursively).
+        dir: PathBuf,
+    },
     /// Run every case under validation/ against its reference; non-zero exit on a failure.
     Validate {
         /// Print the results as a JSON list.
@@ -178,6 +185,7 @@ fn main() -> std::process::ExitCode {
                 )),
             }
         }
+        Command::CheckFigures { dir } => figures::run(&dir),
         Command::Validate { json } => validate::run(json),
     };
     match result {

@@ -279,45 +279,86 @@ fn finish(
     Ok(figure)
 }
 
-/// `sweep.svg`: the main results, each over its largest, against the first swept key.
+/// The quantities drawn, each in a figure of its own: (column, axis label with its unit, scale
+/// from the column's SI unit to the axis's).
+const DRAWN: [(&str, &str, f64); 4] = [
+    ("first_peak_force_n", "first contact's peak force (N)", 1.0),
+    ("first_duration_s", "first contact's duration (µs)", 1e6),
+    ("max_displacement_m", "largest displacement at the impact point (mm)", 1e3),
+    ("restitution", "coefficient of restitution (-)", 1.0),
+];
+
+/// `sweep_<column>.svg` for each quantity of [`DRAWN`] the rows have, against the first swept
+/// key, one curve per value of the second (a sweep over two keys drawn against one would zig-zag
+/// between them), and `sweep.svg`, the first of them. At most 16 values of the second key
+/// get a curve (the figure's distinct styles); the table has every row.
 fn chart(
     dir: &Path,
     header: &[String],
     rows: &BTreeMap<usize, Vec<String>>,
 ) -> anyhow::Result<bool> {
     let column = |name: &str| header.iter().position(|k| k == name);
-    let x_index = 1;
-    let series = ["first_peak_force_n", "first_duration_s", "max_displacement_m", "restitution"]
-        .iter()
-        .filter_map(|name| {
-            let c = column(name)?;
-            let points: Vec<(f64, f64)> = rows
-                .values()
-                .filter_map(|r| Some((r.get(x_index)?.parse().ok()?, r.get(c)?.parse().ok()?)))
-                .filter(|(x, y): &(f64, f64)| x.is_finite() && y.is_finite())
-                .collect();
-            let largest = points.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
-            (largest > 0.0).then(|| Series {
-                label: format!("{name} / {largest:.4e}"),
-                points: points.iter().map(|(x, y)| (*x, y / largest)).collect(),
+    let keys = header.len().saturating_sub(2 + impact::study::COLUMNS.len());
+    let (x_index, group_index) = (1, (keys >= 2).then_some(2));
+    let number = |r: &Vec<String>, c: usize| r.get(c).and_then(|v| v.parse::<f64>().ok());
+    let mut groups: Vec<String> = Vec::new();
+    for r in rows.values() {
+        let g = group_index.and_then(|c| r.get(c)).cloned().unwrap_or_default();
+        if !groups.contains(&g) {
+            groups.push(g);
+        }
+    }
+    groups.truncate(16);
+    let mut first = None;
+    for (name, y_label, scale) in DRAWN {
+        let Some(c) = column(name) else { continue };
+        let series: Vec<Series> = groups
+            .iter()
+            .filter_map(|g| {
+                let points: Vec<(f64, f64)> = rows
+                    .values()
+                    .filter(|r| group_index.and_then(|i| r.get(i)).is_none_or(|v| v == g))
+                    .filter_map(|r| Some((number(r, x_index)?, number(r, c)? * scale)))
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .collect();
+                let label = match group_index {
+                    Some(i) => format!("{} = {g} {}", header[i], unit_of(&header[i])),
+                    None => name.replace('_', " "),
+                };
+                (!points.is_empty()).then_some(Series { label, points })
             })
-        })
-        .collect::<Vec<_>>();
-    if series.is_empty() {
+            .collect();
+        if series.is_empty() {
+            continue;
+        }
+        let title = format!("sweep: {y_label} against {}", header[x_index]);
+        let x_label = format!("{} ({})", header[x_index], unit_of(&header[x_index]));
+        let chart = Chart { title: &title, x_label: &x_label, y_label, series, markers: true };
+        chart.write(dir, &format!("sweep_{name}"))?;
+        if first.is_none() {
+            chart.write(dir, "sweep")?;
+            first = Some(name);
+        }
+    }
+    if first.is_none() {
         std::fs::remove_file(dir.join("sweep.svg")).ok();
         return Ok(false);
     }
-    let title = format!("sweep over {}", header[x_index]);
-    let x_label = format!("{} (SI, as in the scene file)", header[x_index]);
-    Chart {
-        title: &title,
-        x_label: &x_label,
-        y_label: "value / its largest (-)",
-        series,
-        markers: true,
-    }
-    .write(dir, "sweep")?;
     Ok(true)
+}
+
+/// The SI unit of a scene key, from its last part (a sweep's values are as in the scene file).
+fn unit_of(key: &str) -> &'static str {
+    let last = key.rsplit('.').next().unwrap_or(key);
+    match last {
+        "speed" => "m/s",
+        "drop_height" | "length" | "width" | "thickness" | "radius" | "position" => "m",
+        "mass" => "kg",
+        "youngs_modulus" | "yield_stress" => "Pa",
+        "density" => "kg/m^3",
+        "end_time" | "time_step" => "s",
+        _ => "as in the scene file",
+    }
 }
 
 /// `cargo xtask sweep --merge DIR... --out DIR`: the shards' rows in point order, refused
