@@ -243,6 +243,7 @@ fn chart(study: &Study, dir: &Path, stem: &str) -> anyhow::Result<()> {
         y_label: "relative error (-)",
         series,
         markers: true,
+        reference_first: false,
     }
     .write_log_log(dir, stem)
 }

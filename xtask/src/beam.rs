@@ -47,8 +47,15 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
     // A title is SVG text: no control characters from the file.
     let name = impact::study::printable(&run.name);
     let title = format!("{name}: {what} of the node at s = {} m", run.tracked_arc_length);
-    Chart { title: &title, x_label, y_label: "displacement (m)", series, markers: false }
-        .write(dir, "tracked-displacement")?;
+    Chart {
+        title: &title,
+        x_label,
+        y_label: "displacement (m)",
+        series,
+        markers: false,
+        reference_first: false,
+    }
+    .write(dir, "tracked-displacement")?;
     let shape = ["x", "y", "z"]
         .iter()
         .enumerate()
@@ -64,6 +71,7 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
         y_label: "position (m)",
         series: shape,
         markers: false,
+        reference_first: false,
     }
     .write(dir, "final-shape")?;
 

@@ -154,6 +154,7 @@ pub(crate) fn run(
         y_label: "displacement (mm)",
         series: history(|h| &h.beam_displacement, 1e3, 1e3, end),
         markers: false,
+        reference_first: true,
     }
     .write(out, "displacement")?;
     let window = if d0 > 0.0 { 1.5 * d0 } else { end };
@@ -163,6 +164,7 @@ pub(crate) fn run(
         y_label: "contact force (N)",
         series: history(|h| &h.force, 1e6, 1.0, window),
         markers: false,
+        reference_first: true,
     }
     .write(out, "force")?;
     let (rt, rw) = (&reference.history.time, &reference.history.beam_displacement);
@@ -187,6 +189,7 @@ pub(crate) fn run(
         y_label: "displacement difference (mm)",
         series: differences,
         markers: false,
+        reference_first: false,
     }
     .write(out, "displacement_difference")?;
     let estimate = reference

@@ -20,6 +20,9 @@ pub(crate) struct Chart<'a> {
     pub y_label: &'a str,
     pub series: Vec<Series>,
     pub markers: bool,
+    /// Whether the first series is the reference the others are measured against: drawn
+    /// last, black, dashed and wider, so that no curve hides it.
+    pub reference_first: bool,
 }
 
 /// Okabe & Ito's palette (2008), told apart with the common colour-vision deficiencies; the
@@ -185,9 +188,16 @@ impl Chart<'_> {
             .axis_desc_style(("sans-serif", 17))
             .draw()
             .map_err(|e| anyhow::anyhow!("{e}"))?;
-        for (i, s) in self.series.iter().enumerate() {
-            let (colour, dashed) = style(i);
-            let line = colour.stroke_width(2);
+        // The reference, if any, last: on top of the curves that would hide it.
+        let order: Vec<usize> = if self.reference_first {
+            (1..self.series.len()).chain(0..1.min(self.series.len())).collect()
+        } else {
+            (0..self.series.len()).collect()
+        };
+        for i in order {
+            let s = &self.series[i];
+            let (colour, dashed, width) = self.style_of(i);
+            let line = colour.stroke_width(width);
             let points = s.points.iter().copied();
             if dashed {
                 chart.draw_series(DashedLineSeries::new(points, 8, 5, line))
@@ -204,13 +214,28 @@ impl Chart<'_> {
         Ok(())
     }
 
+    /// Series `i`'s colour, whether dashed, and line width (px).
+    fn style_of(&self, i: usize) -> (RGBColor, bool, u32) {
+        match (self.reference_first, i) {
+            (true, 0) => (RGBColor(0, 0, 0), true, 3),
+            (true, _) => {
+                let (c, d) = style(i - 1);
+                (c, d, 2)
+            }
+            (false, _) => {
+                let (c, d) = style(i);
+                (c, d, 2)
+            }
+        }
+    }
+
     /// The legend in its own column: each series' line (and marker) and its label.
     fn draw_legend(&self, area: &DrawingArea<SVGBackend<'_>, Shift>) -> anyhow::Result<()> {
         let font = ("sans-serif", 15).into_font().color(&BLACK);
         for (i, s) in self.series.iter().enumerate() {
-            let (colour, dashed) = style(i);
+            let (colour, dashed, width) = self.style_of(i);
             let y = LEGEND_TOP + LEGEND_ROW * i as i32;
-            let line = colour.stroke_width(2);
+            let line = colour.stroke_width(width);
             let sample = LEGEND_SAMPLE as i32;
             let ends = [(4, y), (4 + sample, y)];
             if dashed {

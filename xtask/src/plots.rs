@@ -28,6 +28,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
         y_label: "contact force (N)",
         series: vec![Series { label: "contact force".into(), points: ms(&h.force, 1.0) }],
         markers: false,
+        reference_first: false,
     }
     .write(dir, "contact_force")?;
     // The first pulse on its own time scale: in a window of milliseconds it is a spike.
@@ -47,6 +48,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
                 y_label: "contact force (N)",
                 series: vec![Series { label: "contact force".into(), points }],
                 markers: false,
+                reference_first: false,
             }
             .write(dir, "contact_force_first")?;
         }
@@ -60,6 +62,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
             points: ms(&h.beam_displacement, 1e3),
         }],
         markers: false,
+        reference_first: false,
     }
     .write(dir, "displacement")?;
     let energy = [
@@ -82,6 +85,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
             })
             .collect(),
         markers: false,
+        reference_first: false,
     }
     .write_log_x(dir, "energy")?;
     stress_figures(dir, outcome, "")?;
@@ -184,6 +188,7 @@ pub(crate) fn stress_figures(dir: &Path, outcome: &Outcome, prefix: &str) -> any
             y_label: "stress, tension positive (MPa)",
             series,
             markers: false,
+            reference_first: false,
         }
         .write(dir, &format!("{prefix}stress_history"))?;
         let caption = title(&format!(

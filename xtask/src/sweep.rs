@@ -333,7 +333,14 @@ fn chart(
         }
         let title = format!("sweep: {y_label} against {}", header[x_index]);
         let x_label = format!("{} ({})", header[x_index], unit_of(&header[x_index]));
-        let chart = Chart { title: &title, x_label: &x_label, y_label, series, markers: true };
+        let chart = Chart {
+            title: &title,
+            x_label: &x_label,
+            y_label,
+            series,
+            markers: true,
+            reference_first: false,
+        };
         chart.write(dir, &format!("sweep_{name}"))?;
         if first.is_none() {
             chart.write(dir, "sweep")?;
