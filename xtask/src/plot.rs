@@ -54,14 +54,13 @@ fn tick_label(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
         if v.abs() < 1e-6 * step {
             return "0".into();
         }
-        let text = if !(1e-3..1e5).contains(&magnitude) {
-            let digits = (magnitude.log10().floor() - step_exponent).clamp(0.0, 5.0) as usize;
-            format!("{v:.digits$e}")
-        } else {
+        if (1e-3..1e5).contains(&magnitude) {
             let decimals = (-step_exponent).clamp(0.0, 6.0) as usize;
             format!("{v:.decimals$}")
-        };
-        text
+        } else {
+            let digits = (magnitude.log10().floor() - step_exponent).clamp(0.0, 5.0) as usize;
+            format!("{v:.digits$e}")
+        }
     }
 }
 
@@ -90,7 +89,7 @@ impl Chart<'_> {
         self.write_scaled(dir, stem, true, false)
     }
 
-    fn write_scaled(&self, dir: &Path, stem: &str, log_x: bool, log: bool) -> anyhow::Result<()> {
+    fn write_scaled(&self, dir: &Path, stem: &str, log_x: bool, log_y: bool) -> anyhow::Result<()> {
         let svg = dir.join(format!("{stem}.svg"));
         // The backend writes the file itself: the check that it is no input comes first.
         crate::files::refuse_input(&svg)?;
@@ -100,7 +99,7 @@ impl Chart<'_> {
             "figure {stem}: a value is not finite"
         );
         anyhow::ensure!(
-            !log_x || all.clone().all(|(x, y)| *x > 0.0 && (!log || *y > 0.0)),
+            !log_x || all.clone().all(|(x, y)| *x > 0.0 && (!log_y || *y > 0.0)),
             "figure {stem}: a value is not positive on a logarithmic axis"
         );
         let (x0, x1) = bounds(all.clone().map(|p| p.0));
@@ -123,7 +122,7 @@ impl Chart<'_> {
                 .margin(18)
                 .x_label_area_size(48)
                 .y_label_area_size(80);
-            if log {
+            if log_x && log_y {
                 let mut chart = builder
                     .build_cartesian_2d((lx0..lx1).log_scale(), (ly0..ly1).log_scale())
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
