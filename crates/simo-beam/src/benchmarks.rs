@@ -4,7 +4,7 @@
 use crate::error::BeamError;
 use crate::mesh::Mesh;
 use crate::model::{BeamModel, Load, Profile, Support};
-use crate::modes::natural_modes;
+use crate::modes::bending_frequencies;
 use crate::section::{Material, Section};
 use crate::statics::{solve_static, StaticOptions};
 use faer::Col;
@@ -152,30 +152,8 @@ pub fn paper_cantilever_flexural_frequencies(
     count: usize,
 ) -> Result<Vec<f64>, BeamError> {
     let model = paper_cantilever(elements)?;
-    let modes = natural_modes(&model, 6 * elements)?;
-    let mut out = Vec::new();
-    for mode in modes {
-        let mut z = 0.0;
-        let mut total = 0.0;
-        for node in 1..=elements {
-            for k in 0..6 {
-                if let Some(i) = model.dof(node, k) {
-                    let s = mode.shape[i] * mode.shape[i];
-                    total += s;
-                    if k == 2 || k == 4 {
-                        z += s;
-                    }
-                }
-            }
-        }
-        if total > 0.0 && z / total > 0.5 {
-            out.push(mode.omega / (2.0 * std::f64::consts::PI));
-            if out.len() == count {
-                break;
-            }
-        }
-    }
-    Ok(out)
+    let omegas = bending_frequencies(&model, count)?;
+    Ok(omegas.into_iter().map(|w| w / (2.0 * std::f64::consts::PI)).collect())
 }
 
 /// Samples (t (s), tip z (m)) and the total energy (J) after the load is removed.

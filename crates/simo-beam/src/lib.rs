@@ -74,7 +74,7 @@ pub use element::{Element, Strains};
 pub use error::BeamError;
 pub use mesh::Mesh;
 pub use model::{BeamModel, BeamState, Load, Profile, Support};
-pub use modes::{natural_frequencies, natural_modes, Mode};
+pub use modes::{bending_frequencies, natural_frequencies, natural_modes, Mode};
 pub use planar::{PlanarBeam, PlanarState};
 pub use section::{Material, Section, SHEAR_FACTOR_CIRCLE, SHEAR_FACTOR_RECTANGLE};
 pub use statics::{solve_static, StaticOptions, StaticSolution};

@@ -86,3 +86,35 @@ pub fn natural_modes(model: &BeamModel, count: usize) -> Result<Vec<Mode>, BeamE
 pub fn natural_frequencies(model: &BeamModel, count: usize) -> Result<Vec<f64>, BeamError> {
     Ok(natural_modes(model, count)?.into_iter().map(|m| m.omega).collect())
 }
+
+/// The lowest `count` natural angular frequencies (rad/s) of bending across the section's E3
+/// axis (deflection along z for a beam along x with E3 = z): the modes whose shape lives mostly
+/// in z translation and rotation about y, rigid-body modes (omega below 1 rad/s) left out.
+///
+/// # Errors
+/// As [`natural_modes`].
+pub fn bending_frequencies(model: &BeamModel, count: usize) -> Result<Vec<f64>, BeamError> {
+    let nodes = model.mesh().positions.len();
+    let mut out = Vec::new();
+    for mode in natural_modes(model, 6 * nodes)? {
+        let (mut bending, mut total) = (0.0, 0.0);
+        for node in 0..nodes {
+            for k in 0..6 {
+                if let Some(i) = model.dof(node, k) {
+                    let s = mode.shape[i] * mode.shape[i];
+                    total += s;
+                    if k == 2 || k == 4 {
+                        bending += s;
+                    }
+                }
+            }
+        }
+        if mode.omega > 1.0 && bending > 0.5 * total {
+            out.push(mode.omega);
+            if out.len() == count {
+                break;
+            }
+        }
+    }
+    Ok(out)
+}

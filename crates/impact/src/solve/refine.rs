@@ -46,13 +46,11 @@ pub(super) fn run_fe(
     let length = target.analytic.length();
     let ladder =
         Ladder { start: target.elements(), end: FE_LADDER_END, unit: "elements", share: 1.0 / 3.0 };
+    let uniform_mesh = |elements| FePlan { nodes: uniform(length, elements), ..target.clone() };
     let (space, elements) = ladder.climb(tolerance, |elements| {
-        let mut mesh = target.clone();
-        mesh.nodes = uniform(length, elements);
-        plan.law.with(FeRun { plan, target: &mesh, progress })
+        plan.law.with(FeRun { plan, target: &uniform_mesh(elements), progress })
     })?;
-    let mut mesh = target.clone();
-    mesh.nodes = uniform(length, elements);
+    let mesh = uniform_mesh(elements);
     let space_error = space.report.estimated_error;
     let space_time = space.report.wall_time;
     // What the mesh ladder said (its line of reasons, its warning if not met), for a finer
