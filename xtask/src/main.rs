@@ -132,7 +132,8 @@ enum Command {
         out: Option<PathBuf>,
     },
     /// Check every SVG figure under a folder for what a reader would trip on (tick labels of
-    /// more than six significant digits, "us" for microseconds); non-zero exit on a problem.
+    /// more than six significant digits, "us" for microseconds, an axis without its unit, a
+    /// legend over a curve or a marker, two series drawn alike); non-zero exit on a problem.
     CheckFigures {
         /// The folder (searched recursively).
         dir: PathBuf,

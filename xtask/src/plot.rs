@@ -64,6 +64,18 @@ fn tick_label(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
     }
 }
 
+/// A tick label of a logarithmic axis, whose ticks are powers of ten (and their multiples)
+/// computed in floating point: printed as they come they read "9.999999999e-5". One significant
+/// digit, plain from 0.001 to 1000 ("0.01", "1", "200"), else with an exponent ("1e-7").
+fn decade_label(v: &f64) -> String {
+    let rounded: f64 = format!("{v:.0e}").parse().unwrap_or(*v);
+    if (1e-3..=1e3).contains(&rounded.abs()) {
+        format!("{rounded}")
+    } else {
+        format!("{rounded:.0e}")
+    }
+}
+
 fn bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     let lo = values.clone().fold(f64::INFINITY, f64::min);
     let hi = values.fold(f64::NEG_INFINITY, f64::max);
@@ -126,15 +138,12 @@ impl Chart<'_> {
                 let mut chart = builder
                     .build_cartesian_2d((lx0..lx1).log_scale(), (ly0..ly1).log_scale())
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                // A logarithmic axis's ticks are powers of ten (and their multiples) computed
-                // in floating point: printed as they come they read "9.999999999e-5".
-                let decade = |v: &f64| format!("{v:.0e}");
-                self.draw(&mut chart, &decade, &decade)?;
+                self.draw(&mut chart, &decade_label, &decade_label)?;
             } else if log_x {
                 let mut chart = builder
                     .build_cartesian_2d((lx0..lx1).log_scale(), y0..y1)
                     .map_err(|e| anyhow::anyhow!("{e}"))?;
-                self.draw(&mut chart, &|v: &f64| format!("{v:.0e}"), &tick_label(y0, y1))?;
+                self.draw(&mut chart, &decade_label, &tick_label(y0, y1))?;
             } else {
                 let mut chart = builder
                     .build_cartesian_2d(x0..x1, y0..y1)
@@ -254,6 +263,20 @@ impl Chart<'_> {
     }
 }
 
+/// The head of every HTML page the commands write, up to `<body>`: one column at most 1100 px
+/// wide (a laptop screen shows it without scrolling sideways; a figure fills it, its text at
+/// about the page's size), long words broken rather than widening it, a wide table scrolling in
+/// its own box. `title` is escaped.
+pub(crate) fn page_head(title: &str) -> String {
+    let title = title.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    format!(
+        "<!doctype html><html><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>{title}</title>\
+         <style>body{{font-family:sans-serif;max-width:1100px;margin:1.5em auto;padding:0 1em;line-height:1.45;overflow-wrap:anywhere}}\
+         figure{{margin:2em 0}}img{{width:100%;height:auto;border:1px solid #ccc}}figcaption{{margin-top:.5em}}\
+         table{{border-collapse:collapse;display:block;overflow-x:auto}}td,th{{padding:2px 8px;text-align:right;border-bottom:1px solid #ddd}}li{{margin:.3em 0}}</style></head><body>"
+    )
+}
+
 /// The axes' part of a figure (px); the legend's column comes on its right.
 const PLOT_WIDTH: u32 = 820;
 /// A figure's height (px).
@@ -262,7 +285,7 @@ const HEIGHT: u32 = 560;
 /// (px).
 const LEGEND_TOP: i32 = 70;
 const LEGEND_ROW: i32 = 22;
-const LEGEND_SAMPLE: u32 = 34;
+pub(crate) const LEGEND_SAMPLE: u32 = 34;
 
 /// Bounds of positive values with a margin of a factor 1.3 either side (1 to 10 when there are
 /// none).
@@ -278,7 +301,16 @@ fn log_bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
 
 #[cfg(test)]
 mod tests {
-    use super::{style, tick_label};
+    use super::{decade_label, style, tick_label};
+
+    #[test]
+    fn decades_read_plainly_near_one() {
+        let labels: Vec<String> = [9.999999999e-5, 0.0009999999999, 0.01, 1.0000000001, 200.0, 1e7]
+            .iter()
+            .map(decade_label)
+            .collect();
+        assert_eq!(labels, ["1e-4", "0.001", "0.01", "1", "200", "1e7"]);
+    }
 
     #[test]
     fn tick_labels_have_the_digits_that_tell_ticks_apart() {

@@ -106,10 +106,8 @@ const FIGURES: [(&str, &str); 6] = [
 fn index(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
     let r = &outcome.report;
     let escape = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
-    let mut html = format!(
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>{0}</title><style>body{{font-family:sans-serif;max-width:960px;margin:2em auto;padding:0 1em;line-height:1.45}}img{{width:100%;border:1px solid #ccc}}table{{border-collapse:collapse}}td,th{{padding:2px 8px;text-align:right;border-bottom:1px solid #ddd}}li{{margin:.3em 0}}</style></head><body><h1>{0}</h1>",
-        escape(&r.name)
-    );
+    let mut html = crate::plot::page_head(&r.name);
+    let _ = write!(html, "<h1>{}</h1>", escape(&r.name));
     let _ = write!(
         html,
         "<p>Method {:?}; impact speed {:.4} m/s; {} contact(s); largest displacement at the impact point {:.4} mm at {:.4} ms; equivalent static force {}; estimated error {}.</p>",
@@ -290,7 +288,7 @@ fn stress_map(
         key.configure_mesh()
             .disable_x_axis()
             .disable_mesh()
-            .y_desc("MPa")
+            .y_desc("stress (MPa)")
             .label_style(("sans-serif", 13))
             .draw()
             .map_err(|e| anyhow::anyhow!("{e}"))?;

@@ -342,6 +342,9 @@ fn fig3c(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     }])
 }
 
+/// The window of Fig. 4's runs (s): the first contact and what follows it.
+const FIG4_WINDOW: f64 = 3e-4;
+
 fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
     let speeds: Vec<f64> = if quick {
         vec![0.5, 1.0, 2.0, 4.0]
@@ -353,7 +356,7 @@ fn fig4(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
         &["impact.drop_height"],
         &[
             ("solver.modes", toml::Value::Integer(modes as i64)),
-            ("solver.end_time", toml::Value::Float(3e-4)),
+            ("solver.end_time", toml::Value::Float(FIG4_WINDOW)),
         ],
         &[
             ("contact.law", ["hertz", "thornton"].map(|l| toml::Value::String(l.into())).to_vec()),
@@ -677,6 +680,27 @@ fn restitution_figure(
     ];
     let e_last = |points: &[(f64, f64)]| points.last().map_or(f64::NAN, |p| p.1);
     let (el, pl) = (measured(elastic), measured(plastic));
+    // A series stops where the first contact outlasts the window: e is defined on a contact
+    // that ended.
+    let unfinished = |name: &str, runs: &[impact::Outcome]| {
+        let open: Vec<String> = speeds
+            .iter()
+            .zip(runs)
+            .filter(|(_, o)| o.report.restitution.is_none())
+            .map(|(v, _)| format!("{v}"))
+            .collect();
+        if open.is_empty() {
+            String::new()
+        } else {
+            let window = FIG4_WINDOW * 1e3;
+            format!(
+                " The {name} series has no point at {} m/s: there the first contact had not ended when the {window} ms window closed \
+                 (the ball rides on with the tip), so e is not defined.",
+                open.join(", ")
+            )
+        }
+    };
+    let stops = unfinished("elastic", elastic) + &unfinished("Thornton-on-the-cantilever", plastic);
     Chart {
         title: "Coefficient of restitution of the first contact vs impact speed",
         x_label: "impact speed (m/s)",
@@ -695,7 +719,7 @@ fn restitution_figure(
              On the cantilever even the elastic contact returns little of the ball's speed: most of its energy goes into the beam's vibration ({:.3} at {} m/s), and Thornton's plastic work \
              lowers it further ({:.3}). The closed form of Thornton (1997) for the same ball on a rigid flat (first-yield speed {vy:.4} m/s) is drawn for reference: {:.3} at {} m/s; \
              on a flexible target the restitution is set by the beam, not by the plastic print. \
-             Error: every plotted value on the cantilever is within {error:.1e} of converged in the modes (its difference from twice the modes; absolute, as e crosses zero).",
+             Error: every plotted value on the cantilever is within {error:.1e} of converged in the modes (its difference from twice the modes; absolute, as e crosses zero).{stops}",
             e_last(&el), speeds[speeds.len() - 1], e_last(&pl), e_last(&rigid), speeds[speeds.len() - 1]
         ),
     })
@@ -815,12 +839,8 @@ fn work_precision(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
 }
 
 fn write_index(out: &Path, figures: &[Figure], quick: bool) -> anyhow::Result<()> {
-    let mut html =
-        format!("<!doctype html><html><head><meta charset=\"utf-8\"><title>{INDEX_TITLE}</title>");
-    html.push_str(
-        "<style>body{font-family:sans-serif;max-width:980px;margin:2em auto;line-height:1.45}figure{margin:2em 0}img{width:100%;border:1px solid #ccc}figcaption{margin-top:.5em}</style></head><body>\
-         <h1>Barrientos, Baeza, Sampaio &amp; Razeto: the figures, regenerated</h1>",
-    );
+    let mut html = crate::plot::page_head(INDEX_TITLE);
+    html.push_str("<h1>Barrientos, Baeza, Sampaio &amp; Razeto: the figures, regenerated</h1>");
     writeln!(
         html,
         "<p>Goldsmith's modal method with exact modal propagation and Hertzian or Thornton contact ({}). Every figure has its data as CSV beside the SVG (SI-derived units in the column names). \
