@@ -92,15 +92,65 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
     index(dir, outcome)
 }
 
-/// The figures that `one_run` wrote, with their captions.
+/// The figures that `one_run` wrote, with what each shows; [`captions`] adds the run's numbers
+/// and settings.
 const FIGURES: [(&str, &str); 6] = [
-    ("contact_force", "Contact force over the window."),
-    ("contact_force_first", "The first contact on its own time scale."),
-    ("displacement", "Displacement of the beam at the impact point (towards the beam positive)."),
-    ("energy", "The energy ledger on a logarithmic time axis: the exchange happens within the first contact."),
-    ("stress_history", "Bending stress on the struck face at the worst point and at each support."),
-    ("stress_map", "Bending stress on the struck face along the beam (vertical) against time; the largest marked."),
+    ("contact_force", "Contact force between ball and beam over the whole window."),
+    ("contact_force_first", "The first contact on its own time scale (from a tenth of its duration before it to a fifth after)."),
+    ("displacement", "Displacement of the beam at the impact point, towards the beam positive."),
+    ("energy", "The energy ledger on a logarithmic time axis (the exchange happens within the first contact): the ball's kinetic and gravitational energy, the beam's kinetic and strain energy, the energy stored in the contact and the work dissipated (plastic work, damping)."),
+    ("stress_history", "Bending stress on the struck face (outer fibre, tension positive) at the worst point and at each support."),
+    ("stress_map", "Bending stress on the struck face along the beam (vertical) against time, blue compression to red tension; the largest marked with a cross."),
 ];
+
+/// Each figure's caption: what it shows, its numbers, and the settings and error behind them
+/// (a caption stands alone: the page may be read without the report).
+fn captions(outcome: &Outcome) -> Vec<(&'static str, String)> {
+    let r = &outcome.report;
+    let p = &r.plan;
+    let resolution = crate::simulate::resolution(p);
+    let error = r.estimated_error.map_or(
+        "error not estimated (set solver.tolerance to have the resolution refined until it is)"
+            .into(),
+        |e| format!("estimated relative error {e:.1e}"),
+    );
+    let settings = format!(
+        "Settings: {} method, {resolution}, {} contact, time step in contact {:.3} µs, window {:.3} ms; {error}.",
+        p.method,
+        p.contact_law,
+        p.time_step * 1e6,
+        outcome.history.time.last().copied().unwrap_or(0.0) * 1e3,
+    );
+    let first = r.contacts.first();
+    FIGURES
+        .iter()
+        .map(|(stem, what)| {
+            let numbers = match *stem {
+                "contact_force" => format!(" {} contact(s).", r.contact_count),
+                "contact_force_first" => first.map_or(String::new(), |c| {
+                    format!(" Peak {:.4} N, duration {:.4} µs.", c.peak_force, c.duration * 1e6)
+                }),
+                "displacement" => format!(
+                    " Largest {:.4} mm at {:.4} ms.",
+                    r.max_displacement * 1e3,
+                    r.max_displacement_time * 1e3
+                ),
+                "stress_history" | "stress_map" => {
+                    r.bending_stress.as_ref().map_or(String::new(), |b| {
+                        format!(
+                            " Largest |stress| {:.2} MPa at x = {:.4} m, t = {:.4} ms.",
+                            b.max * 1e-6,
+                            b.position,
+                            b.time * 1e3
+                        )
+                    })
+                }
+                _ => String::new(),
+            };
+            (*stem, format!("{what}{numbers} {settings}"))
+        })
+        .collect()
+}
 
 /// index.html: the report's numbers and warnings, then the figures, on one page.
 fn index(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
@@ -141,7 +191,7 @@ fn index(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
         }
         html.push_str("</ul>");
     }
-    for (stem, caption) in FIGURES {
+    for (stem, caption) in captions(outcome) {
         if dir.join(format!("{stem}.svg")).exists() {
             let _ = write!(
                 html,
