@@ -11,7 +11,9 @@
 use crate::files::{read_input, say, write_atomic, OutDir};
 use crate::plot::{Chart, Series};
 use anyhow::Context;
-use impact::study::accuracy::{settings, Ladders, Row, Setting, Study, EULER_BERNOULLI, RESIDUAL};
+use impact::study::accuracy::{
+    settings, Ladders, Setting, Study, EULER_BERNOULLI, RESIDUAL, ROW_COLUMNS,
+};
 use impact::{Differences, Report, Scene};
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -60,33 +62,22 @@ fn run_settings(
     })
 }
 
-/// The study of `scene`, run in memory (for `reproduce`).
+/// The study of `scene`, run in memory (for `reproduce`), with a progress bar.
 pub(crate) fn study(scene: &Scene, quick: bool) -> anyhow::Result<Study> {
-    let all = settings(scene, &ladders(quick))?;
-    let todo: Vec<usize> = (0..all.len()).collect();
-    let reports: Vec<Report> =
-        run_settings(&all, &todo, &|_, _| Ok(()))?.into_iter().map(|(_, r)| r).collect();
-    Ok(Study::new(&scene.name, &all, &reports)?)
-}
-
-/// The five relative errors and the energy balance of `row`, in the CSV's order.
-fn columns(row: &Row) -> [f64; 6] {
-    let e = &row.errors;
-    [
-        e.first_duration,
-        e.first_peak_force,
-        e.contact_sequence,
-        e.max_displacement,
-        e.max_stress,
-        row.energy_balance,
-    ]
+    let bar = crate::sweep::progress_bar("accuracy", 0);
+    let study = impact::study::accuracy::run(scene, &ladders(quick), &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    Ok(study?)
 }
 
 /// work_precision.csv.
 pub(crate) fn csv(study: &Study) -> String {
-    let mut csv = String::from("method,setting,wall_time_s,error_first_duration,error_first_peak_force,error_contact_sequence,error_max_displacement,error_max_stress,energy_balance\n");
+    let mut csv = format!("method,setting,{}\n", ROW_COLUMNS.join(","));
     for r in &study.rows {
-        let errors: Vec<String> = columns(r).iter().map(|x| format!("{x:.3e}")).collect();
+        let errors: Vec<String> = r.values()[1..].iter().map(|x| format!("{x:.3e}")).collect();
         // Infallible: writing to a String.
         let _ = writeln!(
             csv,
@@ -122,7 +113,7 @@ pub(crate) fn table(study: &Study) -> String {
         "energy"
     );
     for r in &study.rows {
-        let errors: Vec<String> = columns(r).iter().map(|x| format!("{x:>10.2e}")).collect();
+        let errors: Vec<String> = r.values()[1..].iter().map(|x| format!("{x:>10.2e}")).collect();
         let _ = writeln!(
             t,
             "{:<6} {:<44} {:>10.4} {}",
@@ -349,6 +340,7 @@ pub(crate) fn run(
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use impact::study::accuracy::Row;
 
     fn row(method: &'static str, setting: &str, wall_time: f64, worst: f64) -> Row {
         Row {

@@ -17,8 +17,8 @@ use crate::files::{read_input, say, write_atomic, OutDir};
 use crate::plot::{Chart, Series};
 use crate::reproduce::run_all;
 use anyhow::Context;
-use impact::study::comparison::{runs as variants, REFERENCE_TOLERANCE};
-use impact::{Outcome, Scene};
+use impact::study::comparison::{runs as variants, summary, REFERENCE_TOLERANCE, SUMMARY_COLUMNS};
+use impact::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -63,25 +63,13 @@ pub(crate) fn run(
     let runs = variants(&scene, modes, elements);
     let labels: Vec<String> = runs.iter().map(|(l, _)| l.clone()).collect();
     let outcomes = run_all("compare", runs.into_iter().map(|(_, s)| s).collect())?;
-    let labels: Vec<String> = labels
-        .iter()
-        .zip(&outcomes)
-        .map(|(l, o)| {
-            let p = &o.report.plan;
-            match l.as_str() {
-                "reference" => format!("reference: modal, {} modes", p.modes),
-                "fe" => format!("fe, {} elements (default)", p.elements),
-                "modal" => format!("modal, {} modes (default)", p.modes),
-                _ => l.clone(),
-            }
-        })
-        .collect();
+    let summary =
+        summary(labels.iter().map(String::as_str).zip(outcomes.iter().map(|o| &o.report)));
+    let labels: Vec<String> = summary.iter().map(|row| row.run.clone()).collect();
     let reference = &outcomes[0];
-    let first = |o: &Outcome| o.report.contacts.first().map(|c| (c.duration, c.peak_force));
-    let (d0, f0) = first(reference).unwrap_or((0.0, 0.0));
-    let w0 = reference.report.max_displacement;
-    let stress = |o: &Outcome| o.report.bending_stress.as_ref().map(|b| b.max);
-    let s0 = stress(reference).unwrap_or(0.0);
+    let base = &summary[0];
+    let (d0, f0) = (base.first_duration.unwrap_or(0.0), base.peak_force.unwrap_or(0.0));
+    let (w0, s0) = (base.max_displacement, base.max_bending_stress.unwrap_or(0.0));
 
     let mut table = String::new();
     writeln!(
@@ -99,32 +87,36 @@ pub(crate) fn run(
         "diff",
         "wall (s)"
     )?;
-    let mut csv = String::from(
-        "run,first_contact_duration_s,peak_force_n,contact_count,max_displacement_m,max_bending_stress_pa,wall_time_s\n",
-    );
-    for (label, o) in labels.iter().zip(&outcomes) {
-        let r = &o.report;
-        let (d, f) = first(o).unwrap_or((0.0, 0.0));
+    let mut csv = format!("{}\n", SUMMARY_COLUMNS.join(","));
+    // A quantity a run does not have (no contact, no stress recovered) is blank in the CSV.
+    let cell = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.9e}"));
+    for row in &summary {
+        let (d, f) = (row.first_duration.unwrap_or(0.0), row.peak_force.unwrap_or(0.0));
+        let stress = row.max_bending_stress;
         writeln!(
             table,
-            "{label:<34} {:>12.4} {:>10} {f:>11.3} {:>10} {:>8} {:>13.5} {:>10} {:>16} {:>10} {:>9.3}",
+            "{:<34} {:>12.4} {:>10} {f:>11.3} {:>10} {:>8} {:>13.5} {:>10} {:>16} {:>10} {:>9.3}",
+            row.run,
             d * 1e6,
             relative(d, d0),
             relative(f, f0),
-            r.contact_count,
-            r.max_displacement * 1e3,
-            relative(r.max_displacement, w0),
-            stress(o).map_or_else(|| "not recovered".into(), |v| format!("{:.3}", v * 1e-6)),
-            stress(o).map_or_else(|| "-".into(), |v| relative(v, s0)),
-            r.wall_time
+            row.contact_count,
+            row.max_displacement * 1e3,
+            relative(row.max_displacement, w0),
+            stress.map_or_else(|| "not recovered".into(), |v| format!("{:.3}", v * 1e-6)),
+            stress.map_or_else(|| "-".into(), |v| relative(v, s0)),
+            row.wall_time
         )?;
         writeln!(
             csv,
-            "\"{label}\",{d:.9e},{f:.9e},{},{:.9e},{},{:.4e}",
-            r.contact_count,
-            r.max_displacement,
-            stress(o).map_or_else(String::new, |v| format!("{v:.9e}")),
-            r.wall_time
+            "\"{}\",{},{},{},{:.9e},{},{:.4e}",
+            row.run,
+            cell(row.first_duration),
+            cell(row.peak_force),
+            row.contact_count,
+            row.max_displacement,
+            cell(stress),
+            row.wall_time
         )?;
     }
     write_atomic(&out.join("summary.csv"), csv.as_bytes())?;

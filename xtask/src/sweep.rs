@@ -34,13 +34,7 @@ pub(crate) fn par_run<I: Sync, T: Send>(
     items: &[I],
     work: impl Fn(&I) -> T + Sync,
 ) -> Vec<T> {
-    let bar = ProgressBar::new(items.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{prefix:>28} [{bar:30}] {pos}/{len} {elapsed} (eta {eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    bar.set_prefix(label.to_owned());
+    let bar = progress_bar(label, items.len());
     let out = items
         .par_iter()
         .map(|item| {
@@ -51,6 +45,19 @@ pub(crate) fn par_run<I: Sync, T: Send>(
         .collect();
     bar.finish_and_clear();
     out
+}
+
+/// A progress bar on standard error (shown on a terminal only) for `len` items, labelled
+/// `label`.
+pub(crate) fn progress_bar(label: &str, len: usize) -> ProgressBar {
+    let bar = ProgressBar::new(len as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{prefix:>28} [{bar:30}] {pos}/{len} {elapsed} (eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_prefix(label.to_owned());
+    bar
 }
 
 /// The scenes of every point of the grid of `axes` over `base` (validated), in grid order.

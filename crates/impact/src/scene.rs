@@ -311,4 +311,15 @@ impl Scene {
     pub fn from_toml(text: &str) -> Result<Self, ImpactError> {
         toml::from_str(text).map_err(|e| ImpactError::Parse(e.to_string()))
     }
+
+    /// Reads a scene from the table a scene file parses to (a front end's dictionary with
+    /// the file's tables and keys), with the checks of [`Scene::from_toml`].
+    ///
+    /// # Errors
+    /// `Parse` naming the key for unknown keys, missing fields and wrong types.
+    pub fn from_table(table: toml::Table) -> Result<Self, ImpactError> {
+        toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| ImpactError::Parse(e.to_string()))
+    }
 }

@@ -37,19 +37,29 @@ impl Field {
     /// # Errors
     /// I/O errors of `out`.
     pub fn write_csv(&self, mut out: impl std::io::Write) -> std::io::Result<()> {
-        writeln!(out, "time_s,x_m,displacement_m,slope_rad,moment_n_m,stress_pa")?;
+        let quantities = self.quantities();
+        let names: Vec<&str> = quantities.iter().map(|(name, _)| *name).collect();
+        writeln!(out, "time_s,x_m,{}", names.join(","))?;
         let p = self.points.len();
         for (i, t) in self.time.iter().enumerate() {
             for (k, x) in self.points.iter().enumerate() {
-                let j = i * p + k;
-                writeln!(
-                    out,
-                    "{t:.9e},{x:.6e},{:.9e},{:.9e},{:.9e},{:.9e}",
-                    self.displacement[j], self.slope[j], self.moment[j], self.stress[j]
-                )?;
+                let cells: Vec<String> =
+                    quantities.iter().map(|(_, v)| format!("{:.9e}", v[i * p + k])).collect();
+                writeln!(out, "{t:.9e},{x:.6e},{}", cells.join(","))?;
             }
         }
         out.flush()
+    }
+
+    /// The recorded quantities, each named as its CSV column with its unit, each row-major
+    /// over (instant, point): value `i * points.len() + k` is at `time[i]`, `points[k]`.
+    pub fn quantities(&self) -> [(&'static str, &[f64]); 4] {
+        [
+            ("displacement_m", &self.displacement),
+            ("slope_rad", &self.slope),
+            ("moment_n_m", &self.moment),
+            ("stress_pa", &self.stress),
+        ]
     }
 
     /// The displacement history at the point nearest `x` (m): (time, w) pairs.

@@ -133,31 +133,35 @@ impl History {
         self.time.is_empty()
     }
 
+    /// The history's columns, each named as in its CSV with its unit (`time_s`, `force_n`,
+    /// ...): what every front end (the CSV, Python's arrays) shows.
+    pub fn columns(&self) -> [(&'static str, &[f64]); 11] {
+        [
+            ("time_s", &self.time),
+            ("force_n", &self.force),
+            ("approach_m", &self.approach),
+            ("ball_position_m", &self.ball_position),
+            ("ball_velocity_m_s", &self.ball_velocity),
+            ("beam_displacement_m", &self.beam_displacement),
+            ("contact_point_m", &self.contact_point),
+            ("ball_energy_j", &self.ball_energy),
+            ("beam_energy_j", &self.beam_energy),
+            ("contact_energy_j", &self.contact_energy),
+            ("dissipated_energy_j", &self.dissipated_energy),
+        ]
+    }
+
     /// Writes the history as CSV with the unit in every column name.
     ///
     /// # Errors
     /// Any I/O error of the writer.
     pub fn write_csv(&self, mut w: impl Write) -> std::io::Result<()> {
-        writeln!(
-            w,
-            "time_s,force_n,approach_m,ball_position_m,ball_velocity_m_s,beam_displacement_m,contact_point_m,ball_energy_j,beam_energy_j,contact_energy_j,dissipated_energy_j"
-        )?;
+        let columns = self.columns();
+        let names: Vec<&str> = columns.iter().map(|(name, _)| *name).collect();
+        writeln!(w, "{}", names.join(","))?;
         for i in 0..self.len() {
-            writeln!(
-                w,
-                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
-                self.time[i],
-                self.force[i],
-                self.approach[i],
-                self.ball_position[i],
-                self.ball_velocity[i],
-                self.beam_displacement[i],
-                self.contact_point[i],
-                self.ball_energy[i],
-                self.beam_energy[i],
-                self.contact_energy[i],
-                self.dissipated_energy[i]
-            )?;
+            let cells: Vec<String> = columns.iter().map(|(_, v)| format!("{:.9e}", v[i])).collect();
+            writeln!(w, "{}", cells.join(","))?;
         }
         Ok(())
     }

@@ -210,11 +210,59 @@ pub struct Row {
     pub energy_balance: f64,
 }
 
+/// The numeric columns of the study's table (`work_precision.csv`, after `method` and
+/// `setting`), in [`Row::values`]'s order.
+pub const ROW_COLUMNS: [&str; 7] = [
+    "wall_time_s",
+    "error_first_duration",
+    "error_first_peak_force",
+    "error_contact_sequence",
+    "error_max_displacement",
+    "error_max_stress",
+    "energy_balance",
+];
+
 impl Row {
     /// The error a setting is judged by: the worst of the four.
     pub fn worst(&self) -> f64 {
         self.errors.worst()
     }
+
+    /// The wall time, the five relative errors and the energy balance, as [`ROW_COLUMNS`].
+    pub fn values(&self) -> [f64; 7] {
+        let e = &self.errors;
+        [
+            self.wall_time,
+            e.first_duration,
+            e.first_peak_force,
+            e.contact_sequence,
+            e.max_displacement,
+            e.max_stress,
+            self.energy_balance,
+        ]
+    }
+}
+
+/// Runs the study of `scene` over `ladders`: every setting one after another (a wall time
+/// shared with another run on the same cores is not the setting's cost), `progress(done,
+/// total)` after each; the study of their reports.
+///
+/// # Errors
+/// What [`settings`] refuses; a run's error, naming its setting; what [`Study::new`] refuses.
+pub fn run(
+    scene: &Scene,
+    ladders: &Ladders,
+    progress: &dyn Fn(usize, usize),
+) -> Result<Study, ImpactError> {
+    let all = settings(scene, ladders)?;
+    let mut reports = Vec::with_capacity(all.len());
+    for (i, s) in all.iter().enumerate() {
+        let outcome = crate::simulate(&s.scene)
+            .map_err(|e| ImpactError::Study(format!("setting {}: {e}", s.label)))?;
+        reports.push(outcome.report);
+        progress(i + 1, all.len());
+    }
+    Study::new(&scene.name, &all, &reports)
 }
 
 /// A method's reference and how far it may itself be off.

@@ -1,5 +1,6 @@
 //! The runs of `compare`: one beam scene by both methods, against a converged reference.
 
+use crate::outcome::Report;
 use crate::scene::{MethodName, Scene};
 use crate::study::variant;
 
@@ -36,4 +37,59 @@ pub fn runs(scene: &Scene, modes: &[usize], elements: &[usize]) -> Vec<(String, 
     runs.extend(modes.iter().map(|&n| (format!("modal, {n} modes"), modal(Some(n)))));
     runs.extend(elements.iter().map(|&n| (format!("fe, {n} equal elements"), fe(Some(n)))));
     runs
+}
+
+/// One run of a comparison as its table (`summary.csv`) shows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SummaryRow {
+    /// The run, with its resolution: "reference: modal, 424 modes", "fe, 58 elements
+    /// (default)", "modal, 16 modes".
+    pub run: String,
+    /// The first contact's duration (s); `None` without a contact.
+    pub first_duration: Option<f64>,
+    /// The first contact's peak force (N); `None` without a contact.
+    pub peak_force: Option<f64>,
+    /// The number of contacts.
+    pub contact_count: usize,
+    /// The largest displacement at the impact point (m).
+    pub max_displacement: f64,
+    /// The largest bending stress in the beam (Pa), where the method recovers it.
+    pub max_bending_stress: Option<f64>,
+    /// The run's wall time (s).
+    pub wall_time: f64,
+}
+
+/// The columns of `summary.csv`, with their units, in [`SummaryRow`]'s order.
+pub const SUMMARY_COLUMNS: [&str; 7] = [
+    "run",
+    "first_contact_duration_s",
+    "peak_force_n",
+    "contact_count",
+    "max_displacement_m",
+    "max_bending_stress_pa",
+    "wall_time_s",
+];
+
+/// The table of a comparison: the runs of [`runs`] (their labels) with their reports, in order.
+pub fn summary<'a>(runs: impl IntoIterator<Item = (&'a str, &'a Report)>) -> Vec<SummaryRow> {
+    runs.into_iter()
+        .map(|(label, r)| {
+            let p = &r.plan;
+            let first = r.contacts.first();
+            SummaryRow {
+                run: match label {
+                    "reference" => format!("reference: modal, {} modes", p.modes),
+                    "fe" => format!("fe, {} elements (default)", p.elements),
+                    "modal" => format!("modal, {} modes (default)", p.modes),
+                    _ => label.to_string(),
+                },
+                first_duration: first.map(|c| c.duration),
+                peak_force: first.map(|c| c.peak_force),
+                contact_count: r.contact_count,
+                max_displacement: r.max_displacement,
+                max_bending_stress: r.bending_stress.as_ref().map(|b| b.max),
+                wall_time: r.wall_time,
+            }
+        })
+        .collect()
 }
