@@ -1,6 +1,7 @@
 //! Files and streams: what the command line reads and writes, and where.
 //!
-//! - A scene file is read only when it is a regular file of at most [`MAX_SCENE_BYTES`];
+//! - A scene file is read only when it is a regular file of at most
+//!   [`impact::study::MAX_SCENE_BYTES`];
 //!   every file read is remembered, and no output ever replaces one ([`create`]).
 //! - An output folder is `--out` or `target/<command>/<name>`, the name passing
 //!   [`impact::study::folder_name`]; it is created and proven writable ([`OutDir::create`])
@@ -11,37 +12,17 @@
 //!   a full disk is one line of error, and control characters from a file are escaped.
 
 use anyhow::{bail, Context};
-use std::io::{Read, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-
-/// The largest scene file read (bytes): a scene is a few hundred bytes; a megabyte is no
-/// scene, and `/dev/zero` must not be read until memory runs out.
-pub(crate) const MAX_SCENE_BYTES: u64 = 1 << 20;
 
 /// The canonical paths of every file read: outputs never replace them.
 static INPUTS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
-/// The text of the input file `path` (`what` names it in errors: "scene file"), refused at
-/// once when it is not a regular file or is larger than [`MAX_SCENE_BYTES`].
+/// The text of the input file `path` ([`impact::study::read_input`]), registered as an input
+/// that no output may replace.
 pub(crate) fn read_input(path: &Path, what: &str) -> anyhow::Result<String> {
-    let shown = path.display();
-    let meta =
-        std::fs::metadata(path).with_context(|| format!("cannot read the {what} {shown}"))?;
-    anyhow::ensure!(meta.is_file(), "the {what} {shown} is not a regular file");
-    anyhow::ensure!(
-        meta.len() <= MAX_SCENE_BYTES,
-        "the {what} {shown} has {} bytes; allowed at most {MAX_SCENE_BYTES}",
-        meta.len()
-    );
-    let mut text = String::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text))
-        .with_context(|| format!("cannot read the {what} {shown} (as UTF-8 text)"))?;
-    anyhow::ensure!(
-        text.len() as u64 <= MAX_SCENE_BYTES,
-        "the {what} {shown} grew beyond {MAX_SCENE_BYTES} bytes while read"
-    );
+    let text = impact::study::read_input(path, what)?;
     if let (Ok(canonical), Ok(mut inputs)) = (path.canonicalize(), INPUTS.lock()) {
         inputs.push(canonical);
     }
@@ -167,7 +148,7 @@ mod tests {
             assert!(e.contains("not a regular file"), "{e}");
         }
         let big = dir.join("big.toml");
-        std::fs::write(&big, vec![b'#'; MAX_SCENE_BYTES as usize + 1]).unwrap();
+        std::fs::write(&big, vec![b'#'; impact::study::MAX_SCENE_BYTES as usize + 1]).unwrap();
         let e = read_input(&big, "scene file").unwrap_err().to_string();
         assert!(e.contains("allowed at most 1048576"), "{e}");
         let scene = dir.join("scene.toml");

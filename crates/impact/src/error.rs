@@ -18,6 +18,10 @@ pub enum ImpactError {
         /// What would be accepted, with the unit.
         allowed: String,
     },
+    /// A scene file that cannot be read: missing, not a regular file, too large, not UTF-8
+    /// text; the message names the file.
+    #[error("{0}")]
+    Input(String),
     /// A combination of fields that does not make a scene.
     #[error("{0}")]
     Inconsistent(String),

@@ -53,6 +53,43 @@ pub use variant::variant;
 
 use crate::error::ImpactError;
 
+/// The largest scene file read (bytes): a scene is a few hundred bytes; a megabyte is no
+/// scene, and `/dev/zero` must not be read until memory runs out.
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// The text of the input file `path` (`what` names it in errors: "scene file"), refused at
+/// once when it is not a regular file or is larger than [`MAX_SCENE_BYTES`]: the one way
+/// every front end reads a scene file.
+///
+/// # Errors
+/// `Input` naming the file and why it cannot be read.
+pub fn read_input(path: &std::path::Path, what: &str) -> Result<String, ImpactError> {
+    use std::io::Read;
+    let shown = path.display();
+    let input = |why: String| ImpactError::Input(why);
+    let meta = std::fs::metadata(path)
+        .map_err(|e| input(format!("cannot read the {what} {shown}: {e}")))?;
+    if !meta.is_file() {
+        return Err(input(format!("the {what} {shown} is not a regular file")));
+    }
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(input(format!(
+            "the {what} {shown} has {} bytes; allowed at most {MAX_SCENE_BYTES}",
+            meta.len()
+        )));
+    }
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text))
+        .map_err(|e| input(format!("cannot read the {what} {shown} (as UTF-8 text): {e}")))?;
+    if text.len() as u64 > MAX_SCENE_BYTES {
+        return Err(input(format!(
+            "the {what} {shown} grew beyond {MAX_SCENE_BYTES} bytes while read"
+        )));
+    }
+    Ok(text)
+}
+
 /// The longest output folder name (characters): far below every file system's limit of 255
 /// bytes for a name, with room for the files inside.
 pub const MAX_FOLDER_NAME: usize = 100;
