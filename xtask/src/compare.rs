@@ -53,14 +53,10 @@ pub(crate) fn run(
 ) -> anyhow::Result<bool> {
     let text = read_input(path, "scene file")?;
     let scene = Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
-    anyhow::ensure!(
-        scene.beam.is_some(),
-        "{}: compare needs a [beam] scene (a [half_space] has one model only)",
-        path.display()
-    );
+    let runs =
+        variants(&scene, modes, elements).with_context(|| format!("in {}", path.display()))?;
     let dir = OutDir::create(&crate::files::out_dir("compare", &scene.name, out)?)?;
     let out = dir.path();
-    let runs = variants(&scene, modes, elements);
     let labels: Vec<String> = runs.iter().map(|(l, _)| l.clone()).collect();
     let outcomes = run_all("compare", runs.into_iter().map(|(_, s)| s).collect())?;
     let summary =
@@ -207,7 +203,7 @@ mod tests {
         // The paper's scene asks for 128 modes: listing 128 again (twice) adds nothing.
         let text = include_str!("../../validation/scenes/paper-tip.toml");
         let scene = impact::Scene::from_toml(text).unwrap();
-        let runs = variants(&scene, &[128, 16, 16], &[20, 20]);
+        let runs = variants(&scene, &[128, 16, 16], &[20, 20]).unwrap();
         let labels: Vec<&str> = runs.iter().map(|r| r.0.as_str()).collect();
         assert_eq!(
             labels,
@@ -229,7 +225,7 @@ mod tests {
             ..Default::default()
         };
         for scene in [modal, fe] {
-            for (label, run) in variants(&scene, &[16], &[20]) {
+            for (label, run) in variants(&scene, &[16], &[20]).unwrap() {
                 impact::Plan::new(&run).unwrap_or_else(|e| panic!("{label}: {e}"));
             }
         }

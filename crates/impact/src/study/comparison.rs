@@ -1,5 +1,6 @@
 //! The runs of `compare`: one beam scene by both methods, against a converged reference.
 
+use crate::error::ImpactError;
 use crate::outcome::Report;
 use crate::scene::{MethodName, Scene};
 use crate::study::variant;
@@ -12,7 +13,19 @@ pub const REFERENCE_TOLERANCE: f64 = 1e-3;
 /// [`REFERENCE_TOLERANCE`]), `fe` and `modal` (each method at the scene's own resolution or its
 /// default), then `modal, N modes` for each of `modes` and `fe, N equal elements` for each of
 /// `elements`, sorted, once each, leaving out a resolution the scene's own run already has.
-pub fn runs(scene: &Scene, modes: &[usize], elements: &[usize]) -> Vec<(String, Scene)> {
+///
+/// # Errors
+/// `Study` for a scene without a beam (a half-space has one model only).
+pub fn runs(
+    scene: &Scene,
+    modes: &[usize],
+    elements: &[usize],
+) -> Result<Vec<(String, Scene)>, ImpactError> {
+    if scene.beam.is_none() {
+        return Err(ImpactError::Study(
+            "compare needs a [beam] scene (a [half_space] has one model only)".into(),
+        ));
+    }
     let fe = |n: Option<usize>| variant(scene, MethodName::Fe, n);
     let modal = |n: Option<usize>| variant(scene, MethodName::Modal, n);
     let mut modes: Vec<usize> =
@@ -36,7 +49,7 @@ pub fn runs(scene: &Scene, modes: &[usize], elements: &[usize]) -> Vec<(String, 
     ];
     runs.extend(modes.iter().map(|&n| (format!("modal, {n} modes"), modal(Some(n)))));
     runs.extend(elements.iter().map(|&n| (format!("fe, {n} equal elements"), fe(Some(n)))));
-    runs
+    Ok(runs)
 }
 
 /// One run of a comparison as its table (`summary.csv`) shows it.

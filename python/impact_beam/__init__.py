@@ -1,0 +1,187 @@
+"""impact_beam: a hard ball striking a flexible beam, from Python.
+
+The same library as the command line (``cargo xtask simulate | sweep | accuracy | compare``),
+compiled from this repository's Rust crates: every number here is the number the command line
+prints. SI units throughout (s, m, N, Pa, J, kg), in the keys' names where they are columns
+(``time_s``, ``force_n``).
+
+A *scene* is a path to a TOML scene file (str or os.PathLike) or a dict with the file's tables
+and keys (``{"beam": {...}, "ball": {...}, "impact": {...}, "contact": {...}, "solver": {...}}``;
+see the README's scene reference). A scene the command line refuses raises ``ValueError`` with
+its message, which names the key, the value and what is allowed.
+
+>>> import impact_beam as ib
+>>> run = ib.simulate("validation/scenes/paper-tip.toml")        # doctest: +SKIP
+>>> run.report["contacts"][0]["peak_force"]                       # doctest: +SKIP
+788.115...
+>>> run.history["force_n"].max()                                   # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _native
+
+__all__ = [
+    "Simulation",
+    "simulate",
+    "sweep",
+    "accuracy",
+    "compare",
+    "SWEEP_COLUMNS",
+    "SUMMARY_COLUMNS",
+    "ACCURACY_COLUMNS",
+]
+
+Scene = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+
+#: The report's scalars in a sweep's table, with their units in the names (as sweep.csv).
+SWEEP_COLUMNS: List[str] = list(_native.SWEEP_COLUMNS)
+#: The columns of a comparison's table (as compare's summary.csv).
+SUMMARY_COLUMNS: List[str] = list(_native.SUMMARY_COLUMNS)
+#: The numeric columns of the work-precision table (as work_precision.csv).
+ACCURACY_COLUMNS: List[str] = list(_native.ACCURACY_COLUMNS)
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """One run of a scene.
+
+    Attributes:
+        report: the report, a dict equal to ``cargo xtask simulate SCENE --json``: the plan and
+            the reasons for each choice, warnings, every contact (start, duration, peak force,
+            impulse, print radius, contact pressure and stresses under the ball), restitution,
+            largest displacement, bending stress, energy ledger, estimated error, wall time.
+            SI units; ball velocities positive toward the beam.
+        history: the run's history as 1-D float64 arrays keyed by the history CSV's columns
+            (``simulate --history``): ``time_s``, ``force_n``, ``approach_m``,
+            ``ball_position_m``, ``ball_velocity_m_s``, ``beam_displacement_m``,
+            ``contact_point_m``, ``ball_energy_j``, ``beam_energy_j``, ``contact_energy_j``,
+            ``dissipated_energy_j``.
+        field: with ``field=True``, the beam along its length (``simulate --field``):
+            ``time_s`` (n_t,), ``x_m`` (n_x,), and ``displacement_m``, ``slope_rad``,
+            ``moment_n_m``, ``stress_pa`` as (n_t, n_x) arrays (stress on the struck face,
+            tension positive); else None.
+    """
+
+    report: Dict[str, Any]
+    history: Dict[str, np.ndarray]
+    field: Optional[Dict[str, np.ndarray]] = None
+
+    @property
+    def first_contact(self) -> Optional[Dict[str, Any]]:
+        """The first contact's entry of the report (None without a contact)."""
+        contacts = self.report["contacts"]
+        return contacts[0] if contacts else None
+
+
+def simulate(
+    scene: Scene,
+    *,
+    field: bool = False,
+    progress: Optional[Callable[[float], Any]] = None,
+) -> Simulation:
+    """Plan and run one scene.
+
+    Args:
+        scene: a path to a TOML scene file or a dict with its tables and keys.
+        field: also record the beam along its length (displacement, slope, moment, stress).
+        progress: called with the fraction of the simulated window done (0 to 1), at most a
+            thousand times; an exception it raises is raised when the run ends.
+
+    Returns:
+        The report, the history's arrays and (with ``field``) the field's.
+
+    Raises:
+        ValueError: the scene is refused (the message names the key, the value and what is
+            allowed) or the file cannot be read.
+        RuntimeError: the solver failed (the message says when and what to try).
+    """
+    report, history, recorded = _native.simulate(scene, field, progress)
+    return Simulation(json.loads(report), dict(history), None if recorded is None else dict(recorded))
+
+
+def sweep(
+    scene: Scene,
+    axes: Mapping[str, Union[Sequence[Any], np.ndarray]],
+    *,
+    shard: Optional[str] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Dict[str, Union[np.ndarray, List[str]]]:
+    """Run a scene over the grid of ``axes`` on every core (the GIL released).
+
+    Args:
+        scene: a path to a TOML scene file or a dict with its tables and keys.
+        axes: dotted scene keys and their values, ``{"impact.drop_height": [0.1, 0.2]}``; two
+            or more keys make a grid (the last key varies fastest, as on the command line).
+        shard: ``"K/N"`` runs points K-1, K-1+N, ... of the grid (as ``sweep --shard``).
+        progress: called with (points done, points) after each point.
+
+    Returns:
+        The columns of the command line's sweep.csv: ``point`` (int64), each swept key
+        (float64, or a list of str for names), the report's scalars of ``SWEEP_COLUMNS``
+        (float64; NaN where a quantity does not exist, e.g. the restitution of a contact that
+        had not ended) and ``error`` (a list of str, empty where the run succeeded).
+
+    Raises:
+        ValueError: an axis, the shard or a point's scene is refused (naming the point).
+    """
+    return dict(_native.sweep(scene, dict(axes), shard, progress))
+
+
+def accuracy(
+    scene: Scene,
+    *,
+    quick: bool = False,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Dict[str, Any]:
+    """Speed against error (``cargo xtask accuracy``): both methods over ladders of settings.
+
+    The settings run one after another (a wall time shared with another run on the same cores
+    is not the setting's cost); each error is relative to its method's converged reference.
+
+    Args:
+        scene: a beam scene (path or dict).
+        quick: the short ladders (seconds instead of minutes).
+        progress: called with (settings done, settings) after each.
+
+    Returns:
+        ``rows``: the table of work_precision.csv (``method``, ``setting`` as lists of str; the
+        numeric ``ACCURACY_COLUMNS`` as float64 arrays: wall time (s), the five relative errors,
+        the energy balance over the impact energy); ``references``: each method's reference with
+        its estimated error and check; ``model_difference``: the modal reference's differences
+        from the fe one's; ``theory_difference``: what Euler-Bernoulli modes leave out (or None);
+        ``name``: the scene's name.
+    """
+    return dict(_native.accuracy(scene, quick, progress))
+
+
+def compare(
+    scene: Scene,
+    *,
+    modes: Sequence[int] = (),
+    elements: Sequence[int] = (),
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Dict[str, Union[np.ndarray, List[str]]]:
+    """Both methods side by side (``cargo xtask compare``), against a converged reference.
+
+    Runs the modal reference (``solver.tolerance`` = 1e-3), each method at the scene's own or
+    default resolution, and the modal method at each of ``modes`` and the fe method at each of
+    ``elements`` (uniform meshes), on every core.
+
+    Returns:
+        The columns of compare's summary.csv (``SUMMARY_COLUMNS``): ``run`` (list of str), the
+        first contact's duration (s) and peak force (N), the contact count (int64), the largest
+        displacement (m), the largest bending stress (Pa; NaN where the method does not recover
+        it) and the wall time (s).
+
+    Raises:
+        ValueError: the scene is refused, or has no beam.
+    """
+    return dict(_native.compare(scene, list(modes), list(elements), progress))

@@ -1,0 +1,252 @@
+"""impact_beam against the command line: the same library must give the same numbers.
+
+The command line is run as `cargo xtask ...` from the repository (set IMPACT_XTASK to a built
+binary to skip cargo). Every comparison is exact: the report's floats to the last bit (both
+are serde_json's shortest round-trip text of the same f64), the CSVs' cells to their printed
+digits. Only wall times differ between two runs.
+"""
+
+import csv
+import io
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import impact_beam as ib
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+SCENES = REPO / "validation" / "scenes"
+TIP = SCENES / "paper-tip.toml"
+HALF_SPACE = SCENES / "half-space-r10.toml"
+
+
+def cli(*args, check=True):
+    """`cargo xtask ARGS` (or $IMPACT_XTASK ARGS) in the repository: (stdout, stderr)."""
+    command = [os.environ["IMPACT_XTASK"]] if "IMPACT_XTASK" in os.environ else ["cargo", "xtask"]
+    done = subprocess.run(command + [str(a) for a in args], cwd=REPO, capture_output=True, text=True)
+    if check:
+        assert done.returncode == 0, done.stderr
+    return done.stdout, done.stderr
+
+
+def timeless(report):
+    """A report without its wall time (the one value two runs of a scene do not share)."""
+    return {k: v for k, v in report.items() if k != "wall_time"}
+
+
+def read_csv(path):
+    with open(path, newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def printed(values, digits=9):
+    """Values as the CSVs print them (`{:.9e}` in Rust; NaN as an empty cell), in Python's
+    spelling: the CSV's cells are read back through `float` to compare."""
+    return ["" if np.isnan(v) else f"{v:.{digits}e}" for v in values]
+
+
+def cells(rows, name, digits=9):
+    return ["" if r[name] == "" else f"{float(r[name]):.{digits}e}" for r in rows]
+
+
+def scene_dict(path):
+    """A scene file as the dict a notebook would write (tomllib, Python 3.11+)."""
+    tomllib = pytest.importorskip("tomllib")
+    with open(path, "rb") as f:
+        return tomllib.load(f)
+
+
+def test_the_report_equals_the_command_lines_json_to_the_last_digit():
+    for scene in (TIP, HALF_SPACE):
+        stdout, _ = cli("simulate", scene, "--json")
+        expected = json.loads(stdout)
+        got = ib.simulate(scene).report
+        assert timeless(got) == timeless(expected)
+        assert got["wall_time"] > 0
+
+
+def test_the_history_holds_the_csv_columns_as_float64_arrays(tmp_path):
+    history_csv = tmp_path / "history.csv"
+    cli("simulate", TIP, "--history", history_csv)
+    rows = read_csv(history_csv)
+    run = ib.simulate(TIP)
+    assert list(run.history) == list(rows[0])
+    for name, values in run.history.items():
+        assert values.dtype == np.float64 and values.ndim == 1 and len(values) == len(rows)
+        # The CSV prints 10 significant digits: the arrays print to the same cells.
+        assert printed(values) == cells(rows, name), name
+    # The ball's energy at the start is the impact energy of the report.
+    assert run.history["ball_energy_j"][0] == pytest.approx(run.report["energy"]["initial"], rel=1e-12)
+
+
+def test_the_field_is_two_dimensional_and_matches_the_command_lines(tmp_path):
+    field_csv = tmp_path / "field.csv"
+    cli("simulate", TIP, "--field", field_csv)
+    rows = read_csv(field_csv)
+    field = ib.simulate(TIP, field=True).field
+    n_t, n_x = len(field["time_s"]), len(field["x_m"])
+    assert n_t * n_x == len(rows)
+    for name in ("displacement_m", "slope_rad", "moment_n_m", "stress_pa"):
+        assert field[name].shape == (n_t, n_x)
+        assert printed(field[name].ravel()) == cells(rows, name), name
+    assert ib.simulate(TIP).field is None
+
+
+def test_sweep_rows_equal_the_command_lines_sweep_csv(tmp_path):
+    axes = {"impact.speed": [0.5, 1.0, 2.0], "ball.radius": [0.005, 0.01]}
+    cli("sweep", HALF_SPACE, "--set", "impact.speed=0.5,1,2", "--set", "ball.radius=0.005,0.01", "--out", tmp_path)
+    rows = read_csv(tmp_path / "sweep.csv")
+    table = ib.sweep(HALF_SPACE, axes)
+    assert list(table) == list(rows[0])
+    assert list(table["point"]) == [int(r["point"]) for r in rows]
+    for name in ["impact.speed", "ball.radius"]:
+        assert list(table[name]) == [float(r[name]) for r in rows], name
+    for name in ib.SWEEP_COLUMNS:
+        if name != "wall_time_s":
+            assert printed(table[name]) == cells(rows, name), name
+    assert table["error"] == [""] * 6
+    # A shard holds the points K-1, K-1+N, ... of the whole.
+    half = ib.sweep(HALF_SPACE, axes, shard="2/2")
+    assert list(half["point"]) == [1, 3, 5]
+    assert list(half["first_peak_force_n"]) == list(table["first_peak_force_n"][1::2])
+
+
+def test_a_dict_scene_equals_its_toml_twin():
+    scene = scene_dict(TIP)
+    assert timeless(ib.simulate(scene).report) == timeless(ib.simulate(TIP).report)
+    # numpy values are scene values too.
+    scene["impact"]["drop_height"] = np.float64(0.1)
+    scene["solver"]["modes"] = np.int64(64)
+    report = ib.simulate(scene).report
+    assert report["plan"]["modes"] == 64 and report["impact_speed"] == pytest.approx((2 * 9.81 * 0.1) ** 0.5, rel=1e-3)
+
+
+def test_a_refused_scene_raises_value_error_with_the_command_lines_message(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(TIP.read_text().replace("length = 1.15", "length = -1.0"))
+    _, stderr = cli("simulate", bad, check=False)
+    with pytest.raises(ValueError) as refused:
+        ib.simulate(bad)
+    assert stderr.strip() == f"error: {refused.value}"
+    assert "beam.length = -1" in str(refused.value)
+    # The same scene as a dict: the same words without the file's name.
+    scene = scene_dict(TIP)
+    scene["beam"]["length"] = float("nan")
+    with pytest.raises(ValueError, match="beam.length = NaN"):
+        ib.simulate(scene)
+    del scene["beam"]["length"]
+    with pytest.raises(ValueError, match="length"):
+        ib.simulate(scene)
+    scene["beam"]["length"] = None
+    with pytest.raises(ValueError, match="beam.length = None"):
+        ib.simulate(scene)
+    scene["beam"]["length"] = object()
+    with pytest.raises(TypeError, match="beam.length"):
+        ib.simulate(scene)
+
+
+def test_files_and_options_the_command_line_refuses_are_refused_alike(tmp_path):
+    for path, words in [
+        (tmp_path / "missing.toml", "cannot read the scene file"),
+        (tmp_path, "is not a regular file"),
+    ]:
+        _, stderr = cli("simulate", path, check=False)
+        with pytest.raises(ValueError) as refused:
+            ib.simulate(path)
+        assert words in str(refused.value) and stderr.strip() == f"error: {refused.value}"
+    with pytest.raises(ValueError, match="impact.sped"):
+        ib.sweep(HALF_SPACE, {"impact.sped": [1.0]})
+    with pytest.raises(ValueError, match="no values"):
+        ib.sweep(HALF_SPACE, {"impact.speed": []})
+    with pytest.raises(ValueError, match="3/2"):
+        ib.sweep(HALF_SPACE, {"impact.speed": [1.0]}, shard="3/2")
+    with pytest.raises(ValueError, match=r"point 1 \(impact.speed = -1"):
+        ib.sweep(HALF_SPACE, {"impact.speed": [1.0, -1.0]})
+    with pytest.raises(ValueError, match="compare needs a \\[beam\\] scene"):
+        ib.compare(HALF_SPACE)
+    with pytest.raises(TypeError, match="scene"):
+        ib.simulate(42)
+
+
+def test_progress_is_reported_and_a_failing_callback_raises():
+    seen = []
+    ib.simulate(TIP, progress=seen.append)
+    assert seen and seen == sorted(seen) and seen[-1] == pytest.approx(1.0)
+    counts = []
+    ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 1.0, 1.5]}, progress=lambda done, total: counts.append((done, total)))
+    assert sorted(counts) == [(1, 3), (2, 3), (3, 3)]
+
+    def stop(_fraction):
+        raise KeyError("stop")
+
+    with pytest.raises(KeyError, match="stop"):
+        ib.simulate(TIP, progress=stop)
+
+
+def test_a_sweep_releases_the_gil():
+    """Python code runs while a sweep computes: the sweep does not hold the GIL."""
+    heights = {"solver.end_time": [0.16], "impact.drop_height": list(np.linspace(0.05, 0.5, 8 * os.cpu_count()))}
+    span = []
+
+    def work():
+        start = time.perf_counter()
+        ib.sweep(TIP, heights)
+        span.append(time.perf_counter() - start)
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    gaps, last = [], time.perf_counter()
+    while worker.is_alive():
+        time.sleep(0)
+        now = time.perf_counter()
+        gaps.append(now - last)
+        last = now
+    worker.join()
+    # Held through the sweep, the GIL would stop this loop for the sweep's whole duration;
+    # released, the loop never waits longer than a switch interval or two (5 ms each).
+    assert span[0] > 0.05, "the sweep is too short to tell"
+    assert max(gaps) < span[0] / 4, (max(gaps), span[0])
+
+
+def test_compare_equals_the_command_lines_summary(tmp_path):
+    cli("compare", TIP, "--modes", "16", "--elements", "20", "--out", tmp_path)
+    rows = read_csv(tmp_path / "summary.csv")
+    table = ib.compare(TIP, modes=[16], elements=[20])
+    assert list(table) == ib.SUMMARY_COLUMNS == list(rows[0])
+    assert table["run"] == [r["run"] for r in rows]
+    for name in ib.SUMMARY_COLUMNS[1:-1]:
+        if name == "contact_count":
+            assert list(table[name]) == [int(r[name]) for r in rows]
+        else:
+            assert printed(table[name]) == cells(rows, name), name
+
+
+def test_accuracy_quick_equals_the_command_lines_table(tmp_path):
+    cli("accuracy", TIP, "--quick", "--out", tmp_path)
+    rows = read_csv(tmp_path / "work_precision.csv")
+    study = ib.accuracy(TIP, quick=True)
+    table = study["rows"]
+    assert table["method"] == [r["method"] for r in rows]
+    assert table["setting"] == [r["setting"] for r in rows]
+    for name in ib.ACCURACY_COLUMNS[1:]:
+        assert printed(table[name], 3) == cells(rows, name, 3), name
+    assert [r["method"] for r in study["references"]] == ["modal", "fe"]
+
+
+def test_the_example_runs_and_prints_the_first_contact(tmp_path):
+    done = subprocess.run(
+        [sys.executable, str(REPO / "python" / "examples" / "paper_tip.py"), "--quick", "--out", str(tmp_path)],
+        capture_output=True, text=True, env={**os.environ, "MPLBACKEND": "Agg"},
+    )
+    assert done.returncode == 0, done.stderr
+    first = ib.simulate(TIP).first_contact
+    assert f"first contact: {first['duration'] * 1e6:.3f} µs, peak force {first['peak_force']:.1f} N" in done.stdout
+    assert (tmp_path / "drop_height_sweep.png").stat().st_size > 10_000
+    assert "modal reference" in done.stdout and "fe reference" in done.stdout
