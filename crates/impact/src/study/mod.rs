@@ -1,8 +1,9 @@
 //! Studies: many runs of one scene, and what they share with every front end.
 //!
 //! A *study* runs variants of one scene and reads their reports together. The command line
-//! (`cargo xtask sweep | accuracy | compare | reproduce`) and any other front end (a Python
-//! binding) share one of each piece here, and keep only argument parsing, progress and files:
+//! (`cargo xtask sweep | accuracy | compare | reproduce`) and the Python package
+//! (`python/`, `impact_beam`) share one of each piece here, and keep only argument parsing,
+//! progress and files:
 //!
 //! - [`grid`]: a sweep's axes (`KEY=START:STOP:COUNT` or `KEY=v1,v2,...` over dotted scene
 //!   keys), its lazily numbered grid with a size checked before anything is allocated
@@ -10,9 +11,13 @@
 //!   with their units, and the manifest that tells one sweep from another.
 //! - [`variant`]: the scene of one method at one resolution, with the other method's keys
 //!   dropped (a modal scene's `residual_flexibility` has no place in its fe run).
-//! - [`comparison`]: the runs of `compare`, both methods against a converged reference.
-//! - [`accuracy`]: the ladders of settings of the work-precision study, its references and the
-//!   errors of every run from its method's reference.
+//! - [`comparison`]: the runs of `compare`, both methods against a converged reference, and
+//!   their table ([`comparison::summary`]).
+//! - [`accuracy`]: the ladders of settings of the work-precision study, the study run one
+//!   setting after another ([`accuracy::run`]), its references and the errors of every run from
+//!   its method's reference.
+//! - [`read_input`]: the one way a scene file is read (a regular file of at most
+//!   [`MAX_SCENE_BYTES`]).
 //! - [`folder_name`]: the one way a scene's `name` becomes an output folder, and
 //!   [`printable`], the one way a name or value from a file is printed.
 //!
