@@ -35,11 +35,12 @@ struct SceneInput {
 }
 
 impl SceneInput {
-    /// `error` as the command line words it for this scene.
-    fn refuse(&self, error: impl std::fmt::Display) -> PyErr {
+    /// `error` (with its causes) as the command line words it for this scene.
+    fn refuse(&self, error: &ImpactError) -> PyErr {
+        let text = chain(error);
         match &self.path {
-            Some(p) => PyValueError::new_err(format!("in {}: {error}", p.display())),
-            None => PyValueError::new_err(error.to_string()),
+            Some(p) => PyValueError::new_err(format!("in {}: {text}", p.display())),
+            None => PyValueError::new_err(text),
         }
     }
 }
@@ -110,7 +111,7 @@ fn scene_input(scene: &Bound<'_, PyAny>) -> PyResult<SceneInput> {
     if let Ok(dict) = scene.cast::<PyDict>() {
         let table = to_table(dict, "")?;
         let parsed =
-            Scene::from_table(table.clone()).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            Scene::from_table(table.clone()).map_err(|e| PyValueError::new_err(chain(&e)))?;
         return Ok(SceneInput { path: None, table, scene: parsed });
     }
     let path: PathBuf = scene.extract().map_err(|_| {
@@ -119,7 +120,7 @@ fn scene_input(scene: &Bound<'_, PyAny>) -> PyResult<SceneInput> {
         )
     })?;
     let text =
-        study::read_input(&path, "scene file").map_err(|e| PyValueError::new_err(e.to_string()))?;
+        study::read_input(&path, "scene file").map_err(|e| PyValueError::new_err(chain(&e)))?;
     let refuse =
         |e: &dyn std::fmt::Display| PyValueError::new_err(format!("in {}: {e}", path.display()));
     let parsed = Scene::from_toml(&text).map_err(|e| refuse(&e))?;
@@ -190,7 +191,7 @@ fn run_error(input: &SceneInput, e: &ImpactError) -> PyErr {
         ImpactError::SolverFailed { .. } | ImpactError::Integrator { .. } => {
             PyRuntimeError::new_err(chain(e))
         }
-        _ => input.refuse(chain(e)),
+        _ => input.refuse(e),
     }
 }
 
@@ -208,9 +209,9 @@ fn simulate<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(String, Bound<'py, PyDict>, Option<Bound<'py, PyDict>>)> {
     let input = scene_input(scene)?;
-    let mut plan = impact::Plan::new(&input.scene).map_err(|e| input.refuse(e))?;
+    let mut plan = impact::Plan::new(&input.scene).map_err(|e| input.refuse(&e))?;
     if field {
-        plan = plan.with_field().map_err(|e| input.refuse(e))?;
+        plan = plan.with_field().map_err(|e| input.refuse(&e))?;
     }
     let callback = Callback::new(progress);
     let outcome: Result<Outcome, ImpactError> =
@@ -273,7 +274,7 @@ fn sweep<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let input = scene_input(scene)?;
-    let refuse = |e: ImpactError| PyValueError::new_err(e.to_string());
+    let refuse = |e: ImpactError| PyValueError::new_err(chain(&e));
     let mut parsed = Vec::new();
     for (k, v) in axes.iter() {
         let key: String = k
@@ -294,7 +295,7 @@ fn sweep<'py>(
         .iter()
         .map(|&i| grid.scene(&input.table, i))
         .collect::<Result<_, _>>()
-        .map_err(|e| input.refuse(e))?;
+        .map_err(|e| input.refuse(&e))?;
     let callback = Callback::new(progress);
     let done = std::sync::atomic::AtomicUsize::new(0);
     let results: Vec<Result<impact::Report, String>> = detached(py, || {
@@ -398,7 +399,7 @@ fn compare<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     use study::comparison::{runs, summary};
     let input = scene_input(scene)?;
-    let runs = runs(&input.scene, &modes, &elements).map_err(|e| input.refuse(e))?;
+    let runs = runs(&input.scene, &modes, &elements).map_err(|e| input.refuse(&e))?;
     let callback = Callback::new(progress);
     let done = std::sync::atomic::AtomicUsize::new(0);
     let reports: Vec<Result<impact::Report, ImpactError>> = detached(py, || {
