@@ -290,12 +290,12 @@ fn sweep<'py>(
     let shard = shard.map(Shard::parse).transpose().map_err(refuse)?.unwrap_or(Shard::WHOLE);
     let mine: Vec<usize> = shard.points(grid.len()).collect();
     // Every point's scene before any run, as the command line does: a bad point stops the
-    // sweep before it costs anything.
+    // sweep before it costs anything (the message names the point and its values).
     let scenes: Vec<Scene> = mine
         .iter()
         .map(|&i| grid.scene(&input.table, i))
         .collect::<Result<_, _>>()
-        .map_err(|e| input.refuse(&e))?;
+        .map_err(refuse)?;
     let callback = Callback::new(progress);
     let done = std::sync::atomic::AtomicUsize::new(0);
     let results: Vec<Result<impact::Report, String>> = detached(py, || {

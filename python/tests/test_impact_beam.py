@@ -167,8 +167,10 @@ def test_files_and_options_the_command_line_refuses_are_refused_alike(tmp_path):
         ib.sweep(HALF_SPACE, {"impact.speed": []})
     with pytest.raises(ValueError, match="3/2"):
         ib.sweep(HALF_SPACE, {"impact.speed": [1.0]}, shard="3/2")
-    with pytest.raises(ValueError, match=r"point 1 \(impact.speed = -1"):
+    _, stderr = cli("sweep", HALF_SPACE, "--set", "impact.speed=1.0,-1.0", "--out", tmp_path / "bad-sweep", check=False)
+    with pytest.raises(ValueError, match=r"point 1 \(impact.speed = -1") as refused:
         ib.sweep(HALF_SPACE, {"impact.speed": [1.0, -1.0]})
+    assert stderr.strip() == f"error: {refused.value}"
     with pytest.raises(ValueError, match="compare needs a \\[beam\\] scene"):
         ib.compare(HALF_SPACE)
     with pytest.raises(TypeError, match="scene"):
