@@ -43,9 +43,11 @@ impl Field {
         let p = self.points.len();
         for (i, t) in self.time.iter().enumerate() {
             for (k, x) in self.points.iter().enumerate() {
-                let cells: Vec<String> =
-                    quantities.iter().map(|(_, v)| format!("{:.9e}", v[i * p + k])).collect();
-                writeln!(out, "{t:.9e},{x:.6e},{}", cells.join(","))?;
+                write!(out, "{t:.9e},{x:.6e}")?;
+                for (_, v) in &quantities {
+                    write!(out, ",{:.9e}", v[i * p + k])?;
+                }
+                writeln!(out)?;
             }
         }
         out.flush()

@@ -160,8 +160,11 @@ impl History {
         let names: Vec<&str> = columns.iter().map(|(name, _)| *name).collect();
         writeln!(w, "{}", names.join(","))?;
         for i in 0..self.len() {
-            let cells: Vec<String> = columns.iter().map(|(_, v)| format!("{:.9e}", v[i])).collect();
-            writeln!(w, "{}", cells.join(","))?;
+            for (c, (_, v)) in columns.iter().enumerate() {
+                let separator = if c == 0 { "" } else { "," };
+                write!(w, "{separator}{:.9e}", v[i])?;
+            }
+            writeln!(w)?;
         }
         Ok(())
     }
