@@ -160,7 +160,7 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
     Ok(true)
 }
 
-/// A run's resolution in words: "512 elements", "128 modes (Timoshenko)", "rigid block".
+/// A run's resolution in words: "512 elements", "128 Timoshenko modes", "rigid block".
 pub(crate) fn resolution(plan: &impact::PlanSummary) -> String {
     match plan.method {
         MethodKind::Fe => format!("{} elements", plan.elements),
