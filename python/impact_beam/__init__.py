@@ -49,7 +49,7 @@ SUMMARY_COLUMNS: List[str] = list(_native.SUMMARY_COLUMNS)
 ACCURACY_COLUMNS: List[str] = list(_native.ACCURACY_COLUMNS)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Simulation:
     """One run of a scene.
 
@@ -79,6 +79,22 @@ class Simulation:
         """The first contact's entry of the report (None without a contact)."""
         contacts = self.report["contacts"]
         return contacts[0] if contacts else None
+
+    def __repr__(self) -> str:
+        # A notebook shows this: the headline numbers, not thousands of samples.
+        r, plan = self.report, self.report["plan"]
+        first = self.first_contact
+        contact = (
+            f"first {first['duration'] * 1e6:.2f} µs, {first['peak_force']:.1f} N"
+            if first
+            else "no contact"
+        )
+        field = "none" if self.field is None else f"{len(self.field['time_s'])} x {len(self.field['x_m'])}"
+        return (
+            f"Simulation({r['name']!r}: {plan['method']}, {r['contact_count']} contact(s), {contact}; "
+            f"max displacement {r['max_displacement'] * 1e3:.4f} mm; {len(r['warnings'])} warning(s); "
+            f"history {len(self.history['time_s'])} samples; field {field})"
+        )
 
 
 def simulate(

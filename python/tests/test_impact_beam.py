@@ -72,6 +72,15 @@ def test_the_report_equals_the_command_lines_json_to_the_last_digit():
         assert got["wall_time"] > 0
 
 
+def test_a_simulation_prints_its_headline_not_its_arrays():
+    run = ib.simulate(TIP)
+    text = repr(run)
+    first = run.first_contact
+    assert text.startswith(f"Simulation('barrientos-tip': modal, {run.report['contact_count']} contact(s)")
+    assert f"first {first['duration'] * 1e6:.2f} µs, {first['peak_force']:.1f} N" in text
+    assert len(text) < 300
+
+
 def test_the_history_holds_the_csv_columns_as_float64_arrays(tmp_path):
     history_csv = tmp_path / "history.csv"
     cli("simulate", TIP, "--history", history_csv)
