@@ -195,6 +195,30 @@ fn run_error(input: &SceneInput, e: &ImpactError) -> PyErr {
     }
 }
 
+/// Runs `scenes` on every core without the GIL, telling `progress` (points done, points)
+/// after each: the reports (or errors) in the scenes' order.
+fn simulate_all(
+    py: Python<'_>,
+    scenes: &[Scene],
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Vec<Result<impact::Report, ImpactError>>> {
+    let callback = Callback::new(progress);
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let reports = detached(py, || {
+        scenes
+            .par_iter()
+            .map(|s| {
+                let report = impact::simulate(s).map(|o| o.report);
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                callback.call((n, scenes.len()));
+                report
+            })
+            .collect()
+    })?;
+    callback.finish()?;
+    Ok(reports)
+}
+
 fn column<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_slice(py, values)
 }
@@ -296,20 +320,10 @@ fn sweep<'py>(
         .map(|&i| grid.scene(&input.table, i))
         .collect::<Result<_, _>>()
         .map_err(refuse)?;
-    let callback = Callback::new(progress);
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<Result<impact::Report, String>> = detached(py, || {
-        scenes
-            .par_iter()
-            .map(|s| {
-                let result = impact::simulate(s).map(|o| o.report).map_err(|e| chain(&e));
-                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                callback.call((n, scenes.len()));
-                result
-            })
-            .collect()
-    })?;
-    callback.finish()?;
+    let results: Vec<Result<impact::Report, String>> = simulate_all(py, &scenes, progress)?
+        .into_iter()
+        .map(|r| r.map_err(|e| chain(&e)))
+        .collect();
     let out = PyDict::new(py);
     out.set_item("point", PyArray1::from_vec(py, mine.iter().map(|&i| i as i64).collect()))?;
     for (a, key) in grid.keys().iter().enumerate() {
@@ -397,49 +411,30 @@ fn compare<'py>(
     elements: Vec<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use study::comparison::{runs, summary};
+    use study::comparison::{runs, summary, SummaryRow, SUMMARY_COLUMNS};
     let input = scene_input(scene)?;
     let runs = runs(&input.scene, &modes, &elements).map_err(|e| input.refuse(&e))?;
-    let callback = Callback::new(progress);
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let reports: Vec<Result<impact::Report, ImpactError>> = detached(py, || {
-        runs.par_iter()
-            .map(|(_, s)| {
-                let report = impact::simulate(s).map(|o| o.report);
-                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                callback.call((n, runs.len()));
-                report
-            })
-            .collect()
-    })?;
-    callback.finish()?;
-    let reports: Vec<impact::Report> =
-        reports.into_iter().collect::<Result<_, _>>().map_err(|e| run_error(&input, &e))?;
+    let scenes: Vec<Scene> = runs.iter().map(|(_, s)| s.clone()).collect();
+    let reports: Vec<impact::Report> = simulate_all(py, &scenes, progress)?
+        .into_iter()
+        .collect::<Result<_, _>>()
+        .map_err(|e| run_error(&input, &e))?;
     let rows = summary(runs.iter().map(|(l, _)| l.as_str()).zip(&reports));
-    let optional = |v: Option<f64>| v.unwrap_or(f64::NAN);
+    let floats = |value: fn(&SummaryRow) -> Option<f64>| {
+        column(py, &rows.iter().map(|r| value(r).unwrap_or(f64::NAN)).collect::<Vec<_>>())
+    };
+    let [run, duration, peak, count, displacement, stress, wall] = SUMMARY_COLUMNS;
     let out = PyDict::new(py);
-    out.set_item("run", rows.iter().map(|r| r.run.clone()).collect::<Vec<_>>())?;
+    out.set_item(run, rows.iter().map(|r| r.run.clone()).collect::<Vec<_>>())?;
+    out.set_item(duration, floats(|r| r.first_duration))?;
+    out.set_item(peak, floats(|r| r.peak_force))?;
     out.set_item(
-        "first_contact_duration_s",
-        column(py, &rows.iter().map(|r| optional(r.first_duration)).collect::<Vec<_>>()),
-    )?;
-    out.set_item(
-        "peak_force_n",
-        column(py, &rows.iter().map(|r| optional(r.peak_force)).collect::<Vec<_>>()),
-    )?;
-    out.set_item(
-        "contact_count",
+        count,
         PyArray1::from_vec(py, rows.iter().map(|r| r.contact_count as i64).collect()),
     )?;
-    out.set_item(
-        "max_displacement_m",
-        column(py, &rows.iter().map(|r| r.max_displacement).collect::<Vec<_>>()),
-    )?;
-    out.set_item(
-        "max_bending_stress_pa",
-        column(py, &rows.iter().map(|r| optional(r.max_bending_stress)).collect::<Vec<_>>()),
-    )?;
-    out.set_item("wall_time_s", column(py, &rows.iter().map(|r| r.wall_time).collect::<Vec<_>>()))?;
+    out.set_item(displacement, floats(|r| Some(r.max_displacement)))?;
+    out.set_item(stress, floats(|r| r.max_bending_stress))?;
+    out.set_item(wall, floats(|r| Some(r.wall_time)))?;
     Ok(out)
 }
 

@@ -263,12 +263,17 @@ impl Chart<'_> {
     }
 }
 
+/// `text` safe inside an HTML element: `&`, `<`, `>` as entities.
+pub(crate) fn escape_html(text: &str) -> String {
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
 /// The head of every HTML page the commands write, up to `<body>`: one column at most 1100 px
 /// wide (a laptop screen shows it without scrolling sideways; a figure fills it, its text at
 /// about the page's size), long words broken rather than widening it, a wide table scrolling in
 /// its own box. `title` is escaped.
 pub(crate) fn page_head(title: &str) -> String {
-    let title = title.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let title = escape_html(title);
     format!(
         "<!doctype html><html><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>{title}</title>\
          <style>body{{font-family:sans-serif;max-width:1100px;margin:1.5em auto;padding:0 1em;line-height:1.45;overflow-wrap:anywhere}}\

@@ -155,9 +155,8 @@ fn captions(outcome: &Outcome) -> Vec<(&'static str, String)> {
 /// index.html: the report's numbers and warnings, then the figures, on one page.
 fn index(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
     let r = &outcome.report;
-    let escape = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
     let mut html = crate::plot::page_head(&r.name);
-    let _ = write!(html, "<h1>{}</h1>", escape(&r.name));
+    let _ = write!(html, "<h1>{}</h1>", crate::plot::escape_html(&r.name));
     let _ = write!(
         html,
         "<p>Method {:?}; impact speed {:.4} m/s; {} contact(s); largest displacement at the impact point {:.4} mm at {:.4} ms; equivalent static force {}; estimated error {}.</p>",
@@ -187,7 +186,7 @@ fn index(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
     if !r.warnings.is_empty() {
         html.push_str("<h2>Warnings</h2><ul>");
         for w in &r.warnings {
-            let _ = write!(html, "<li>{}</li>", escape(w));
+            let _ = write!(html, "<li>{}</li>", crate::plot::escape_html(w));
         }
         html.push_str("</ul>");
     }
