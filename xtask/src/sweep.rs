@@ -295,7 +295,8 @@ const DRAWN: [(&str, &str, f64); 4] = [
     ("restitution", "coefficient of restitution (-)", 1.0),
 ];
 
-/// `sweep_<column>.svg` for each quantity of [`DRAWN`] the rows have, against the first swept
+/// `sweep_<column>.svg` for each quantity of [`DRAWN`] the rows have (and that is not zero at
+/// every point), against the first swept
 /// key, one curve per value of the second (a sweep over two keys drawn against one would zig-zag
 /// between them), and `sweep.svg`, the first of them. At most 16 values of the second key
 /// get a curve (the figure's distinct styles); the table has every row.
@@ -335,7 +336,9 @@ fn chart(
                 (!points.is_empty()).then_some(Series { label, points })
             })
             .collect();
-        if series.is_empty() {
+        // A quantity zero at every point is one the scene does not have (a half-space's beam
+        // displacement): a flat line at 0 tells a reader nothing.
+        if series.iter().all(|s| s.points.iter().all(|p| p.1 == 0.0)) {
             continue;
         }
         let title = format!("sweep: {y_label} against {}", header[x_index]);
