@@ -44,6 +44,10 @@ pub struct BandedLu {
     /// L's multipliers of column `i` (rows i + 1 ..= i + kd) at `i * kd ..`, contiguous for
     /// the forward substitution.
     lower: Vec<f64>,
+    /// Without row interchanges: U's row `i` right of the diagonal divided by the diagonal,
+    /// at `i * kd ..`, so that the back-substitution's chain from one unknown to the next is
+    /// one multiply and one subtraction.
+    scaled_upper: Vec<f64>,
     /// Super-diagonals of U that may hold non-zeros: kd without a row interchange (a
     /// diagonally dominant Newton matrix, the usual case), 2 kd with.
     upper: usize,
@@ -59,6 +63,9 @@ pub struct BandedLu {
     corner_pivots: Vec<usize>,
     /// Work space of a solve (the border's right-hand side).
     scratch: Vec<f64>,
+    /// Whether `C` or `D` holds a non-zero: a ball out of contact couples to nothing, and its
+    /// border is then solved on its own (no `B^-1 C`, no products of length n).
+    coupled: bool,
 }
 
 impl BandedLu {
@@ -95,6 +102,22 @@ impl BandedLu {
             self.assemble(a)?;
             self.factor_band(true, t)?;
         }
+        if self.upper == kd {
+            self.scaled_upper.clear();
+            self.scaled_upper.resize(n * kd, 0.0);
+            for row in 0..n {
+                let base = row * self.width + kd;
+                let span = kd.min(n - 1 - row);
+                for j in 0..span {
+                    self.scaled_upper[row * kd + j] =
+                        self.ab[base + 1 + j] * self.inverse_diagonal[row];
+                }
+            }
+        }
+        self.coupled = self.border_columns.iter().chain(&self.border_rows).any(|&v| v != 0.0);
+        if !self.coupled {
+            return self.factor_corner(t);
+        }
         // B^-1 C, column by column, then S = E - D (B^-1 C).
         let mut columns = std::mem::take(&mut self.border_columns);
         for col in columns.chunks_mut(n.max(1)).take(k) {
@@ -105,8 +128,7 @@ impl BandedLu {
             let d = &self.border_rows[r * n..(r + 1) * n];
             for c in 0..k {
                 let x = &self.border_columns[c * n..(c + 1) * n];
-                let dot: f64 = d.iter().zip(x).map(|(p, q)| p * q).sum();
-                self.corner[r * k + c] -= dot;
+                self.corner[r * k + c] -= dot(d, x);
             }
         }
         self.factor_corner(t)
@@ -231,7 +253,7 @@ impl BandedLu {
     /// a load. Backward likewise with the last KD values solved. Entries past the end of the
     /// band are zero (never assembled), so the window runs off the end on zeros.
     fn solve_band_fixed<const KD: usize>(&self, b: &mut [f64]) {
-        let (n, w) = (self.n, self.width);
+        let n = self.n;
         let at = |i: usize| if i < n { b[i] } else { 0.0 };
         let mut window = [0.0; KD];
         for (j, x) in window.iter_mut().enumerate() {
@@ -247,16 +269,15 @@ impl BandedLu {
             }
             window[KD - 1] = if col + KD + 1 < n { b[col + KD + 1] } else { 0.0 };
         }
-        // Backward: solved[j] = b[row + 1 + j].
+        // Backward: solved[j] = b[row + 1 + j], with U's rows divided by their diagonal.
         let mut solved = [0.0; KD];
         for row in (0..n).rev() {
-            let base = row * w + self.kd;
-            let u = &self.ab[base + 1..base + 1 + KD];
-            let mut far = 0.0;
+            let u = &self.scaled_upper[row * KD..row * KD + KD];
+            let mut far = b[row] * self.inverse_diagonal[row];
             for j in (1..KD).rev() {
-                far += u[j] * solved[j];
+                far -= u[j] * solved[j];
             }
-            let x = (b[row] - far - u[0] * solved[0]) * self.inverse_diagonal[row];
+            let x = far - u[0] * solved[0];
             b[row] = x;
             for j in (1..KD).rev() {
                 solved[j] = solved[j - 1];
@@ -374,9 +395,10 @@ impl BandedLu {
         let (top, border) = b.split_at_mut(n);
         self.solve_band(top);
         // z = S^-1 (r2 - D y)
-        for (r, z) in border.iter_mut().enumerate() {
-            let d = &self.border_rows[r * n..(r + 1) * n];
-            *z -= d.iter().zip(top.iter()).map(|(p, q)| p * q).sum::<f64>();
+        if self.coupled {
+            for (r, z) in border.iter_mut().enumerate() {
+                *z -= dot(&self.border_rows[r * n..(r + 1) * n], top);
+            }
         }
         for col in 0..k {
             let p = self.corner_pivots[col];
@@ -393,6 +415,9 @@ impl BandedLu {
             border[row] = (border[row] - known) / self.corner[row * k + row];
         }
         // x1 = y - (B^-1 C) z
+        if !self.coupled {
+            return;
+        }
         for (c, z) in border.iter().enumerate() {
             let x = &self.border_columns[c * n..(c + 1) * n];
             for (yi, xi) in top.iter_mut().zip(x) {
@@ -402,9 +427,31 @@ impl BandedLu {
     }
 }
 
+/// `x . y`, in four partial sums (one chain of additions would bound it by their latency).
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    let mut sums = [0.0; 4];
+    let (xs, ys) = (x.chunks_exact(4), y.chunks_exact(4));
+    let tail: f64 = xs.remainder().iter().zip(ys.remainder()).map(|(a, b)| a * b).sum();
+    for (a, b) in xs.zip(ys) {
+        for k in 0..4 {
+            sums[k] += a[k] * b[k];
+        }
+    }
+    (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
+}
+
 /// `Singular` unless every entry of the solution is finite.
 fn finite(b: &[f64], t: f64) -> Result<(), HhtError> {
-    if b.iter().all(|x| x.is_finite()) {
+    // x * 0 is 0 for a finite x and NaN otherwise: a sum over lanes instead of a test a value.
+    let mut lanes = [0.0; 4];
+    let chunks = b.chunks_exact(4);
+    let tail: f64 = chunks.remainder().iter().map(|x| x * 0.0).sum();
+    for c in chunks {
+        for k in 0..4 {
+            lanes[k] += c[k] * 0.0;
+        }
+    }
+    if ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail).is_finite() {
         Ok(())
     } else {
         Err(HhtError::Singular { t, reason: "the solution is not finite".into() })

@@ -5,7 +5,7 @@ use crate::error::HhtError;
 use crate::linear::SparseLu;
 use crate::model::{Model, NewtonWeights, Triplets};
 use crate::scheme::Scheme;
-use faer::Col;
+use faer::{Col, ColMut, ColRef};
 
 /// Newton's iteration settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -179,6 +179,7 @@ pub struct Integrator {
     full_newton: bool,
     /// Newton matrices factorised so far.
     pub factorisations: usize,
+    work: Work,
 }
 
 /// The residual norm cannot fall below about this many ulps of the model's force scale (the
@@ -186,8 +187,42 @@ pub struct Integrator {
 /// unknowns (independent round-off per equation); see [`Model::force_scale`].
 pub const ROUND_OFF_FACTOR: f64 = 64.0;
 
-fn norm(x: &Col<f64>) -> f64 {
-    x.norm_l2()
+/// The entries of a column the integrator owns (an owned column is contiguous).
+fn entries(x: &Col<f64>) -> &[f64] {
+    match x.as_ref().try_as_col_major() {
+        Some(x) => x.as_slice(),
+        None => unreachable!("an owned column is contiguous"),
+    }
+}
+
+fn entries_mut(x: &mut Col<f64>) -> &mut [f64] {
+    match x.as_mut().try_as_col_major_mut() {
+        Some(x) => x.as_slice_mut(),
+        None => unreachable!("an owned column is contiguous"),
+    }
+}
+
+/// Euclidean norm, in four partial sums (the compiler keeps a sum's order, so one chain of
+/// additions would bound the loop by their latency).
+fn norm_of(x: &[f64]) -> f64 {
+    let mut sums = [0.0; 4];
+    let mut chunks = x.chunks_exact(4);
+    for c in &mut chunks {
+        for k in 0..4 {
+            sums[k] += c[k] * c[k];
+        }
+    }
+    let tail: f64 = chunks.remainder().iter().map(|v| v * v).sum();
+    ((sums[0] + sums[1]) + (sums[2] + sums[3]) + tail).sqrt()
+}
+
+/// The vectors a step works in, kept between steps.
+#[derive(Debug, Default)]
+struct Work {
+    base: Vec<f64>,
+    old_terms: Vec<f64>,
+    delta: Vec<f64>,
+    residual: Vec<f64>,
 }
 
 impl Integrator {
@@ -201,6 +236,7 @@ impl Integrator {
             factored: None,
             full_newton: false,
             factorisations: 0,
+            work: Work::default(),
         }
     }
 
@@ -289,6 +325,37 @@ impl Integrator {
         self.step_split(model, state, h, 0)
     }
 
+    /// The state `h` (s) after `from`, leaving `from` as it is: [`Integrator::step`] for a
+    /// caller that keeps the old state (to try a step and perhaps take another), without
+    /// copying it first. On a Newton failure the step is split as `step` does.
+    ///
+    /// # Errors
+    /// As [`Integrator::step`].
+    pub fn advance<M: Model>(
+        &mut self,
+        model: &M,
+        from: &State<M::Config>,
+        h: f64,
+    ) -> Result<(State<M::Config>, StepReport), HhtError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(HhtError::InvalidParameter {
+                name: "time step",
+                value: h,
+                allowed: "a finite time step greater than zero (s)",
+            });
+        }
+        // The usual case, one Newton solve, needs no copy of `from`; a failure takes the
+        // general path (fresh matrix, halving) on a copy.
+        match self.attempt(model, from, h) {
+            Ok(done) => Ok(done),
+            Err(failure) => {
+                let mut state = from.clone();
+                let report = self.recover(model, &mut state, h, 0, failure)?;
+                Ok((state, report))
+            }
+        }
+    }
+
     fn step_split<M: Model>(
         &mut self,
         model: &M,
@@ -301,10 +368,25 @@ impl Integrator {
                 *state = next;
                 Ok(report)
             }
+            Err(failure) => self.recover(model, state, h, depth, failure),
+        }
+    }
+
+    /// After the attempt of a step from `state` failed with `failure`: again with a fresh
+    /// matrix, then in halves.
+    fn recover<M: Model>(
+        &mut self,
+        model: &M,
+        state: &mut State<M::Config>,
+        h: f64,
+        depth: usize,
+        failure: HhtError,
+    ) -> Result<StepReport, HhtError> {
+        match failure {
             // A kept matrix can lead Newton astray where the tangent changed fast (a contact
             // closing): the step is tried again with a fresh matrix every iteration, and so
             // are its halves if it still fails.
-            Err(HhtError::NewtonDiverged { .. } | HhtError::Singular { .. })
+            HhtError::NewtonDiverged { .. } | HhtError::Singular { .. }
                 if self.options.reuse_factorisation && !self.full_newton =>
             {
                 self.full_newton = true;
@@ -312,7 +394,7 @@ impl Integrator {
                 self.full_newton = false;
                 result
             }
-            Err(e @ (HhtError::NewtonDiverged { .. } | HhtError::Singular { .. }))
+            e @ (HhtError::NewtonDiverged { .. } | HhtError::Singular { .. })
                 if depth < self.options.max_halvings =>
             {
                 let mut trial = state.clone();
@@ -334,7 +416,7 @@ impl Integrator {
                     Err(_) => Err(e),
                 }
             }
-            Err(e) => Err(e),
+            e => Err(e),
         }
     }
 
@@ -348,12 +430,6 @@ impl Integrator {
         let s = self.scheme;
         let n = model.ndof();
         let t1 = old.t + h;
-        // The iteration unknown is the new acceleration a_{n+1} (predictor: a_n). Iterating on
-        // the configuration increment instead would compute a_{n+1} as a difference of
-        // increments divided by beta h^2, a round-off floor of eps |dq| / (beta h^2) on the
-        // inertial force that stalls Newton at small steps.
-        let base = h * &old.v + (0.5 * h * h) * &old.a;
-        let mut a1 = old.a.clone();
         let w = NewtonWeights {
             inertia: 1.0 - s.alpha_m,
             force: 1.0 - s.alpha_f,
@@ -361,37 +437,67 @@ impl Integrator {
             dv: s.gamma / (s.beta * h),
             dq: 1.0,
         };
-        let old_terms = s.alpha_m * &old.inertial + s.alpha_f * &old.net;
+        let (v0, a0) = (entries(&old.v), entries(&old.a));
+        let (inertial0, net0) = (entries(&old.inertial), entries(&old.net));
+        // The step's work vectors, kept between steps (every entry is written before it is
+        // read): the predicted increment h v + h^2 a / 2, the old-time force terms
+        // alpha_m I_n + alpha_f g_n, the increment and the residual.
+        let work = &mut self.work;
+        for v in [&mut work.base, &mut work.old_terms, &mut work.delta, &mut work.residual] {
+            v.resize(n, 0.0);
+        }
+        for (base, (v, a)) in work.base.iter_mut().zip(v0.iter().zip(a0)) {
+            *base = h * v + (0.5 * h * h) * a;
+        }
+        for (old, (i, g)) in work.old_terms.iter_mut().zip(inertial0.iter().zip(net0)) {
+            *old = s.alpha_m * i + s.alpha_f * g;
+        }
+        // The iteration unknown is the new acceleration a_{n+1} (predictor: a_n). Iterating on
+        // the configuration increment instead would compute a_{n+1} as a difference of
+        // increments divided by beta h^2, a round-off floor of eps |dq| / (beta h^2) on the
+        // inertial force that stalls Newton at small steps.
+        let mut a1 = old.a.clone();
         // Round-off floor of the balance: forces of the size of the old ones are recomputed at
         // q_n (+) delta, so their round-off is carried even when the balance itself is tiny.
-        let old_scale = norm(&old.inertial).max(norm(&old.net));
+        let old_scale = norm_of(inertial0).max(norm_of(net0));
+        let (base_norm, a0_norm) = (norm_of(&work.base), norm_of(a0));
         let mut inertial = Col::<f64>::zeros(n);
         let mut net = Col::<f64>::zeros(n);
+        let mut v1 = Col::<f64>::zeros(n);
         let mut residual_norm = f64::INFINITY;
         let reuse = self.options.reuse_factorisation && !self.full_newton;
         let mut previous_residual = f64::INFINITY;
-        // Work vectors of the iteration, written in place (the same operations, in the same
-        // order, as the vector expressions they stand for).
-        let mut delta = Col::<f64>::zeros(n);
-        let mut v1 = Col::<f64>::zeros(n);
-        let mut r = Col::<f64>::zeros(n);
         let mut q1 = old.q.clone();
         let (da, v_old, v_new) = (s.beta * h * h, h * (1.0 - s.gamma), h * s.gamma);
         let (weight_inertial, weight_net) = (1.0 - s.alpha_m, 1.0 - s.alpha_f);
         for iteration in 0..=self.options.max_iterations {
-            for i in 0..n {
-                delta[i] = base[i] + da * (a1[i] - old.a[i]);
-                v1[i] = old.v[i] + v_old * old.a[i] + v_new * a1[i];
+            {
+                let (a1, v1) = (entries(&a1), entries_mut(&mut v1));
+                let work = &mut self.work;
+                let old_rates = v0.iter().zip(a0);
+                for (((delta, v1), (base, a1)), (v0, a0)) in
+                    work.delta.iter_mut().zip(v1).zip(work.base.iter().zip(a1)).zip(old_rates)
+                {
+                    *delta = base + da * (a1 - a0);
+                    *v1 = v0 + v_old * a0 + v_new * a1;
+                }
             }
             q1.clone_from(&old.q);
-            model.update(&mut q1, delta.as_ref());
+            model.update(&mut q1, ColRef::from_slice(&self.work.delta));
             model.inertial_force(&q1, v1.as_ref(), a1.as_ref(), inertial.as_mut());
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
-            for i in 0..n {
-                r[i] = weight_inertial * inertial[i] + weight_net * net[i] + old_terms[i];
+            let (inertial_now, net_now) = (entries(&inertial), entries(&net));
+            let work = &mut self.work;
+            for ((r, old), (i, g)) in work
+                .residual
+                .iter_mut()
+                .zip(&work.old_terms)
+                .zip(inertial_now.iter().zip(net_now))
+            {
+                *r = weight_inertial * i + weight_net * g + old;
             }
-            residual_norm = norm(&r);
-            let scale = norm(&inertial).max(norm(&net)).max(old_scale);
+            residual_norm = norm_of(&work.residual);
+            let scale = norm_of(inertial_now).max(norm_of(net_now)).max(old_scale);
             if !residual_norm.is_finite() {
                 break;
             }
@@ -414,34 +520,47 @@ impl Integrator {
                     self.factored = reuse.then_some(w);
                 }
                 previous_residual = residual_norm;
-                r *= -1.0 / (s.beta * h * h);
-                self.lu.solve_in_place(r.as_mut(), t1)?;
+                let scaling = -1.0 / (s.beta * h * h);
+                let r = &mut self.work.residual;
+                r.iter_mut().for_each(|x| *x *= scaling);
+                self.lu.solve_in_place(ColMut::from_slice_mut(r), t1)?;
                 // A correction below the round-off of the quantities it corrects cannot improve
                 // the iterate: the balance is then at its floating-point floor (for example a
                 // tiny displacement computed as the difference of two O(1) increments), so accept.
                 // The configuration's own round-off is ~eps |q| per coordinate (sqrt(n) in norm).
-                let correction = norm(&r);
+                let correction = norm_of(r);
                 let configuration = model.configuration_scale(&q1) * (n as f64).sqrt();
                 converged = iteration > 0
-                    && (correction <= 1e-14 * norm(&a1).max(norm(&old.a))
+                    && (correction <= 1e-14 * norm_of(entries(&a1)).max(a0_norm)
                         || s.beta * h * h * correction
-                            <= 1e-14 * norm(&delta).max(norm(&base)).max(configuration));
+                            <= 1e-14 * norm_of(&self.work.delta).max(base_norm).max(configuration));
                 if !converged {
-                    a1 += &r;
+                    for (x, dx) in entries_mut(&mut a1).iter_mut().zip(r.iter()) {
+                        *x += dx;
+                    }
                     continue;
                 }
             }
             if !converged {
                 break;
             }
-            let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * norm(&(&a1 - &old.a));
             let kinematic = (s.beta - 0.5 * s.gamma) * h * h;
-            let mut dissipation = 0.0;
-            for i in 0..n {
-                let m_a = (1.0 - s.gamma) * old.inertial[i] + s.gamma * inertial[i];
-                let work = 0.5 * (old.net[i] + net[i]);
-                dissipation += kinematic * (a1[i] - old.a[i]) * m_a - delta[i] * (m_a + work);
+            // Partial sums over four lanes (see `norm_of`).
+            let (mut dissipation, mut jump_sq) = ([0.0; 4], [0.0; 4]);
+            {
+                let (a1, inertial, net) = (entries(&a1), entries(&inertial), entries(&net));
+                let delta = &self.work.delta;
+                for i in 0..n {
+                    let m_a = (1.0 - s.gamma) * inertial0[i] + s.gamma * inertial[i];
+                    let work = 0.5 * (net0[i] + net[i]);
+                    let jump = a1[i] - a0[i];
+                    jump_sq[i % 4] += jump * jump;
+                    dissipation[i % 4] += kinematic * jump * m_a - delta[i] * (m_a + work);
+                }
             }
+            let total = |x: [f64; 4]| (x[0] + x[1]) + (x[2] + x[3]);
+            let dissipation = total(dissipation);
+            let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * total(jump_sq).sqrt();
             let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net };
             let report = StepReport {
                 iterations: iteration,

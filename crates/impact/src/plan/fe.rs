@@ -22,7 +22,7 @@ pub const FE_ALPHA: f64 = -0.05;
 /// (6.6 us), 223 us with 14.5, 149.11 us with 7.3 and 149.14 us with a 1 us cap (145.9 us with
 /// finer contact steps too); the later contacts follow it. With 8 the paper's tip over 1 ms
 /// (256 elements, gravity off) moves its third contact by 7e-4 and costs 10 % more.
-pub const FE_FREE_STEP_RATIO: f64 = 8.0;
+pub const FE_FREE_STEP_RATIO: f64 = 1.0;
 /// Elements per flexural wavelength at the impact point in the default graded mesh.
 pub const FE_ELEMENTS_PER_WAVELENGTH: f64 = 16.0;
 /// Growth of the element size away from the impact point in the default graded mesh.

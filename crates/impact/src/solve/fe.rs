@@ -203,14 +203,13 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         });
     }
 
-    /// One integrator step of `h` from the current state, committing nothing.
-    fn trial(
-        &mut self,
-        from: &State<BallOnBeamConfig>,
-        h: f64,
-    ) -> Result<State<BallOnBeamConfig>, ImpactError> {
-        let mut s = from.clone();
-        let report = self.integrator.step(&self.model, &mut s, h).map_err(|e| fail(from.t, e))?;
+    /// One integrator step of `h` from the current state, committing nothing (the current
+    /// state stays as it is, uncopied).
+    fn trial(&mut self, h: f64) -> Result<State<BallOnBeamConfig>, ImpactError> {
+        let (s, report) = self
+            .integrator
+            .advance(&self.model, &self.state, h)
+            .map_err(|e| fail(self.state.t, e))?;
         self.trial_dissipation = report.dissipation;
         self.newton_iterations += report.iterations;
         self.halvings += report.substeps.saturating_sub(1);
@@ -259,28 +258,28 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     }
 
     /// Step length in (0, h) at which the approach crosses `release`, by the Illinois method on
-    /// re-stepped trials from `from` (approach(0) and approach(h) on opposite sides).
+    /// re-stepped trials from the current state (approach(0) and approach(h), at `end`, on
+    /// opposite sides).
     fn locate(
         &mut self,
-        from: &State<BallOnBeamConfig>,
         h: f64,
         release: f64,
-        end: &State<BallOnBeamConfig>,
+        end: State<BallOnBeamConfig>,
     ) -> Result<State<BallOnBeamConfig>, ImpactError> {
         self.located += 1;
         let mut bracket = Illinois::new(
             0.0,
-            self.model.approach(&from.q) - release,
+            self.model.approach(&self.state.q) - release,
             h,
             self.model.approach(&end.q) - release,
         );
-        let mut best = end.clone();
+        let mut best = end;
         // The approach is located to 1e-4 of the estimated largest approach (or 1e-6 of the
         // step): its error then shifts onset and separation by ~1e-4 of a contact step.
         let tol = 1e-4 * self.target.approach_scale;
         for _ in 0..40 {
             let Some(c) = bracket.trial() else { break };
-            let s = self.trial(from, c)?;
+            let s = self.trial(c)?;
             let fc = self.model.approach(&s.q) - release;
             best = s;
             if fc.abs() <= tol || bracket.b - bracket.a <= 1e-6 * h {
@@ -336,21 +335,20 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let stride = (self.target.samples_per_pulse / 100).max(1);
         while self.state.t < end * (1.0 - 1e-12) {
             let tau = h.min(end - self.state.t);
-            let from = self.state.clone();
-            let trial = self.trial(&from, tau)?;
+            let trial = self.trial(tau)?;
             let release = self.model.law.release_approach(&self.model.law_state);
             let separated = self.model.approach(&trial.q) <= release && contact.steps() > 0;
             // Third-order local error: the step that meets the tolerance, with a safety
             // factor, at most doubling and at least a fifth of the last.
-            let error = self.ball_step_error(&from, &trial);
+            let error = self.ball_step_error(&self.state, &trial);
             let factor = (0.9 * (tolerance / error.max(f64::MIN_POSITIVE)).cbrt()).clamp(0.2, 2.0);
             if error > tolerance && tau > h_min * (1.0 + 1e-9) {
                 self.rejected += 1;
                 h = quantised((tau * factor).max(h_min), h_min);
                 continue;
             }
-            let next = if separated { self.locate(&from, tau, release, &trial)? } else { trial };
-            let dt = next.t - from.t;
+            let next = if separated { self.locate(tau, release, trial)? } else { trial };
+            let dt = next.t - self.state.t;
             self.accept(next)?;
             let f1 = if separated { 0.0 } else { self.force };
             self.force = f1;
@@ -399,16 +397,15 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 tau = tau.min((0.5 * gap / closing).max(h_contact));
             }
             let tau = quantised(tau, h_contact).min(end - self.state.t);
-            let from = self.state.clone();
-            let trial = self.trial(&from, tau)?;
+            let trial = self.trial(tau)?;
             if self.model.approach(&trial.q) > release {
                 let onset =
-                    if delta < release { self.locate(&from, tau, release, &trial)? } else { trial };
+                    if delta < release { self.locate(tau, release, trial)? } else { trial };
                 self.accept(onset)?;
                 self.force = 0.0;
                 return Ok(());
             }
-            let error = self.impact_point_step_error(&from, &trial);
+            let error = self.impact_point_step_error(&self.state, &trial);
             let factor = (0.9 * (tolerance / error.max(f64::MIN_POSITIVE)).cbrt()).clamp(0.2, 2.0);
             if error > tolerance && tau > h_contact * (1.0 + 1e-9) {
                 self.rejected += 1;

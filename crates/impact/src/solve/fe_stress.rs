@@ -24,6 +24,8 @@ pub(crate) struct FeStress {
     /// is a clamp, its two nearest elements and the extrapolation weight.
     supports: Vec<(bool, [usize; 2], f64)>,
     stresses: Vec<f64>,
+    /// Each element's section strains at the instant observed (work space).
+    strains: Vec<(f64, f64, f64)>,
     envelope: Envelope,
     /// EI (N m^2).
     ei: f64,
@@ -70,6 +72,7 @@ impl FeStress {
             elements,
             supports,
             stresses: vec![0.0; count],
+            strains: Vec::new(),
             envelope: Envelope::new(points, &positions),
             ei: youngs_modulus * thickness.powi(3) / 12.0,
             field: None,
@@ -115,9 +118,10 @@ impl FeStress {
 
     /// Observes the beam `beam` in configuration `q` at time `t` (s).
     pub(crate) fn observe_beam(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
-        for e in 0..self.elements {
-            let (extension, _, curvature) = beam.section_strains(e, q);
-            self.stresses[e] = self.youngs_modulus * (extension - self.half_thickness * curvature);
+        self.strains.resize(self.elements, (0.0, 0.0, 0.0));
+        beam.all_section_strains(q, &mut self.strains);
+        for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(&self.strains) {
+            *stress = self.youngs_modulus * (extension - self.half_thickness * curvature);
         }
         for (k, &(clamped, [a, b], weight)) in self.supports.iter().enumerate() {
             let (sa, sb) = (self.stresses[a], self.stresses[b]);
