@@ -14,6 +14,7 @@
 //! three unknowns a node) it is a few tens of microseconds.
 
 use crate::error::HhtError;
+use crate::fast::MulAdd;
 use crate::model::Triplets;
 use faer::ColMut;
 
@@ -242,7 +243,7 @@ impl BandedLu {
         // three unknowns a node (kd = 5) takes the fixed-width path, which keeps the moving
         // window of the substitutions in registers.
         if self.kd == 5 && self.upper == 5 {
-            return self.solve_band_fixed::<5>(b);
+            return crate::fast::run(FixedSolve::<5> { lu: self, b });
         }
         self.solve_band_general(b);
     }
@@ -252,7 +253,8 @@ impl BandedLu {
     /// from column to column the chain is one multiply-add in a register instead of a store and
     /// a load. Backward likewise with the last KD values solved. Entries past the end of the
     /// band are zero (never assembled), so the window runs off the end on zeros.
-    fn solve_band_fixed<const KD: usize>(&self, b: &mut [f64]) {
+    #[inline(always)]
+    fn solve_band_fixed<const KD: usize, A: MulAdd>(&self, b: &mut [f64], arith: A) {
         let n = self.n;
         let at = |i: usize| if i < n { b[i] } else { 0.0 };
         let mut window = [0.0; KD];
@@ -262,10 +264,13 @@ impl BandedLu {
         let mut current = at(0);
         for col in 0..n {
             let l = &self.lower[col * KD..col * KD + KD];
-            b[col] = current;
-            current = window[0] - l[0] * b[col];
+            // The value just solved is used from its register, not read back from `b`
+            // (a store-to-load forwarding on the chain).
+            let solved = current;
+            b[col] = solved;
+            current = arith.mul_add(-l[0], solved, window[0]);
             for j in 1..KD {
-                window[j - 1] = window[j] - l[j] * b[col];
+                window[j - 1] = arith.mul_add(-l[j], solved, window[j]);
             }
             window[KD - 1] = if col + KD + 1 < n { b[col + KD + 1] } else { 0.0 };
         }
@@ -275,9 +280,9 @@ impl BandedLu {
             let u = &self.scaled_upper[row * KD..row * KD + KD];
             let mut far = b[row] * self.inverse_diagonal[row];
             for j in (1..KD).rev() {
-                far -= u[j] * solved[j];
+                far = arith.mul_add(-u[j], solved[j], far);
             }
-            let x = far - u[0] * solved[0];
+            let x = arith.mul_add(-u[0], solved[0], far);
             b[row] = x;
             for j in (1..KD).rev() {
                 solved[j] = solved[j - 1];
@@ -424,6 +429,21 @@ impl BandedLu {
                 *yi -= xi * z;
             }
         }
+    }
+}
+
+/// [`BandedLu::solve_band_fixed`] as a [`crate::fast::Kernel`].
+struct FixedSolve<'a, const KD: usize> {
+    lu: &'a BandedLu,
+    b: &'a mut [f64],
+}
+
+impl<const KD: usize> crate::fast::Kernel for FixedSolve<'_, KD> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, arith: A) {
+        self.lu.solve_band_fixed::<KD, A>(self.b, arith);
     }
 }
 

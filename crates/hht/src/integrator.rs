@@ -2,6 +2,7 @@
 
 use crate::banded::{Band, BandedLu};
 use crate::error::HhtError;
+use crate::fast::{Kernel, MulAdd};
 use crate::linear::SparseLu;
 use crate::model::{Model, NewtonWeights, Triplets};
 use crate::scheme::Scheme;
@@ -63,6 +64,8 @@ pub struct State<C> {
     pub a: Col<f64>,
     inertial: Col<f64>,
     net: Col<f64>,
+    /// The larger of `|inertial|` and `|net|`: the round-off scale of the next step's balance.
+    force_norm: f64,
 }
 
 impl<C> State<C> {
@@ -90,7 +93,8 @@ impl<C> State<C> {
         let mut net = Col::<f64>::zeros(n);
         model.inertial_force(&q, v.as_ref(), a.as_ref(), inertial.as_mut());
         model.net_force(t, &q, v.as_ref(), net.as_mut());
-        Ok(Self { t, q, v, a, inertial, net })
+        let force_norm = norm_of(entries(&inertial)).max(norm_of(entries(&net)));
+        Ok(Self { t, q, v, a, inertial, net, force_norm })
     }
 }
 
@@ -204,6 +208,7 @@ fn entries_mut(x: &mut Col<f64>) -> &mut [f64] {
 
 /// Euclidean norm, in four partial sums (the compiler keeps a sum's order, so one chain of
 /// additions would bound the loop by their latency).
+#[inline(always)]
 fn norm_of(x: &[f64]) -> f64 {
     let mut sums = [0.0; 4];
     let mut chunks = x.chunks_exact(4);
@@ -223,6 +228,168 @@ struct Work {
     old_terms: Vec<f64>,
     delta: Vec<f64>,
     residual: Vec<f64>,
+}
+
+/// The step's predicted increment `h v_n + h^2 a_n / 2` and old-time force terms.
+struct Predict<'a> {
+    s: Scheme,
+    h: f64,
+    v0: &'a [f64],
+    a0: &'a [f64],
+    inertial0: &'a [f64],
+    net0: &'a [f64],
+    work: &'a mut Work,
+}
+
+impl Kernel for Predict<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, _: A) {
+        let (h, s, work) = (self.h, self.s, self.work);
+        for (base, (v, a)) in work.base.iter_mut().zip(self.v0.iter().zip(self.a0)) {
+            *base = h * v + (0.5 * h * h) * a;
+        }
+        let old_forces = self.inertial0.iter().zip(self.net0);
+        for (old, (i, g)) in work.old_terms.iter_mut().zip(old_forces) {
+            *old = s.alpha_m * i + s.alpha_f * g;
+        }
+    }
+}
+
+/// Newmark's increment and new velocity for the iterate `a1`.
+struct Kinematics<'a> {
+    s: Scheme,
+    h: f64,
+    v0: &'a [f64],
+    a0: &'a [f64],
+    a1: &'a [f64],
+    v1: &'a mut [f64],
+    work: &'a mut Work,
+}
+
+impl Kernel for Kinematics<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, _: A) {
+        let (s, h) = (self.s, self.h);
+        let (da, v_old, v_new) = (s.beta * h * h, h * (1.0 - s.gamma), h * s.gamma);
+        let old_rates = self.v0.iter().zip(self.a0);
+        let work = self.work;
+        for (((delta, v1), (base, a1)), (v0, a0)) in
+            work.delta.iter_mut().zip(self.v1).zip(work.base.iter().zip(self.a1)).zip(old_rates)
+        {
+            *delta = base + da * (a1 - a0);
+            *v1 = v0 + v_old * a0 + v_new * a1;
+        }
+    }
+}
+
+/// The residual `(1 - alpha_m) I + (1 - alpha_f) g + old terms` into the work space; returns
+/// its norm and the larger of the force terms' norms.
+struct Balance<'a> {
+    s: Scheme,
+    inertial: &'a [f64],
+    net: &'a [f64],
+    work: &'a mut Work,
+}
+
+impl Kernel for Balance<'_> {
+    type Output = (f64, f64);
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, _: A) -> (f64, f64) {
+        let (wi, wn) = (1.0 - self.s.alpha_m, 1.0 - self.s.alpha_f);
+        let work = self.work;
+        let forces = self.inertial.iter().zip(self.net);
+        for ((r, old), (i, g)) in work.residual.iter_mut().zip(&work.old_terms).zip(forces) {
+            *r = wi * i + wn * g + old;
+        }
+        let forces = norm_of(self.inertial).max(norm_of(self.net));
+        (norm_of(&work.residual), forces)
+    }
+}
+
+/// `|x|`.
+struct Norm<'a>(&'a [f64]);
+
+impl Kernel for Norm<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, _: A) -> f64 {
+        norm_of(self.0)
+    }
+}
+
+/// `x += scaling y`.
+struct AddScaled<'a> {
+    x: &'a mut [f64],
+    y: &'a [f64],
+    scaling: f64,
+}
+
+impl Kernel for AddScaled<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, _: A) {
+        for (x, y) in self.x.iter_mut().zip(self.y) {
+            *x += self.scaling * y;
+        }
+    }
+}
+
+/// The accepted step's numerical dissipation (see [`StepReport::dissipation`]) and
+/// `|a_{n+1} - a_n|`.
+struct Closing<'a> {
+    s: Scheme,
+    h: f64,
+    a0: &'a [f64],
+    a1: &'a [f64],
+    inertial0: &'a [f64],
+    inertial: &'a [f64],
+    net0: &'a [f64],
+    net: &'a [f64],
+    delta: &'a [f64],
+}
+
+impl Kernel for Closing<'_> {
+    type Output = (f64, f64);
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, _: A) -> (f64, f64) {
+        let (s, h) = (self.s, self.h);
+        let kinematic = (s.beta - 0.5 * s.gamma) * h * h;
+        // Partial sums over four lanes (see `norm_of`).
+        let (mut dissipation, mut jump_sq) = ([0.0; 4], [0.0; 4]);
+        let mut add =
+            |lane: usize, a0: f64, a1: f64, i0: f64, i1: f64, g0: f64, g1: f64, d: f64| {
+                let m_a = (1.0 - s.gamma) * i0 + s.gamma * i1;
+                let jump = a1 - a0;
+                jump_sq[lane] += jump * jump;
+                dissipation[lane] += kinematic * jump * m_a - d * (m_a + 0.5 * (g0 + g1));
+            };
+        let (a0, a1) = (self.a0.chunks_exact(4), self.a1.chunks_exact(4));
+        let (i0, i1) = (self.inertial0.chunks_exact(4), self.inertial.chunks_exact(4));
+        let (g0, g1, d) =
+            (self.net0.chunks_exact(4), self.net.chunks_exact(4), self.delta.chunks_exact(4));
+        let tail = self.delta.len() - d.remainder().len();
+        for ((((a0, a1), (i0, i1)), (g0, g1)), d) in
+            a0.zip(a1).zip(i0.zip(i1)).zip(g0.zip(g1)).zip(d)
+        {
+            for k in 0..4 {
+                add(k, a0[k], a1[k], i0[k], i1[k], g0[k], g1[k], d[k]);
+            }
+        }
+        for i in tail..self.delta.len() {
+            let (a0, a1, i0, i1) = (self.a0[i], self.a1[i], self.inertial0[i], self.inertial[i]);
+            add(0, a0, a1, i0, i1, self.net0[i], self.net[i], self.delta[i]);
+        }
+        let total = |x: [f64; 4]| (x[0] + x[1]) + (x[2] + x[3]);
+        (total(dissipation), total(jump_sq).sqrt())
+    }
 }
 
 impl Integrator {
@@ -299,7 +466,8 @@ impl Integrator {
             a
         };
         model.inertial_force(&q, v.as_ref(), a.as_ref(), inertial.as_mut());
-        Ok(State { t, q, v, a, inertial, net })
+        let force_norm = norm_of(entries(&inertial)).max(norm_of(entries(&net)));
+        Ok(State { t, q, v, a, inertial, net, force_norm })
     }
 
     /// Advances `state` by `h` (s). On a Newton failure the step is split in two halves,
@@ -446,12 +614,7 @@ impl Integrator {
         for v in [&mut work.base, &mut work.old_terms, &mut work.delta, &mut work.residual] {
             v.resize(n, 0.0);
         }
-        for (base, (v, a)) in work.base.iter_mut().zip(v0.iter().zip(a0)) {
-            *base = h * v + (0.5 * h * h) * a;
-        }
-        for (old, (i, g)) in work.old_terms.iter_mut().zip(inertial0.iter().zip(net0)) {
-            *old = s.alpha_m * i + s.alpha_f * g;
-        }
+        crate::fast::run(Predict { s, h, v0, a0, inertial0, net0, work });
         // The iteration unknown is the new acceleration a_{n+1} (predictor: a_n). Iterating on
         // the configuration increment instead would compute a_{n+1} as a difference of
         // increments divided by beta h^2, a round-off floor of eps |dq| / (beta h^2) on the
@@ -459,8 +622,7 @@ impl Integrator {
         let mut a1 = old.a.clone();
         // Round-off floor of the balance: forces of the size of the old ones are recomputed at
         // q_n (+) delta, so their round-off is carried even when the balance itself is tiny.
-        let old_scale = norm_of(inertial0).max(norm_of(net0));
-        let (base_norm, a0_norm) = (norm_of(&work.base), norm_of(a0));
+        let old_scale = old.force_norm;
         let mut inertial = Col::<f64>::zeros(n);
         let mut net = Col::<f64>::zeros(n);
         let mut v1 = Col::<f64>::zeros(n);
@@ -468,36 +630,32 @@ impl Integrator {
         let reuse = self.options.reuse_factorisation && !self.full_newton;
         let mut previous_residual = f64::INFINITY;
         let mut q1 = old.q.clone();
-        let (da, v_old, v_new) = (s.beta * h * h, h * (1.0 - s.gamma), h * s.gamma);
-        let (weight_inertial, weight_net) = (1.0 - s.alpha_m, 1.0 - s.alpha_f);
         for iteration in 0..=self.options.max_iterations {
-            {
-                let (a1, v1) = (entries(&a1), entries_mut(&mut v1));
-                let work = &mut self.work;
-                let old_rates = v0.iter().zip(a0);
-                for (((delta, v1), (base, a1)), (v0, a0)) in
-                    work.delta.iter_mut().zip(v1).zip(work.base.iter().zip(a1)).zip(old_rates)
-                {
-                    *delta = base + da * (a1 - a0);
-                    *v1 = v0 + v_old * a0 + v_new * a1;
-                }
+            let (a1_now, v1_now) = (entries(&a1), entries_mut(&mut v1));
+            crate::fast::run(Kinematics {
+                s,
+                h,
+                v0,
+                a0,
+                a1: a1_now,
+                v1: v1_now,
+                work: &mut self.work,
+            });
+            if iteration > 0 {
+                q1.clone_from(&old.q);
             }
-            q1.clone_from(&old.q);
             model.update(&mut q1, ColRef::from_slice(&self.work.delta));
             model.inertial_force(&q1, v1.as_ref(), a1.as_ref(), inertial.as_mut());
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
             let (inertial_now, net_now) = (entries(&inertial), entries(&net));
-            let work = &mut self.work;
-            for ((r, old), (i, g)) in work
-                .residual
-                .iter_mut()
-                .zip(&work.old_terms)
-                .zip(inertial_now.iter().zip(net_now))
-            {
-                *r = weight_inertial * i + weight_net * g + old;
-            }
-            residual_norm = norm_of(&work.residual);
-            let scale = norm_of(inertial_now).max(norm_of(net_now)).max(old_scale);
+            let force_norm;
+            (residual_norm, force_norm) = crate::fast::run(Balance {
+                s,
+                inertial: inertial_now,
+                net: net_now,
+                work: &mut self.work,
+            });
+            let scale = force_norm.max(old_scale);
             if !residual_norm.is_finite() {
                 break;
             }
@@ -520,48 +678,43 @@ impl Integrator {
                     self.factored = reuse.then_some(w);
                 }
                 previous_residual = residual_norm;
-                let scaling = -1.0 / (s.beta * h * h);
+                // The Newton matrix solves for the configuration's correction times
+                // -beta h^2; the acceleration's is that solution scaled back.
                 let r = &mut self.work.residual;
-                r.iter_mut().for_each(|x| *x *= scaling);
                 self.lu.solve_in_place(ColMut::from_slice_mut(r), t1)?;
+                let scaling = -1.0 / (s.beta * h * h);
+                let correction = scaling.abs() * crate::fast::run(Norm(r));
                 // A correction below the round-off of the quantities it corrects cannot improve
                 // the iterate: the balance is then at its floating-point floor (for example a
                 // tiny displacement computed as the difference of two O(1) increments), so accept.
                 // The configuration's own round-off is ~eps |q| per coordinate (sqrt(n) in norm).
-                let correction = norm_of(r);
-                let configuration = model.configuration_scale(&q1) * (n as f64).sqrt();
-                converged = iteration > 0
-                    && (correction <= 1e-14 * norm_of(entries(&a1)).max(a0_norm)
-                        || s.beta * h * h * correction
-                            <= 1e-14 * norm_of(&self.work.delta).max(base_norm).max(configuration));
+                converged = iteration > 0 && {
+                    let configuration = model.configuration_scale(&q1) * (n as f64).sqrt();
+                    let increments = norm_of(&self.work.delta).max(norm_of(&self.work.base));
+                    correction <= 1e-14 * norm_of(entries(&a1)).max(norm_of(a0))
+                        || s.beta * h * h * correction <= 1e-14 * increments.max(configuration)
+                };
                 if !converged {
-                    for (x, dx) in entries_mut(&mut a1).iter_mut().zip(r.iter()) {
-                        *x += dx;
-                    }
+                    crate::fast::run(AddScaled { x: entries_mut(&mut a1), y: r, scaling });
                     continue;
                 }
             }
             if !converged {
                 break;
             }
-            let kinematic = (s.beta - 0.5 * s.gamma) * h * h;
-            // Partial sums over four lanes (see `norm_of`).
-            let (mut dissipation, mut jump_sq) = ([0.0; 4], [0.0; 4]);
-            {
-                let (a1, inertial, net) = (entries(&a1), entries(&inertial), entries(&net));
-                let delta = &self.work.delta;
-                for i in 0..n {
-                    let m_a = (1.0 - s.gamma) * inertial0[i] + s.gamma * inertial[i];
-                    let work = 0.5 * (net0[i] + net[i]);
-                    let jump = a1[i] - a0[i];
-                    jump_sq[i % 4] += jump * jump;
-                    dissipation[i % 4] += kinematic * jump * m_a - delta[i] * (m_a + work);
-                }
-            }
-            let total = |x: [f64; 4]| (x[0] + x[1]) + (x[2] + x[3]);
-            let dissipation = total(dissipation);
-            let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * total(jump_sq).sqrt();
-            let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net };
+            let (dissipation, jump) = crate::fast::run(Closing {
+                s,
+                h,
+                a0,
+                a1: entries(&a1),
+                inertial0,
+                inertial: entries(&inertial),
+                net0,
+                net: entries(&net),
+                delta: &self.work.delta,
+            });
+            let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * jump;
+            let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net, force_norm };
             let report = StepReport {
                 iterations: iteration,
                 residual_norm,

@@ -80,6 +80,7 @@
 
 mod banded;
 mod error;
+pub mod fast;
 mod integrator;
 mod linear;
 mod model;

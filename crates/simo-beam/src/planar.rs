@@ -48,9 +48,32 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     sin_cos_series(x)
 }
 
+/// Elements a block of the force loops: their work arrays stay on the stack and in cache.
+const BLOCK: usize = 64;
+
+/// The sines and cosines of the midpoint rotations of the elements between the nodes of
+/// `theta` (one entry more than the outputs): by the series over the whole block when every
+/// rotation in it is within its reach (a loop the compiler runs on several elements at once),
+/// by the library otherwise.
+#[inline(always)]
+fn block_sin_cos(theta: &[f64], sines: &mut [f64], cosines: &mut [f64]) {
+    let mids = || theta.iter().zip(&theta[1..]).map(|(a, b)| 0.5 * (a + b));
+    let within = mids().fold(0.0, |m: f64, x| m.max(x.abs())) <= SERIES_REACH;
+    // Two loops, not a test inside one: a branch in the body keeps it scalar.
+    if within {
+        for ((s, c), x) in sines.iter_mut().zip(cosines.iter_mut()).zip(mids()) {
+            (*s, *c) = sin_cos_series(x);
+        }
+    } else {
+        for ((s, c), x) in sines.iter_mut().zip(cosines.iter_mut()).zip(mids()) {
+            (*s, *c) = x.sin_cos();
+        }
+    }
+}
+
 /// The series of [`sin_cos`] without its test of the reach: branch-free, so that a loop over
 /// elements runs it on several at once (SIMD).
-#[inline]
+#[inline(always)]
 fn sin_cos_series(x: f64) -> (f64, f64) {
     let y = x * x;
     // sin x = x sum_k (-1)^k y^k / (2k + 1)!, k = 7 ..= 0, and
@@ -262,11 +285,7 @@ impl PlanarBeam {
     /// The section strains of every element, in order (as [`PlanarBeam::section_strains`]),
     /// written to `out` (one entry an element).
     pub fn all_section_strains(&self, q: &PlanarState, out: &mut [(f64, f64, f64)]) {
-        self.for_each_strain(q, |e, st| {
-            if let Some(o) = out.get_mut(e) {
-                *o = (st.extension, st.shear, st.curvature);
-            }
-        });
+        hht::fast::run(SectionStrains { beam: self, q, out });
     }
 
     fn strains(&self, e: usize, q: &PlanarState) -> Strains {
@@ -275,7 +294,7 @@ impl PlanarBeam {
     }
 
     /// The strains of element `e` given the sine and cosine of its midpoint rotation.
-    #[inline]
+    #[inline(always)]
     fn strains_with(&self, e: usize, q: &PlanarState, s: f64, c: f64) -> Strains {
         let (length, inverse) = (self.lengths[e], self.inverse_lengths[e]);
         let a = (q.x[e + 1] - q.x[e]) * inverse;
@@ -291,23 +310,16 @@ impl PlanarBeam {
     }
 
     /// Calls `each(e, strains)` for every element in order. The midpoint rotations' sines and
-    /// cosines are computed a block of elements at a time, by the series over the whole block
-    /// when every rotation in it is within its reach (a loop the compiler runs on several
-    /// elements at once), by the library otherwise.
+    /// cosines are computed a block of elements at a time (see [`block_sin_cos`]).
+    #[inline(always)]
     fn for_each_strain(&self, q: &PlanarState, mut each: impl FnMut(usize, &Strains)) {
-        const BLOCK: usize = 64;
         let (mut sines, mut cosines) = ([0.0; BLOCK], [0.0; BLOCK]);
         let elements = self.elements();
         let mut start = 0;
         while start < elements {
             let end = (start + BLOCK).min(elements);
-            let theta = &q.theta[start..=end];
             let (sines, cosines) = (&mut sines[..end - start], &mut cosines[..end - start]);
-            let mid = |k: usize| 0.5 * (theta[k] + theta[k + 1]);
-            let within = (0..end - start).all(|k| mid(k).abs() <= SERIES_REACH);
-            for (k, (s, c)) in sines.iter_mut().zip(cosines.iter_mut()).enumerate() {
-                (*s, *c) = if within { sin_cos_series(mid(k)) } else { mid(k).sin_cos() };
-            }
+            block_sin_cos(&q.theta[start..=end], sines, cosines);
             for (k, (s, c)) in sines.iter().zip(cosines.iter()).enumerate() {
                 each(start + k, &self.strains_with(start + k, q, *s, *c));
             }
@@ -388,20 +400,54 @@ impl PlanarBeam {
     /// unknown is written once, from its two elements (no zeroing, no gradient arrays: this is
     /// the fe method's innermost loop).
     pub fn internal_force(&self, q: &PlanarState, out: &mut [f64]) {
+        hht::fast::run(InternalForce { beam: self, q, out });
+    }
+
+    #[inline(always)]
+    fn internal_force_inline(&self, q: &PlanarState, out: &mut [f64]) {
+        // A block of elements at a time: first each element's end forces in arrays (a loop
+        // over elements without branches, run on several at once), then the nodes' sums.
+        let [mut sines, mut cosines, mut fx, mut fz, mut first, mut second] = [[0.0; BLOCK]; 6];
         let mut carry = [0.0; 3];
-        self.for_each_strain(q, |e, st| {
-            let (n, v, m) = (self.ea * st.extension, self.ga * st.shear, self.ei * st.curvature);
-            let (fx, fz) = (n * st.c - v * st.s, n * st.s + v * st.c);
-            let turn = 0.5 * st.length * (n * st.shear - v * (st.extension + 1.0));
-            let node = [carry[0] - fx, carry[1] - fz, carry[2] + turn - m];
-            for (d, f) in self.dofs[e].iter().zip(node) {
-                if let Some(i) = d {
-                    out[*i] = f;
-                }
+        let elements = self.elements();
+        let mut start = 0;
+        while start < elements {
+            let end = (start + BLOCK).min(elements);
+            let m = end - start;
+            let (s, c) = (&mut sines[..m], &mut cosines[..m]);
+            block_sin_cos(&q.theta[start..=end], s, c);
+            // Every slice is m long, so the loop runs without bounds checks.
+            let (x0, x1) = (&q.x[start..end], &q.x[start + 1..=end]);
+            let (z0, z1) = (&q.z[start..end], &q.z[start + 1..=end]);
+            let (t0, t1) = (&q.theta[start..end], &q.theta[start + 1..=end]);
+            let (lengths, inverse) = (&self.lengths[start..end], &self.inverse_lengths[start..end]);
+            let (fx, fz) = (&mut fx[..m], &mut fz[..m]);
+            let (first, second) = (&mut first[..m], &mut second[..m]);
+            for k in 0..m {
+                let (s, c, inv) = (s[k], c[k], inverse[k]);
+                let (a, b) = ((x1[k] - x0[k]) * inv, (z1[k] - z0[k]) * inv);
+                let extension = a * c + b * s - 1.0;
+                let shear = -a * s + b * c;
+                let curvature = (t1[k] - t0[k]) * inv;
+                let (n, v, m) = (self.ea * extension, self.ga * shear, self.ei * curvature);
+                fx[k] = n * c - v * s;
+                fz[k] = n * s + v * c;
+                let turn = 0.5 * lengths[k] * (n * shear - v * (extension + 1.0));
+                first[k] = turn - m;
+                second[k] = turn + m;
             }
-            carry = [fx, fz, turn + m];
-        });
-        for (d, f) in self.dofs[self.elements()].iter().zip(carry) {
+            for k in 0..m {
+                let node = [carry[0] - fx[k], carry[1] - fz[k], carry[2] + first[k]];
+                for (d, f) in self.dofs[start + k].iter().zip(node) {
+                    if let Some(i) = d {
+                        out[*i] = f;
+                    }
+                }
+                carry = [fx[k], fz[k], second[k]];
+            }
+            start = end;
+        }
+        for (d, f) in self.dofs[elements].iter().zip(carry) {
             if let Some(i) = d {
                 out[*i] = f;
             }
@@ -416,12 +462,25 @@ impl PlanarBeam {
 
     /// `out = M x` with the constant mass matrix.
     fn mass_times(&self, x: ColRef<'_, f64>, mut out: ColMut<'_, f64>) {
-        for (i, m) in self.mass_diagonal.iter().enumerate() {
-            out[i] = m * x[i];
-        }
-        for &(i, j, m) in &self.mass_couplings {
-            out[i] += m * x[j];
-            out[j] += m * x[i];
+        let product = |x: &[f64], out: &mut [f64]| {
+            for ((o, m), x) in out.iter_mut().zip(&self.mass_diagonal).zip(x) {
+                *o = m * x;
+            }
+            for &(i, j, m) in &self.mass_couplings {
+                out[i] += m * x[j];
+                out[j] += m * x[i];
+            }
+        };
+        match (x.try_as_col_major(), out.as_mut().try_as_col_major_mut()) {
+            (Some(x), Some(o)) => product(x.as_slice(), o.as_slice_mut()),
+            _ => {
+                let x: Vec<f64> = x.iter().copied().collect();
+                let mut product_out = vec![0.0; x.len()];
+                product(&x, &mut product_out);
+                for (i, v) in product_out.into_iter().enumerate() {
+                    out[i] = v;
+                }
+            }
         }
     }
 
@@ -442,6 +501,18 @@ impl Model for PlanarBeam {
     }
 
     fn update(&self, q: &mut PlanarState, dq: ColRef<'_, f64>) {
+        if let Some(dq) = dq.try_as_col_major() {
+            let dq = dq.as_slice();
+            let nodes = q.x.iter_mut().zip(q.z.iter_mut()).zip(q.theta.iter_mut());
+            for (((x, z), theta), d) in nodes.zip(&self.dofs) {
+                for (value, dof) in [x, z, theta].into_iter().zip(d) {
+                    if let Some(i) = dof {
+                        *value += dq[*i];
+                    }
+                }
+            }
+            return;
+        }
         for (node, d) in self.dofs.iter().enumerate() {
             if let Some(i) = d[0] {
                 q.x[node] += dq[i];
@@ -528,6 +599,44 @@ impl Model for PlanarBeam {
 
     fn band(&self) -> Option<Band> {
         Some(Band { half_bandwidth: 2 * 3 - 1, border: 0 })
+    }
+}
+
+/// [`PlanarBeam::internal_force`] as a [`hht::fast::Kernel`] (wider lanes for the rotations'
+/// sines and cosines).
+struct InternalForce<'a> {
+    beam: &'a PlanarBeam,
+    q: &'a PlanarState,
+    out: &'a mut [f64],
+}
+
+impl hht::fast::Kernel for InternalForce<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        self.beam.internal_force_inline(self.q, self.out);
+    }
+}
+
+/// [`PlanarBeam::all_section_strains`] as a [`hht::fast::Kernel`].
+struct SectionStrains<'a> {
+    beam: &'a PlanarBeam,
+    q: &'a PlanarState,
+    out: &'a mut [(f64, f64, f64)],
+}
+
+impl hht::fast::Kernel for SectionStrains<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        let out = self.out;
+        self.beam.for_each_strain(self.q, |e, st| {
+            if let Some(o) = out.get_mut(e) {
+                *o = (st.extension, st.shear, st.curvature);
+            }
+        });
     }
 }
 

@@ -399,8 +399,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             let tau = quantised(tau, h_contact).min(end - self.state.t);
             let trial = self.trial(tau)?;
             if self.model.approach(&trial.q) > release {
-                let onset =
-                    if delta < release { self.locate(tau, release, trial)? } else { trial };
+                let onset = if delta < release { self.locate(tau, release, trial)? } else { trial };
                 self.accept(onset)?;
                 self.force = 0.0;
                 return Ok(());
