@@ -294,7 +294,9 @@ pub struct SolverSpec {
     pub element_size: Option<f64>,
     /// HHT alpha in [-1/3, 0] (fe method); default -0.05.
     pub alpha: Option<f64>,
-    /// Largest time step out of contact (s) (fe method); default 8 contact steps.
+    /// Largest time step (s) (fe method); default the contact step (every step of the same
+    /// length: converged in time, validation/REFERENCES.md 1.7); a longer one lets the steps out
+    /// of contact, and in a long contact, grow up to it.
     pub time_step: Option<f64>,
     /// Relative error accepted on every significant contact (start, duration, peak force) and
     /// on the largest displacement, instead of a resolution: the fe method refines a uniform

@@ -14,14 +14,17 @@ pub const FE_SAMPLES_PER_PULSE: usize = 200;
 /// frequencies above the mesh's resolution (the contact excites them), spectral radius 0.9 at
 /// infinity, period and damping errors O((omega h)^2) below.
 pub const FE_ALPHA: f64 = -0.05;
-/// Default largest step out of contact, in contact steps (the step adapts below it to the
-/// beam's local error, see the fe solver). It must stay below the shortest flight between the
-/// contacts of a chatter, or a step passes over a whole flight and the contacts on either side
-/// are taken as one: on the paper's tip (gravity, 512 elements, 5 ms) the fourth contact, a
-/// ball riding on the tip with micro-flights of about 6 us, lasts 458 us with 32 contact steps
-/// (6.6 us), 223 us with 14.5, 149.11 us with 7.3 and 149.14 us with a 1 us cap (145.9 us with
-/// finer contact steps too); the later contacts follow it. With 8 the paper's tip over 1 ms
-/// (256 elements, gravity off) moves its third contact by 7e-4 and costs 10 % more.
+/// Default largest step, in contact steps: 1, every step the contact step, in contact and out
+/// of it. Out of contact the beam carries the bending waves of the last impacts: they come back
+/// from the clamp and their arrival decides when later contacts start and how long they last,
+/// and HHT moves them by its dispersion, a relative period error of about (omega h)^2 / 12 over
+/// every period of their travel. On the paper's tip (512 elements, gravity off, 5 ms) flights of
+/// up to 8 contact steps (adapted to the local error at the impact point, the default until
+/// then) made the fourth contact 159.6 us long against 141.7 us at 1 contact step, and no local
+/// error control on the impact point alone found it (validation/REFERENCES.md 1.7); at 1 the
+/// first 8 contacts are within 6e-4 (start) and 4e-3 (duration) of half the step. A scene may
+/// set `solver.time_step` longer: the steps out of contact (and in a long, quasi-static contact)
+/// then adapt up to it, faster and not converged in time.
 pub const FE_FREE_STEP_RATIO: f64 = 1.0;
 /// Elements per flexural wavelength at the impact point in the default graded mesh.
 pub const FE_ELEMENTS_PER_WAVELENGTH: f64 = 16.0;
@@ -117,9 +120,13 @@ pub(super) fn plan(
     };
     reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero".into());
     let nodes = mesh(s, &analytic, position, estimated_duration, reasons)?;
-    reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact"));
+    if free_time_step > contact_step * (1.0 + 1e-9) {
+        reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact (solver.time_step): the waves the impacts leave in the beam are then integrated with HHT's dispersion at the longer steps, and the contacts after the first few are not converged in time (validation/REFERENCES.md 1.7)"));
+    } else {
+        reasons.push(format!("HHT alpha = {alpha}; every step {contact_step:.4e} s ({samples} per estimated contact duration {estimated_duration:.4e} s), in contact and out of it: the bending waves an impact sends along the beam decide when later contacts start and end, and longer steps out of contact move them (validation/REFERENCES.md 1.7)"));
+    }
     if s.alpha.is_none() {
-        reasons.push(format!("alpha = {FE_ALPHA} by default: it damps the vibration the impacts put into frequencies the mesh does not resolve, and energy.numerical_dissipation says how much (on the paper's tip 7 % of the ball's energy over 1 ms, 1.5 % with alpha = -0.01; on the heavy ball 12 % over 0.4 s, and 10 % and 16 % with -0.01 and -0.1: its chattering keeps feeding the high frequencies); set alpha = 0 for an undamped energy study: it conserves energy to 1e-6 on the tip, moves the first three contacts by less than 1e-3 and the heavy ball's largest displacement by 1.5 %, but keeps that unresolved vibration"));
+        reasons.push(format!("alpha = {FE_ALPHA} by default: it damps the vibration the impacts put into frequencies the mesh does not resolve, and energy.numerical_dissipation says how much (at the default steps, on the paper's tip 3e-5 of the ball's energy over 1 ms; on the heavy ball 1.5 % over 0.4 s, and 0.2 % and 2.2 % with -0.01 and -0.1: its chattering keeps feeding the high frequencies; longer steps out of contact damp more, 7 % and 12 % at 8 contact steps); set alpha = 0 for an undamped energy study: it conserves energy to 1e-6 on the tip, moves the first three contacts by less than 1e-3 and the heavy ball's largest displacement by 0.6 %, but keeps that unresolved vibration"));
     }
     Ok(FePlan {
         material: simo_beam::Material::new(beam.youngs_modulus, beam.poisson_ratio, beam.density)?,

@@ -57,10 +57,11 @@ pub(super) fn run_fe(
     // run of the step ladder to carry.
     let space_reason = space.report.plan.reasons.last().cloned();
     let space_warnings = space.report.warnings.clone();
-    // Then the steps on that mesh: the mesh's run (the plan's adaptive steps) first, then
+    // Then the steps on that mesh: the mesh's run (the plan's steps: the contact step
+    // everywhere by default, adaptive flights if `solver.time_step` is longer) first, then
     // uniform steps of the contact step divided by 2, 4, ... everywhere, until two agree.
-    // Uniform steps, because the adaptive ones are in no asymptotic range on a chatter: the
-    // flights' local error control does not see the ringing that decides the next contacts
+    // Uniform steps, because adaptive ones are in no asymptotic range on a chatter: the
+    // flights' local error control does not see the waves that decide the next contacts
     // (validation/REFERENCES.md 1.7: the paper's tip, 512 elements, 0.8 ms, the third contact
     // lasts 105.46 us with the step limits halved, 106.4, 106.0 and 105.94 us with uniform
     // steps of 1, 1/2 and 1/4 of the contact step), and the finer's error is taken as the
