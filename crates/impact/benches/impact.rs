@@ -56,6 +56,13 @@ fn scenes(c: &mut Criterion) {
     peer.solver.end_time = Some(1e-3);
     peer.impact.gravity = false;
     group.bench_function("fe paper tip 1 ms 256 equal elements", |b| b.iter(|| simulate(&peer)));
+    // The chatter of the time-convergence test: 512 equal elements, the first 8 contacts.
+    let mut chatter = peer.clone();
+    chatter.solver.elements = Some(512);
+    chatter.solver.end_time = Some(1.05e-3);
+    group.bench_function("fe paper tip 1.05 ms 512 equal elements", |b| {
+        b.iter(|| simulate(&chatter))
+    });
     let hs = Scene::from_toml(HALF_SPACE).expect("valid scene");
     group.bench_function("half-space", |b| b.iter(|| simulate(&hs)));
     group.finish();
