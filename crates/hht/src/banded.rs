@@ -45,6 +45,9 @@ pub struct BandedLu {
     /// L's multipliers of column `i` (rows i + 1 ..= i + kd) at `i * kd ..`, contiguous for
     /// the forward substitution.
     lower: Vec<f64>,
+    /// Without row interchanges: L's row `i` left of the diagonal, nearest first
+    /// (`L[i][i - 1 - j]` at `i * kd + j`), for a forward substitution by rows.
+    lower_rows: Vec<f64>,
     /// Without row interchanges: U's row `i` right of the diagonal divided by the diagonal,
     /// at `i * kd ..`, so that the back-substitution's chain from one unknown to the next is
     /// one multiply and one subtraction.
@@ -104,6 +107,13 @@ impl BandedLu {
             self.factor_band(true, t)?;
         }
         if self.upper == kd {
+            self.lower_rows.clear();
+            self.lower_rows.resize(n * kd, 0.0);
+            for col in 0..n {
+                for j in 0..kd.min(n - 1 - col) {
+                    self.lower_rows[(col + 1 + j) * kd + j] = self.lower[col * kd + j];
+                }
+            }
             self.scaled_upper.clear();
             self.scaled_upper.resize(n * kd, 0.0);
             for row in 0..n {
@@ -248,31 +258,29 @@ impl BandedLu {
         self.solve_band_general(b);
     }
 
-    /// `solve_band` for half-bandwidth `KD` and no row interchanges. Forward: the window
-    /// `w[j] = b[col + j]` is shifted one row a column, `w[j] <- w[j + 1] - l_j b[col]`, so
-    /// from column to column the chain is one multiply-add in a register instead of a store and
-    /// a load. Backward likewise with the last KD values solved. Entries past the end of the
-    /// band are zero (never assembled), so the window runs off the end on zeros.
+    /// `solve_band` for half-bandwidth `KD` and no row interchanges, by rows both ways:
+    /// forward `y_i = b_i - sum_j L[i][i-1-j] y_{i-1-j}`, backward with U's rows divided by
+    /// their diagonal. The terms of the older values are summed first, so the chain from one
+    /// unknown to the next is one multiply-add, and the last KD values ride in registers.
+    /// (Forward by columns, a window of the next KD right-hand sides updated a column, the
+    /// compiler packed the window into one vector register: the shuffles doubled the chain.)
     #[inline(always)]
     fn solve_band_fixed<const KD: usize, A: MulAdd>(&self, b: &mut [f64], arith: A) {
         let n = self.n;
-        let at = |i: usize| if i < n { b[i] } else { 0.0 };
-        let mut window = [0.0; KD];
-        for (j, x) in window.iter_mut().enumerate() {
-            *x = at(j + 1);
-        }
-        let mut current = at(0);
-        for col in 0..n {
-            let l = &self.lower[col * KD..col * KD + KD];
-            // The value just solved is used from its register, not read back from `b`
-            // (a store-to-load forwarding on the chain).
-            let solved = current;
-            b[col] = solved;
-            current = arith.mul_add(-l[0], solved, window[0]);
-            for j in 1..KD {
-                window[j - 1] = arith.mul_add(-l[j], solved, window[j]);
+        // Forward: known[j] = y[row - 1 - j].
+        let mut known = [0.0; KD];
+        for (row, value) in b.iter_mut().enumerate().take(n) {
+            let l = &self.lower_rows[row * KD..row * KD + KD];
+            let mut far = *value;
+            for j in (1..KD).rev() {
+                far = arith.mul_add(-l[j], known[j], far);
             }
-            window[KD - 1] = if col + KD + 1 < n { b[col + KD + 1] } else { 0.0 };
+            let y = arith.mul_add(-l[0], known[0], far);
+            *value = y;
+            for j in (1..KD).rev() {
+                known[j] = known[j - 1];
+            }
+            known[0] = y;
         }
         // Backward: solved[j] = b[row + 1 + j], with U's rows divided by their diagonal.
         let mut solved = [0.0; KD];
