@@ -302,12 +302,26 @@ impl Kernel for Balance<'_> {
     fn run<A: MulAdd>(self, _: A) -> (f64, f64) {
         let (wi, wn) = (1.0 - self.s.alpha_m, 1.0 - self.s.alpha_f);
         let work = self.work;
-        let forces = self.inertial.iter().zip(self.net);
-        for ((r, old), (i, g)) in work.residual.iter_mut().zip(&work.old_terms).zip(forces) {
-            *r = wi * i + wn * g + old;
+        // One pass: the residual and the three sums of squares, each in four lanes.
+        let ([mut rr, mut ii, mut gg], tail) = ([[0.0; 4]; 3], work.residual.len() / 4 * 4);
+        let (r4, o4) = (work.residual.chunks_exact_mut(4), work.old_terms.chunks_exact(4));
+        let (i4, g4) = (self.inertial.chunks_exact(4), self.net.chunks_exact(4));
+        for ((r, old), (i, g)) in r4.zip(o4).zip(i4.zip(g4)) {
+            for k in 0..4 {
+                r[k] = wi * i[k] + wn * g[k] + old[k];
+                rr[k] += r[k] * r[k];
+                ii[k] += i[k] * i[k];
+                gg[k] += g[k] * g[k];
+            }
         }
-        let forces = norm_of(self.inertial).max(norm_of(self.net));
-        (norm_of(&work.residual), forces)
+        for k in tail..work.residual.len() {
+            let (i, g) = (self.inertial[k], self.net[k]);
+            let r = wi * i + wn * g + work.old_terms[k];
+            work.residual[k] = r;
+            (rr[0], ii[0], gg[0]) = (rr[0] + r * r, ii[0] + i * i, gg[0] + g * g);
+        }
+        let total = |x: [f64; 4]| ((x[0] + x[1]) + (x[2] + x[3])).sqrt();
+        (total(rr), total(ii).max(total(gg)))
     }
 }
 

@@ -26,6 +26,8 @@ pub(crate) struct FeStress {
     stresses: Vec<f64>,
     /// Each element's section strains at the instant observed (work space).
     strains: Vec<(f64, f64, f64)>,
+    /// The time of the last instant in the envelope (s).
+    observed: Option<f64>,
     envelope: Envelope,
     /// EI (N m^2).
     ei: f64,
@@ -73,6 +75,7 @@ impl FeStress {
             supports,
             stresses: vec![0.0; count],
             strains: Vec::new(),
+            observed: None,
             envelope: Envelope::new(points, &positions),
             ei: youngs_modulus * thickness.powi(3) / 12.0,
             field: None,
@@ -118,6 +121,7 @@ impl FeStress {
 
     /// Observes the beam `beam` in configuration `q` at time `t` (s).
     pub(crate) fn observe_beam(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
+        self.observed = Some(t);
         self.strains.resize(self.elements, (0.0, 0.0, 0.0));
         beam.all_section_strains(q, &mut self.strains);
         for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(&self.strains) {
@@ -136,7 +140,10 @@ impl BeamRecorder for FeStress {
     /// recorded ones.
     fn observe(&mut self, at: &Instant<'_>) {
         if let BeamView::Fe { beam, state } = at.beam {
-            self.observe_beam(at.t, beam, state);
+            // A recorded instant is usually the step just accepted, already in the envelope.
+            if self.observed != Some(at.t) {
+                self.observe_beam(at.t, beam, state);
+            }
             if at.sample.is_some() {
                 self.record_field(at.t, beam, state);
             }
