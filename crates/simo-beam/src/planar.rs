@@ -58,9 +58,13 @@ const BLOCK: usize = 64;
 #[inline(always)]
 fn block_sin_cos(theta: &[f64], sines: &mut [f64], cosines: &mut [f64]) {
     let mids = || theta.iter().zip(&theta[1..]).map(|(a, b)| 0.5 * (a + b));
-    let within = mids().fold(0.0, |m: f64, x| m.max(x.abs())) <= SERIES_REACH;
-    // Two loops, not a test inside one: a branch in the body keeps it scalar.
-    if within {
+    let largest = mids().fold(0.0, |m: f64, x| m.max(x.abs()));
+    // Separate loops, not a test inside one: a branch in the body keeps it scalar.
+    if largest <= SHORT_REACH {
+        for ((s, c), x) in sines.iter_mut().zip(cosines.iter_mut()).zip(mids()) {
+            (*s, *c) = sin_cos_terms::<5, 6>(x);
+        }
+    } else if largest <= SERIES_REACH {
         for ((s, c), x) in sines.iter_mut().zip(cosines.iter_mut()).zip(mids()) {
             (*s, *c) = sin_cos_series(x);
         }
@@ -75,6 +79,17 @@ fn block_sin_cos(theta: &[f64], sines: &mut [f64], cosines: &mut [f64]) {
 /// elements runs it on several at once (SIMD).
 #[inline(always)]
 fn sin_cos_series(x: f64) -> (f64, f64) {
+    sin_cos_terms::<8, 9>(x)
+}
+
+/// Below this |angle| (rad) the series' first 5 terms of the sine and 6 of the cosine do: the
+/// next, `0.1^11 / 11!` and `0.1^12 / 12!`, are below 3e-18 of either (an impact's section
+/// rotations are mostly of order 1e-3).
+const SHORT_REACH: f64 = 0.1;
+
+/// The series' last `S` terms of the sine and `C` of the cosine (the lowest powers).
+#[inline(always)]
+fn sin_cos_terms<const S: usize, const C: usize>(x: f64) -> (f64, f64) {
     let y = x * x;
     // sin x = x sum_k (-1)^k y^k / (2k + 1)!, k = 7 ..= 0, and
     // cos x = sum_k (-1)^k y^k / (2k)!, k = 8 ..= 0: the coefficients highest first.
@@ -99,8 +114,8 @@ fn sin_cos_series(x: f64) -> (f64, f64) {
         -0.5,
         1.0,
     ];
-    let s = SIN.iter().fold(0.0, |p, &k| p * y + k);
-    let c = COS.iter().fold(0.0, |p, &k| p * y + k);
+    let s = SIN[SIN.len() - S..].iter().fold(0.0, |p, &k| p * y + k);
+    let c = COS[COS.len() - C..].iter().fold(0.0, |p, &k| p * y + k);
     (x * s, c)
 }
 
@@ -760,6 +775,30 @@ mod tests {
             for (j, kij) in row.iter().enumerate() {
                 assert!((kij - k[j][i]).abs() <= 1e-12 * scale_k);
             }
+        }
+    }
+
+    #[test]
+    fn the_series_sine_and_cosine_are_the_library_s_to_an_ulp() {
+        // 20001 angles over each reach, and both sides of its edge: within 2 ulp of the
+        // library's value (the library itself is within 1 ulp of the true one), measured 1.
+        let ulps = |a: f64, b: f64| (a - b).abs() / (f64::EPSILON * b.abs().max(f64::MIN_POSITIVE));
+        let mut worst = 0.0f64;
+        for (reach, short) in [(SERIES_REACH, false), (SHORT_REACH, true)] {
+            for i in -10_000..=10_000 {
+                let x = reach * f64::from(i) / 10_000.0;
+                let (s, c) = if short { sin_cos_terms::<5, 6>(x) } else { sin_cos_series(x) };
+                let (ls, lc) = x.sin_cos();
+                if x != 0.0 {
+                    worst = worst.max(ulps(s, ls));
+                }
+                worst = worst.max(ulps(c, lc));
+            }
+        }
+        assert!(worst <= 2.0, "{worst} ulp");
+        for x in [SERIES_REACH * (1.0 - 1e-12), SERIES_REACH * (1.0 + 1e-12), 2.0, -3.0] {
+            let ((s, c), (ls, lc)) = (sin_cos(x), x.sin_cos());
+            assert!(ulps(s, ls) <= 2.0 && ulps(c, lc) <= 2.0, "{x}");
         }
     }
 
