@@ -245,8 +245,9 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         self.state = s;
         self.steps += 1;
         let after = (self.state.t, self.beam_displacement(), self.beam_velocity());
-        // The largest displacement between the steps too: a free-flight step is up to eight
-        // contact steps long, and the step's ends alone miss a swing's peak by up to
+        // The largest displacement between the steps too: a free-flight step may be as long as
+        // `solver.time_step` (a contact step by default), and the step's ends alone miss a
+        // swing's peak by up to
         // (omega h)^2 / 8 of it, wherever the step grid happens to fall.
         for (w, t) in [(after.1, after.0)].into_iter().chain(hermite_peak(before, after)) {
             if w > self.max_displacement.0 {
