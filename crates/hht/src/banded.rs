@@ -250,8 +250,8 @@ impl BandedLu {
     /// Overwrites `b` (length n) with `B^-1 b`.
     fn solve_band(&self, b: &mut [f64]) {
         // Without row interchanges (the usual, diagonally dominant Newton matrix) a beam of
-        // three unknowns a node (kd = 5) takes the fixed-width path, which keeps the moving
-        // window of the substitutions in registers.
+        // three unknowns a node (kd = 5) takes the fixed-width path, which keeps the last
+        // values solved in registers (and runs in its AVX2/FMA copy where there is one).
         if self.kd == 5 && self.upper == 5 {
             return crate::fast::run(FixedSolve::<5> { lu: self, b });
         }
