@@ -507,36 +507,41 @@ impl PlanarBeam {
 
     /// `out = M x` with the constant mass matrix.
     fn mass_times(&self, x: ColRef<'_, f64>, mut out: ColMut<'_, f64>) {
-        let product = |x: &[f64], out: &mut [f64]| {
-            for ((o, m), x) in out.iter_mut().zip(&self.mass_diagonal).zip(x) {
-                *o = m * x;
-            }
-            match &self.mass_next {
-                Some(next) if x.len() >= 3 => {
-                    let n = x.len() - 3;
-                    for ((o, m), x) in out[..n].iter_mut().zip(&next[..n]).zip(&x[3..]) {
-                        *o += m * x;
-                    }
-                    for ((o, m), x) in out[3..].iter_mut().zip(&next[..n]).zip(&x[..n]) {
-                        *o += m * x;
-                    }
-                }
-                _ => {
-                    for &(i, j, m) in &self.mass_couplings {
-                        out[i] += m * x[j];
-                        out[j] += m * x[i];
-                    }
-                }
-            }
-        };
         match (x.try_as_col_major(), out.as_mut().try_as_col_major_mut()) {
-            (Some(x), Some(o)) => product(x.as_slice(), o.as_slice_mut()),
+            (Some(x), Some(o)) => {
+                hht::fast::run(MassProduct { beam: self, x: x.as_slice(), out: o.as_slice_mut() })
+            }
             _ => {
                 let x: Vec<f64> = x.iter().copied().collect();
-                let mut product_out = vec![0.0; x.len()];
-                product(&x, &mut product_out);
-                for (i, v) in product_out.into_iter().enumerate() {
+                let mut product = vec![0.0; x.len()];
+                self.mass_product(&x, &mut product);
+                for (i, v) in product.into_iter().enumerate() {
                     out[i] = v;
+                }
+            }
+        }
+    }
+
+    /// `out = M x` on slices: the diagonal, then the couplings by sweeps where they allow.
+    #[inline(always)]
+    fn mass_product(&self, x: &[f64], out: &mut [f64]) {
+        for ((o, m), x) in out.iter_mut().zip(&self.mass_diagonal).zip(x) {
+            *o = m * x;
+        }
+        match &self.mass_next {
+            Some(next) if x.len() >= 3 => {
+                let n = x.len() - 3;
+                for ((o, m), x) in out[..n].iter_mut().zip(&next[..n]).zip(&x[3..]) {
+                    *o += m * x;
+                }
+                for ((o, m), x) in out[3..].iter_mut().zip(&next[..n]).zip(&x[..n]) {
+                    *o += m * x;
+                }
+            }
+            _ => {
+                for &(i, j, m) in &self.mass_couplings {
+                    out[i] += m * x[j];
+                    out[j] += m * x[i];
                 }
             }
         }
@@ -683,6 +688,22 @@ impl hht::fast::Kernel for InternalForce<'_> {
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(self, _: A) {
         self.beam.internal_force_inline(self.q, self.out);
+    }
+}
+
+/// [`PlanarBeam::mass_product`] as a [`hht::fast::Kernel`].
+struct MassProduct<'a> {
+    beam: &'a PlanarBeam,
+    x: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl hht::fast::Kernel for MassProduct<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        self.beam.mass_product(self.x, self.out);
     }
 }
 
