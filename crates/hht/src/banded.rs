@@ -533,6 +533,7 @@ mod tests {
             (1, 0, 0, false),
             (12, 2, 0, false),
             (40, 5, 2, false),
+            (41, 5, 2, false),
             (40, 5, 2, true),
             (7, 6, 3, true),
         ] {
@@ -548,6 +549,33 @@ mod tests {
             let err = (0..total).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
             let tol = if weak { 1e-10 } else { 1e-13 };
             assert!(err < tol, "n {n} kd {kd} k {k} weak {weak}: error {err:e}");
+        }
+    }
+
+    #[test]
+    fn an_uncoupled_border_is_solved_on_its_own() {
+        // A ball out of contact: the border couples to nothing (C = D = 0), so the factors skip
+        // B^-1 C; the band's unknowns and the border's are each solved to round-off, with an
+        // odd and an even number of rows (the substitution's row pairs and the row left over).
+        let mut seed = 5;
+        for n in [40, 41] {
+            let full = matrix(n, 5, 2, false, &mut seed);
+            let mut t = Triplets::new();
+            for (r, c, v) in full.iter() {
+                if (r < n) == (c < n) {
+                    t.push(r, c, v);
+                }
+            }
+            let x: Vec<f64> = (0..n + 2).map(|_| noise(&mut seed)).collect();
+            let mut b = vec![0.0; n + 2];
+            t.mul_vec(&x, &mut b);
+            let mut lu = BandedLu::new();
+            lu.factor(n + 2, Band { half_bandwidth: 5, border: 2 }, &t, 0.0).unwrap();
+            assert!(!lu.coupled);
+            let mut rhs = Col::<f64>::from_fn(n + 2, |i| b[i]);
+            lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
+            let err = (0..n + 2).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
+            assert!(err < 1e-13, "n {n}: error {err:e}");
         }
     }
 
