@@ -14,7 +14,7 @@
 //! three unknowns a node) it is a few tens of microseconds.
 
 use crate::error::HhtError;
-use crate::fast::MulAdd;
+use crate::fast::{dot, MulAdd};
 use crate::model::Triplets;
 use faer::ColMut;
 
@@ -453,19 +453,6 @@ impl<const KD: usize> crate::fast::Kernel for FixedSolve<'_, KD> {
     fn run<A: MulAdd>(self, arith: A) {
         self.lu.solve_band_fixed::<KD, A>(self.b, arith);
     }
-}
-
-/// `x . y`, in four partial sums (one chain of additions would bound it by their latency).
-fn dot(x: &[f64], y: &[f64]) -> f64 {
-    let mut sums = [0.0; 4];
-    let (xs, ys) = (x.chunks_exact(4), y.chunks_exact(4));
-    let tail: f64 = xs.remainder().iter().zip(ys.remainder()).map(|(a, b)| a * b).sum();
-    for (a, b) in xs.zip(ys) {
-        for k in 0..4 {
-            sums[k] += a[k] * b[k];
-        }
-    }
-    (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
 }
 
 /// `Singular` unless every entry of the solution is finite.

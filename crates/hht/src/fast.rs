@@ -74,6 +74,20 @@ impl<R, F: FnOnce() -> R> Kernel for Closure<F> {
     }
 }
 
+/// `x . y`, in four partial sums (one chain of additions would bound it by their latency).
+#[inline(always)]
+pub(crate) fn dot(x: &[f64], y: &[f64]) -> f64 {
+    let mut sums = [0.0; 4];
+    let (xs, ys) = (x.chunks_exact(4), y.chunks_exact(4));
+    let tail: f64 = xs.remainder().iter().zip(ys.remainder()).map(|(a, b)| a * b).sum();
+    for (a, b) in xs.zip(ys) {
+        for k in 0..4 {
+            sums[k] += a[k] * b[k];
+        }
+    }
+    (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
+}
+
 struct WithFma<K>(K);
 
 impl<K: Kernel> pulp::WithSimd for WithFma<K> {

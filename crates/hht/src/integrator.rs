@@ -93,7 +93,7 @@ impl<C> State<C> {
         let mut net = Col::<f64>::zeros(n);
         model.inertial_force(&q, v.as_ref(), a.as_ref(), inertial.as_mut());
         model.net_force(t, &q, v.as_ref(), net.as_mut());
-        let force_norm = norm_of(entries(&inertial)).max(norm_of(entries(&net)));
+        let force_norm = force_norm(&inertial, &net);
         Ok(Self { t, q, v, a, inertial, net, force_norm })
     }
 }
@@ -206,19 +206,15 @@ fn entries_mut(x: &mut Col<f64>) -> &mut [f64] {
     }
 }
 
-/// Euclidean norm, in four partial sums (the compiler keeps a sum's order, so one chain of
-/// additions would bound the loop by their latency).
+/// Euclidean norm (four partial sums, see [`crate::fast::dot`]).
 #[inline(always)]
 fn norm_of(x: &[f64]) -> f64 {
-    let mut sums = [0.0; 4];
-    let mut chunks = x.chunks_exact(4);
-    for c in &mut chunks {
-        for k in 0..4 {
-            sums[k] += c[k] * c[k];
-        }
-    }
-    let tail: f64 = chunks.remainder().iter().map(|v| v * v).sum();
-    ((sums[0] + sums[1]) + (sums[2] + sums[3]) + tail).sqrt()
+    crate::fast::dot(x, x).sqrt()
+}
+
+/// The larger of `|inertial|` and `|net|`: a state's round-off scale.
+fn force_norm(inertial: &Col<f64>, net: &Col<f64>) -> f64 {
+    norm_of(entries(inertial)).max(norm_of(entries(net)))
 }
 
 /// The vectors a step works in, kept between steps.
@@ -480,7 +476,7 @@ impl Integrator {
             a
         };
         model.inertial_force(&q, v.as_ref(), a.as_ref(), inertial.as_mut());
-        let force_norm = norm_of(entries(&inertial)).max(norm_of(entries(&net)));
+        let force_norm = force_norm(&inertial, &net);
         Ok(State { t, q, v, a, inertial, net, force_norm })
     }
 

@@ -573,18 +573,6 @@ impl Model for PlanarBeam {
             }
             return;
         }
-        if let Some(dq) = dq.try_as_col_major() {
-            let dq = dq.as_slice();
-            let nodes = q.x.iter_mut().zip(q.z.iter_mut()).zip(q.theta.iter_mut());
-            for (((x, z), theta), d) in nodes.zip(&self.dofs) {
-                for (value, dof) in [x, z, theta].into_iter().zip(d) {
-                    if let Some(i) = dof {
-                        *value += dq[*i];
-                    }
-                }
-            }
-            return;
-        }
         for (node, d) in self.dofs.iter().enumerate() {
             if let Some(i) = d[0] {
                 q.x[node] += dq[i];
