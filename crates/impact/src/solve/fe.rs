@@ -123,9 +123,14 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             .map_err(|source| ImpactError::Integrator { t: 0.0, source })?;
         // The beam's tangent changes little from step to step (small rotations): a Newton
         // matrix is kept while it converges, and steps are powers of two of the contact step
-        // (see `quantised`) so that it can be.
+        // (see `quantised`) so that it can be. The balance to 1e-6 of its force terms (as the
+        // peer, validation/peers/exudyn_tip.py): after one iteration with the kept matrix the
+        // paper's tip is left at 2-5e-8 of them in free flight, all in the axial rows, where it
+        // moves a node by ~1e-16 m; at 1e-8 a second back-substitution at every step (a sixth
+        // of the time) only found that correction to be round-off, and the contacts, the
+        // largest displacement and the dissipation came out identical to the last digit.
         let options =
-            NewtonOptions { reuse_factorisation: true, rtol: 1e-8, ..NewtonOptions::default() };
+            NewtonOptions { reuse_factorisation: true, rtol: 1e-6, ..NewtonOptions::default() };
         let mut integrator = Integrator::new(scheme, options);
         let ball_start = Vector2::new(target.position, 0.5 * target.thickness + plan.ball_radius);
         let q = BallOnBeamConfig { beam: model.beam().reference_state(), ball: ball_start };
