@@ -224,6 +224,25 @@ struct Work {
     old_terms: Vec<f64>,
     delta: Vec<f64>,
     residual: Vec<f64>,
+    /// Columns of states handed back ([`Integrator::recycle`]), for the next states.
+    spare: Vec<Col<f64>>,
+}
+
+/// At most this many columns are kept for reuse: the four of a state, twice (a caller may
+/// hold a trial and the state it came from).
+const SPARE_COLUMNS: usize = 8;
+
+impl Work {
+    /// A column of `n` entries whose values are not specified (every one is written before
+    /// it is read): a spare one if there is, otherwise a new one.
+    fn column(&mut self, n: usize) -> Col<f64> {
+        while let Some(c) = self.spare.pop() {
+            if c.nrows() == n {
+                return c;
+            }
+        }
+        Col::zeros(n)
+    }
 }
 
 /// The step's predicted increment `h v_n + h^2 a_n / 2` and old-time force terms.
@@ -503,6 +522,18 @@ impl Integrator {
         self.step_split(model, state, h, 0)
     }
 
+    /// Hands back a state no longer needed, so that the next steps reuse its columns instead
+    /// of allocating (a state of a beam of 256 elements is four columns of 771 entries, and
+    /// a step costs some 20 us).
+    pub fn recycle<C>(&mut self, state: State<C>) {
+        let spare = &mut self.work.spare;
+        for c in [state.v, state.a, state.inertial, state.net] {
+            if spare.len() < SPARE_COLUMNS {
+                spare.push(c);
+            }
+        }
+    }
+
     /// The state `h` (s) after `from`, leaving `from` as it is: [`Integrator::step`] for a
     /// caller that keeps the old state (to try a step and perhaps take another), without
     /// copying it first. On a Newton failure the step is split as `step` does.
@@ -543,7 +574,8 @@ impl Integrator {
     ) -> Result<StepReport, HhtError> {
         match self.attempt(model, state, h) {
             Ok((next, report)) => {
-                *state = next;
+                let old = std::mem::replace(state, next);
+                self.recycle(old);
                 Ok(report)
             }
             Err(failure) => self.recover(model, state, h, depth, failure),
@@ -629,13 +661,14 @@ impl Integrator {
         // the configuration increment instead would compute a_{n+1} as a difference of
         // increments divided by beta h^2, a round-off floor of eps |dq| / (beta h^2) on the
         // inertial force that stalls Newton at small steps.
-        let mut a1 = old.a.clone();
+        let mut a1 = self.work.column(n);
+        a1.copy_from(&old.a);
         // Round-off floor of the balance: forces of the size of the old ones are recomputed at
         // q_n (+) delta, so their round-off is carried even when the balance itself is tiny.
         let old_scale = old.force_norm;
-        let mut inertial = Col::<f64>::zeros(n);
-        let mut net = Col::<f64>::zeros(n);
-        let mut v1 = Col::<f64>::zeros(n);
+        let mut inertial = self.work.column(n);
+        let mut net = self.work.column(n);
+        let mut v1 = self.work.column(n);
         let mut residual_norm = f64::INFINITY;
         let reuse = self.options.reuse_factorisation && !self.full_newton;
         let mut previous_residual = f64::INFINITY;

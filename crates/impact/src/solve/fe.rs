@@ -247,7 +247,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             0.0
         };
         let before = (self.state.t, self.beam_displacement(), self.beam_velocity());
-        self.state = s;
+        let old = std::mem::replace(&mut self.state, s);
+        self.integrator.recycle(old);
         self.steps += 1;
         let after = (self.state.t, self.beam_displacement(), self.beam_velocity());
         // The largest displacement between the steps too: a free-flight step may be as long as
