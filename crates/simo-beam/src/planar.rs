@@ -426,14 +426,25 @@ impl PlanarBeam {
     /// Strain energy (J).
     pub fn strain_energy(&self, q: &PlanarState) -> f64 {
         let mut energy = 0.0;
-        self.for_each_strain(q, |_, st| {
-            energy += 0.5
-                * st.length
-                * (self.ea * st.extension * st.extension
-                    + self.ga * st.shear * st.shear
-                    + self.ei * st.curvature * st.curvature);
+        self.for_each_strain(q, |e, st| {
+            energy += self.element_energy(e, (st.extension, st.shear, st.curvature));
         });
         energy
+    }
+
+    /// Strain energy (J) of a configuration whose section strains
+    /// ([`PlanarBeam::all_section_strains`]) are `strains`.
+    pub fn strain_energy_of(&self, strains: &[(f64, f64, f64)]) -> f64 {
+        strains.iter().enumerate().map(|(e, st)| self.element_energy(e, *st)).sum()
+    }
+
+    /// `l (EA Gamma1^2 + GA Gamma2^2 + EI kappa^2) / 2` of element `e`.
+    #[inline(always)]
+    fn element_energy(&self, e: usize, (extension, shear, curvature): (f64, f64, f64)) -> f64 {
+        0.5 * self.lengths[e]
+            * (self.ea * extension * extension
+                + self.ga * shear * shear
+                + self.ei * curvature * curvature)
     }
 
     /// The internal force (N, N m) by equation, written to `out` (length [`Model::ndof`]).

@@ -81,6 +81,8 @@ struct Run<'a, L: ContactLaw> {
     /// The history, the progress and the beam's stress and field: fed at every recorded
     /// instant, and at every accepted step for the stress envelope.
     recorders: Recorders<'a>,
+    /// Each element's section strains in `state` (the stress envelope's and the energy's).
+    strains: Vec<(f64, f64, f64)>,
     contacts: Vec<Contact>,
     max_displacement: (f64, f64),
     force: f64,
@@ -110,7 +112,9 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         if plan.field {
             stress = stress.with_field(beam.nodes(), target.width);
         }
-        stress.observe_beam(0.0, &beam, &beam.reference_state());
+        let mut strains = vec![(0.0, 0.0, 0.0); beam.elements()];
+        beam.all_section_strains(&beam.reference_state(), &mut strains);
+        stress.observe_strains(0.0, &strains);
         let model = BallOnBeam::new(
             beam,
             plan.ball_mass,
@@ -154,6 +158,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 plan.end_time,
                 Some(Box::new(stress)),
             ),
+            strains,
             contacts: Vec::new(),
             max_displacement: (0.0, 0.0),
             force: 0.0,
@@ -208,7 +213,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: Some(sample),
-            beam: BeamView::Fe { beam: self.model.beam(), state: &self.state.q.beam },
+            beam: BeamView::Fe { state: &self.state.q.beam, strains: &self.strains },
             last: self.state.t >= self.plan.end_time,
         });
     }
@@ -249,6 +254,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let before = (self.state.t, self.beam_displacement(), self.beam_velocity());
         let old = std::mem::replace(&mut self.state, s);
         self.integrator.recycle(old);
+        self.model.beam().all_section_strains(&self.state.q.beam, &mut self.strains);
         self.steps += 1;
         let after = (self.state.t, self.beam_displacement(), self.beam_velocity());
         // The largest displacement between the steps too: a free-flight step may be as long as
@@ -263,7 +269,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: None,
-            beam: BeamView::Fe { beam: self.model.beam(), state: &self.state.q.beam },
+            beam: BeamView::Fe { state: &self.state.q.beam, strains: &self.strains },
             last: false,
         });
         Ok(())
@@ -462,7 +468,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let ball_potential = -m * self.plan.gravity * self.ball_position();
         let beam_model = self.model.beam();
         let beam =
-            beam_model.strain_energy(&q.beam) + beam_model.kinetic_energy(v.subrows(0, n - 2));
+            beam_model.strain_energy_of(&self.strains) + beam_model.kinetic_energy(v.subrows(0, n - 2));
         let contact_stored = law.stored_energy(&self.model.law_state, delta);
         let dissipated = law.dissipated_energy(&self.model.law_state);
         Energy::new(

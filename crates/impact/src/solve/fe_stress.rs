@@ -24,8 +24,6 @@ pub(crate) struct FeStress {
     /// is a clamp, its two nearest elements and the extrapolation weight.
     supports: Vec<(bool, [usize; 2], f64)>,
     stresses: Vec<f64>,
-    /// Each element's section strains at the instant observed (work space).
-    strains: Vec<(f64, f64, f64)>,
     /// The time of the last instant in the envelope (s).
     observed: Option<f64>,
     envelope: Envelope,
@@ -74,7 +72,6 @@ impl FeStress {
             elements,
             supports,
             stresses: vec![0.0; count],
-            strains: Vec::new(),
             observed: None,
             envelope: Envelope::new(points, &positions),
             ei: youngs_modulus * thickness.powi(3) / 12.0,
@@ -91,12 +88,12 @@ impl FeStress {
         self
     }
 
-    /// Adds the field of `beam` in configuration `q` at `t` (s), if asked.
-    fn record_field(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
+    /// Adds the field of configuration `q` with section strains `strains` at `t` (s), if asked.
+    fn record_field(&mut self, t: f64, q: &PlanarState, strains: &[(f64, f64, f64)]) {
         let Some(field) = &mut self.field else { return };
         field.push_instant(t);
         let element = |e: usize| {
-            let (extension, _, curvature) = beam.section_strains(e, q);
+            let (extension, _, curvature) = strains[e];
             (
                 -self.ei * curvature,
                 self.youngs_modulus * (extension - self.half_thickness * curvature),
@@ -119,12 +116,10 @@ impl FeStress {
         }
     }
 
-    /// Observes the beam `beam` in configuration `q` at time `t` (s).
-    pub(crate) fn observe_beam(&mut self, t: f64, beam: &PlanarBeam, q: &PlanarState) {
+    /// Observes the beam at time `t` (s), given each element's section strains.
+    pub(crate) fn observe_strains(&mut self, t: f64, strains: &[(f64, f64, f64)]) {
         self.observed = Some(t);
-        self.strains.resize(self.elements, (0.0, 0.0, 0.0));
-        beam.all_section_strains(q, &mut self.strains);
-        for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(&self.strains) {
+        for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(strains) {
             *stress = self.youngs_modulus * (extension - self.half_thickness * curvature);
         }
         for (k, &(clamped, [a, b], weight)) in self.supports.iter().enumerate() {
@@ -139,13 +134,13 @@ impl BeamRecorder for FeStress {
     /// The envelope at every instant handed over (every accepted step), the field at the
     /// recorded ones.
     fn observe(&mut self, at: &Instant<'_>) {
-        if let BeamView::Fe { beam, state } = at.beam {
+        if let BeamView::Fe { state, strains } = at.beam {
             // A recorded instant is usually the step just accepted, already in the envelope.
             if self.observed != Some(at.t) {
-                self.observe_beam(at.t, beam, state);
+                self.observe_strains(at.t, strains);
             }
             if at.sample.is_some() {
-                self.record_field(at.t, beam, state);
+                self.record_field(at.t, state, strains);
             }
         }
     }

@@ -9,14 +9,15 @@
 
 use super::Progress;
 use crate::outcome::{BendingStress, Field, History, Sample};
-use simo_beam::{PlanarBeam, PlanarState};
+use simo_beam::PlanarState;
 
 /// What a solver shows of its beam.
 pub(crate) enum BeamView<'a> {
     /// The modal beam: its modal coordinates and the contact force (N) on it.
     Modal { q: &'a [f64], force: f64 },
-    /// The fe beam in its configuration.
-    Fe { beam: &'a PlanarBeam, state: &'a PlanarState },
+    /// The fe beam in its configuration, with each element's section strains (extension,
+    /// shear, curvature (1/m)) in it, computed once for all their users.
+    Fe { state: &'a PlanarState, strains: &'a [(f64, f64, f64)] },
 }
 
 /// One instant of a run.
