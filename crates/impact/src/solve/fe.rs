@@ -92,8 +92,10 @@ struct Run<'a, L: ContactLaw> {
     halvings: usize,
     /// Contact steps rejected by the error control.
     rejected: usize,
-    /// The approach (m) and its rate (m/s) at the current state, from its acceptance.
-    approach_and_rate: Option<(f64, f64)>,
+    /// The approach (m) at the current state, and its rate (m/s) if the ball touches (out of
+    /// contact only a free flight longer than a contact step needs it).
+    approach: f64,
+    approach_rate: Option<f64>,
     /// HHT's numerical dissipation (J) of the last trial step, and summed over accepted steps.
     trial_dissipation: f64,
     numerical_dissipation: f64,
@@ -142,6 +144,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let mut v = Col::<f64>::zeros(n);
         v[n - 1] = -plan.speed;
         let state = integrator.initial_state(&model, 0.0, q, v).map_err(|e| fail(0.0, e))?;
+        let approach = model.approach(&state.q);
         let i = target.nodes.windows(2).position(|w| target.position <= w[1]).unwrap_or(0);
         let xi = (target.position - target.nodes[i]) / (target.nodes[i + 1] - target.nodes[i]);
         Ok(Self {
@@ -167,7 +170,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             newton_iterations: 0,
             halvings: 0,
             rejected: 0,
-            approach_and_rate: None,
+            approach,
+            approach_rate: None,
             trial_dissipation: 0.0,
             numerical_dissipation: 0.0,
         })
@@ -236,21 +240,25 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     /// or the last one of the event location), whose numerical dissipation is then counted.
     fn accept(&mut self, s: State<BallOnBeamConfig>) -> Result<(), ImpactError> {
         self.numerical_dissipation += self.trial_dissipation;
-        let (delta, rate, cf) = self.model.contact(&s.q, s.v.as_ref());
-        self.approach_and_rate = Some((delta, rate));
-        if !(delta.is_finite() && cf.force.is_finite()) {
+        // The rate (a gradient of the contact geometry) only in contact: out of it the law's
+        // force is zero at any rate, and its history does not move.
+        let delta = self.model.approach(&s.q);
+        let (delta, rate, force) = if delta > self.model.law.release_approach(&self.model.law_state)
+        {
+            let (delta, rate, cf) = self.model.contact(&s.q, s.v.as_ref());
+            (delta, Some(rate), cf.force)
+        } else {
+            (delta, None, 0.0)
+        };
+        if !(delta.is_finite() && force.is_finite()) {
             return Err(ImpactError::SolverFailed {
                 t: s.t,
                 reason: "the contact approach or force is not finite".into(),
             });
         }
-        self.model.law.commit(&mut self.model.law_state, delta, rate);
+        self.model.law.commit(&mut self.model.law_state, delta, rate.unwrap_or(0.0));
         self.model.commit_contact_element(&s.q);
-        self.force = if delta > self.model.law.release_approach(&self.model.law_state) {
-            cf.force
-        } else {
-            0.0
-        };
+        (self.approach, self.approach_rate, self.force) = (delta, rate, force);
         let before = (self.state.t, self.beam_displacement(), self.beam_velocity());
         let old = std::mem::replace(&mut self.state, s);
         self.integrator.recycle(old);
@@ -399,20 +407,19 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let mut h = h_free;
         while self.state.t < end * (1.0 - 1e-12) {
             let release = self.model.law.release_approach(&self.model.law_state);
-            let (delta, rate) = match self.approach_and_rate {
-                Some(known) => known,
-                None => {
-                    let (delta, rate, _) = self.model.contact(&self.state.q, self.state.v.as_ref());
-                    (delta, rate)
-                }
-            };
-            // Do not step past a touch predicted from the gap and the closing speed (plus the
-            // ball's gravity); at least one contact step.
-            let gap = release - delta;
-            let closing = rate.max(0.0) + self.plan.gravity * h_free;
+            let delta = self.approach;
+            // A step longer than a contact step does not go past a touch predicted from the
+            // gap and the closing speed (plus the ball's gravity); at least one contact step.
             let mut tau = h;
-            if closing > 0.0 {
-                tau = tau.min((0.5 * gap / closing).max(h_contact));
+            if h > h_contact {
+                let rate = match self.approach_rate {
+                    Some(rate) => rate,
+                    None => self.model.contact(&self.state.q, self.state.v.as_ref()).1,
+                };
+                let closing = rate.max(0.0) + self.plan.gravity * h_free;
+                if closing > 0.0 {
+                    tau = tau.min((0.5 * (release - delta) / closing).max(h_contact));
+                }
             }
             let tau = quantised(tau, h_contact).min(end - self.state.t);
             let trial = self.trial(tau)?;
@@ -467,8 +474,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let ball_kinetic = 0.5 * m * ball_speed2;
         let ball_potential = -m * self.plan.gravity * self.ball_position();
         let beam_model = self.model.beam();
-        let beam =
-            beam_model.strain_energy_of(&self.strains) + beam_model.kinetic_energy(v.subrows(0, n - 2));
+        let beam = beam_model.strain_energy_of(&self.strains)
+            + beam_model.kinetic_energy(v.subrows(0, n - 2));
         let contact_stored = law.stored_energy(&self.model.law_state, delta);
         let dissipated = law.dissipated_energy(&self.model.law_state);
         Energy::new(
