@@ -339,34 +339,7 @@ impl BandedLu {
 
     /// Dense LU with partial pivoting of the k x k Schur complement.
     fn factor_corner(&mut self, t: f64) -> Result<(), HhtError> {
-        let k = self.k;
-        let a = &mut self.corner;
-        for col in 0..k {
-            let pivot = (col..k)
-                .max_by(|&x, &y| a[x * k + col].abs().total_cmp(&a[y * k + col].abs()))
-                .unwrap_or(col);
-            let largest = a[pivot * k + col].abs();
-            if !(largest > 0.0 && largest.is_finite()) {
-                return Err(HhtError::Singular {
-                    t,
-                    reason: format!("zero or non-finite pivot in column {col} of the border"),
-                });
-            }
-            self.corner_pivots[col] = pivot;
-            if pivot != col {
-                for j in 0..k {
-                    a.swap(col * k + j, pivot * k + j);
-                }
-            }
-            for row in col + 1..k {
-                let l = a[row * k + col] / a[col * k + col];
-                a[row * k + col] = l;
-                for j in col + 1..k {
-                    a[row * k + j] -= l * a[col * k + j];
-                }
-            }
-        }
-        Ok(())
+        dense_lu(&mut self.corner, self.k, &mut self.corner_pivots, t, "of the border")
     }
 
     /// Overwrites `rhs` with the solution of `A x = rhs` for the last factorised `A`.
@@ -413,20 +386,7 @@ impl BandedLu {
                 *z -= dot(&self.border_rows[r * n..(r + 1) * n], top);
             }
         }
-        for col in 0..k {
-            let p = self.corner_pivots[col];
-            if p != col {
-                border.swap(col, p);
-            }
-            for row in col + 1..k {
-                border[row] -= self.corner[row * k + col] * border[col];
-            }
-        }
-        for row in (0..k).rev() {
-            let u = &self.corner[row * k + row + 1..(row + 1) * k];
-            let known: f64 = u.iter().zip(&border[row + 1..]).map(|(a, b)| a * b).sum();
-            border[row] = (border[row] - known) / self.corner[row * k + row];
-        }
+        dense_solve(&self.corner, k, &self.corner_pivots, border);
         // x1 = y - (B^-1 C) z
         if !self.coupled {
             return;
@@ -437,6 +397,63 @@ impl BandedLu {
                 *yi -= xi * z;
             }
         }
+    }
+}
+
+/// Dense LU with partial pivoting of the row-major `k x k` matrix `a`, in place.
+fn dense_lu(
+    a: &mut [f64],
+    k: usize,
+    pivots: &mut [usize],
+    t: f64,
+    what: &str,
+) -> Result<(), HhtError> {
+    for col in 0..k {
+        let pivot = (col..k)
+            .max_by(|&x, &y| a[x * k + col].abs().total_cmp(&a[y * k + col].abs()))
+            .unwrap_or(col);
+        let largest = a[pivot * k + col].abs();
+        if !(largest > 0.0 && largest.is_finite()) {
+            return Err(HhtError::Singular {
+                t,
+                reason: format!("zero or non-finite pivot in column {col} {what}"),
+            });
+        }
+        pivots[col] = pivot;
+        if pivot != col {
+            for j in 0..k {
+                a.swap(col * k + j, pivot * k + j);
+            }
+        }
+        for row in col + 1..k {
+            let l = a[row * k + col] / a[col * k + col];
+            a[row * k + col] = l;
+            for j in col + 1..k {
+                a[row * k + j] -= l * a[col * k + j];
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Overwrites `b` with `A^-1 b` for the factors of [`dense_lu`]: `P A = L U`, so the row
+/// interchanges are all made first (`dense_lu` swaps whole rows, L's multipliers with them:
+/// applying each interchange between the eliminations instead, as the border's solve once did,
+/// pairs a multiplier with the wrong row as soon as a later column interchanges rows, which
+/// a border of two unknowns never does, but three do).
+fn dense_solve(a: &[f64], k: usize, pivots: &[usize], b: &mut [f64]) {
+    for (col, &p) in pivots.iter().enumerate().take(k) {
+        b.swap(col, p);
+    }
+    for col in 0..k {
+        for row in col + 1..k {
+            b[row] -= a[row * k + col] * b[col];
+        }
+    }
+    for row in (0..k).rev() {
+        let u = &a[row * k + row + 1..(row + 1) * k];
+        let known: f64 = u.iter().zip(&b[row + 1..]).map(|(a, b)| a * b).sum();
+        b[row] = (b[row] - known) / a[row * k + row];
     }
 }
 
@@ -599,6 +616,26 @@ mod tests {
         lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
         let err = (0..n).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
         assert!(err < 1e-9, "error {err:e}");
+    }
+
+    #[test]
+    fn dense_factors_with_a_later_interchange_solve_exactly() {
+        // Column 0 keeps its row, column 1 interchanges rows 1 and 2 (after the first
+        // elimination row 1 is (0, 0, 2)): every right-hand side against A x. Applying the
+        // interchanges between the eliminations gave an O(1) error here.
+        let a0 = [4.0, 1.0, 2.0, 2.0, 0.5, 3.0, 1.0, 3.0, 1.0];
+        let mut a = a0;
+        let mut pivots = [0; 3];
+        dense_lu(&mut a, 3, &mut pivots, 0.0, "").unwrap();
+        assert_eq!(pivots, [0, 2, 2]);
+        for x in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.3, -2.0, 5.0]] {
+            let mut b: Vec<f64> =
+                (0..3).map(|i| (0..3).map(|j| a0[i * 3 + j] * x[j]).sum()).collect();
+            dense_solve(&a, 3, &pivots, &mut b);
+            for (got, want) in b.iter().zip(x) {
+                assert!((got - want).abs() < 1e-15, "{b:?} vs {x:?}");
+            }
+        }
     }
 
     #[test]
