@@ -329,6 +329,9 @@ impl PlanarBeam {
 
     /// The section strains of every element, in order (as [`PlanarBeam::section_strains`]),
     /// written to `out` (one entry an element).
+    ///
+    /// # Panics
+    /// If `out` has fewer entries than the beam has elements.
     pub fn all_section_strains(&self, q: &PlanarState, out: &mut [(f64, f64, f64)]) {
         hht::fast::run(SectionStrains { beam: self, q, out });
     }
@@ -354,19 +357,29 @@ impl PlanarBeam {
         }
     }
 
-    /// Calls `each(e, strains)` for every element in order. The midpoint rotations' sines and
-    /// cosines are computed a block of elements at a time (see [`block_sin_cos`]).
+    /// Calls `each(e, (extension, shear, curvature))` for every element in order (as
+    /// [`PlanarBeam::section_strains`]). A block of elements at a time, as the internal force:
+    /// the midpoint rotations' sines and cosines by [`block_sin_cos`], then a loop over the
+    /// block without calls or bounds checks, which runs on several elements at once.
     #[inline(always)]
-    fn for_each_strain(&self, q: &PlanarState, mut each: impl FnMut(usize, &Strains)) {
+    fn for_each_strain(&self, q: &PlanarState, mut each: impl FnMut(usize, (f64, f64, f64))) {
         let (mut sines, mut cosines) = ([0.0; BLOCK], [0.0; BLOCK]);
         let elements = self.elements();
         let mut start = 0;
         while start < elements {
             let end = (start + BLOCK).min(elements);
-            let (sines, cosines) = (&mut sines[..end - start], &mut cosines[..end - start]);
-            block_sin_cos(&q.theta[start..=end], sines, cosines);
-            for (k, (s, c)) in sines.iter().zip(cosines.iter()).enumerate() {
-                each(start + k, &self.strains_with(start + k, q, *s, *c));
+            let m = end - start;
+            let (s, c) = (&mut sines[..m], &mut cosines[..m]);
+            block_sin_cos(&q.theta[start..=end], s, c);
+            let (x0, x1) = (&q.x[start..end], &q.x[start + 1..=end]);
+            let (z0, z1) = (&q.z[start..end], &q.z[start + 1..=end]);
+            let (t0, t1) = (&q.theta[start..end], &q.theta[start + 1..=end]);
+            let inverse = &self.inverse_lengths[start..end];
+            for k in 0..m {
+                // As `strains_with`.
+                let (s, c, inv) = (s[k], c[k], inverse[k]);
+                let (a, b) = ((x1[k] - x0[k]) * inv, (z1[k] - z0[k]) * inv);
+                each(start + k, (a * c + b * s - 1.0, -a * s + b * c, (t1[k] - t0[k]) * inv));
             }
             start = end;
         }
@@ -426,9 +439,7 @@ impl PlanarBeam {
     /// Strain energy (J).
     pub fn strain_energy(&self, q: &PlanarState) -> f64 {
         let mut energy = 0.0;
-        self.for_each_strain(q, |e, st| {
-            energy += self.element_energy(e, (st.extension, st.shear, st.curvature));
-        });
+        self.for_each_strain(q, |e, st| energy += self.element_energy(e, st));
         energy
     }
 
@@ -725,31 +736,10 @@ struct SectionStrains<'a> {
 impl hht::fast::Kernel for SectionStrains<'_> {
     type Output = ();
 
-    /// A block of elements at a time, as the internal force: the loop over a block has no
-    /// calls and no bounds checks, so it runs on several elements at once.
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(self, _: A) {
-        let (beam, q) = (self.beam, self.q);
-        let (mut sines, mut cosines) = ([0.0; BLOCK], [0.0; BLOCK]);
-        let elements = beam.elements().min(self.out.len());
-        let mut start = 0;
-        while start < elements {
-            let end = (start + BLOCK).min(elements);
-            let m = end - start;
-            let (s, c) = (&mut sines[..m], &mut cosines[..m]);
-            block_sin_cos(&q.theta[start..=end], s, c);
-            let (x0, x1) = (&q.x[start..end], &q.x[start + 1..=end]);
-            let (z0, z1) = (&q.z[start..end], &q.z[start + 1..=end]);
-            let (t0, t1) = (&q.theta[start..end], &q.theta[start + 1..=end]);
-            let (inverse, out) = (&beam.inverse_lengths[start..end], &mut self.out[start..end]);
-            for k in 0..m {
-                // As `strains_with`.
-                let (s, c, inv) = (s[k], c[k], inverse[k]);
-                let (a, b) = ((x1[k] - x0[k]) * inv, (z1[k] - z0[k]) * inv);
-                out[k] = (a * c + b * s - 1.0, -a * s + b * c, (t1[k] - t0[k]) * inv);
-            }
-            start = end;
-        }
+        let out = &mut self.out[..self.beam.elements()];
+        self.beam.for_each_strain(self.q, |e, st| out[e] = st);
     }
 }
 
