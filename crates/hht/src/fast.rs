@@ -88,6 +88,48 @@ pub(crate) fn dot(x: &[f64], y: &[f64]) -> f64 {
     (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
 }
 
+/// A loop written on the processor's vectors (pulp's [`pulp::Simd`]): for the loops the
+/// compiler leaves scalar when asked to vectorise them itself (a sweep that writes one
+/// vector and sums squares of others, measured 0.6 us for 773 entries, against 0.3 us on
+/// four-lane vectors). `run` must be `#[inline(always)]`; [`run_lanes`] calls it with x86-64-v3's
+/// four lanes where the processor has them, else with one (its multiply-adds then separate,
+/// as [`Separate`]'s).
+pub trait Lanes {
+    /// What the kernel returns.
+    type Output;
+    /// The loop, on `simd`'s vectors (see [`whole`] for the part they fill).
+    fn run<S: pulp::Simd>(self, simd: S) -> Self::Output;
+}
+
+/// Runs `kernel` on four-lane vectors where the processor has AVX2 and FMA, else on one lane.
+#[inline]
+pub fn run_lanes<K: Lanes>(kernel: K) -> K::Output {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(simd) = pulp::x86::V3::try_new() {
+        return pulp::Simd::vectorize(simd, InLanes(kernel));
+    }
+    kernel.run(pulp::Scalar::new())
+}
+
+/// The length of the longest prefix of `len` entries that fills whole vectors of `S`: a
+/// [`Lanes`] kernel runs its vector body on it and the same body on one lane
+/// (`pulp::Scalar`) on the rest.
+#[inline(always)]
+pub fn whole<S: pulp::Simd>(len: usize) -> usize {
+    len - len % S::F64_LANES
+}
+
+struct InLanes<K>(K);
+
+impl<K: Lanes> pulp::WithSimd for InLanes<K> {
+    type Output = K::Output;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> K::Output {
+        self.0.run(simd)
+    }
+}
+
 struct WithFma<K>(K);
 
 impl<K: Kernel> pulp::WithSimd for WithFma<K> {
@@ -110,6 +152,50 @@ mod tests {
         #[inline(always)]
         fn run<A: MulAdd>(self, arith: A) -> f64 {
             self.0.iter().zip(self.1).fold(0.0, |s, (a, b)| arith.mul_add(*a, *b, s))
+        }
+    }
+
+    /// `y = 2 x + y` and `sum x^2`, on whole vectors then one lane for the rest.
+    struct Sweep<'a>(&'a [f64], &'a mut [f64]);
+
+    impl Lanes for Sweep<'_> {
+        type Output = f64;
+        #[inline(always)]
+        fn run<S: pulp::Simd>(self, simd: S) -> f64 {
+            #[inline(always)]
+            fn body<S: pulp::Simd>(simd: S, x: &[f64], y: &mut [f64]) -> f64 {
+                let (x, y) = (S::as_simd_f64s(x).0, S::as_mut_simd_f64s(y).0);
+                let (two, mut sum) = (simd.splat_f64s(2.0), simd.splat_f64s(0.0));
+                for (x, y) in x.iter().zip(y) {
+                    *y = simd.mul_add_e_f64s(two, *x, *y);
+                    sum = simd.mul_add_e_f64s(*x, *x, sum);
+                }
+                simd.reduce_sum_f64s(sum)
+            }
+            let m = whole::<S>(self.0.len());
+            let ((x0, x1), (y0, y1)) = (self.0.split_at(m), self.1.split_at_mut(m));
+            body(simd, x0, y0) + body(pulp::Scalar::new(), x1, y1)
+        }
+    }
+
+    #[test]
+    fn a_lanes_kernel_covers_every_entry_at_any_length() {
+        // Lengths around the vector width: every entry written once, every square summed
+        // once (exact: small integers), in the wide copy and the one-lane copy.
+        for n in 0..12 {
+            let x: Vec<f64> = (0..n).map(|i| i as f64 + 1.0).collect();
+            let squares: f64 = x.iter().map(|v| v * v).sum();
+            for wide in [true, false] {
+                let mut y = vec![1.0; n];
+                let sum = if wide {
+                    run_lanes(Sweep(&x, &mut y))
+                } else {
+                    Sweep(&x, &mut y).run(pulp::Scalar::new())
+                };
+                assert!((sum - squares).abs() <= 0.0, "n {n}: {sum} against {squares}");
+                let exact = y.iter().zip(&x).all(|(y, x)| y.to_bits() == (2.0 * x + 1.0).to_bits());
+                assert!(exact, "n {n}: {y:?}");
+            }
         }
     }
 

@@ -2,11 +2,12 @@
 
 use crate::banded::{Band, BandedLu};
 use crate::error::HhtError;
-use crate::fast::{Kernel, MulAdd};
+use crate::fast::{whole, Kernel, Lanes, MulAdd};
 use crate::linear::SparseLu;
 use crate::model::{Model, NewtonWeights, Triplets};
 use crate::scheme::Scheme;
 use faer::{Col, ColMut, ColRef};
+use pulp::{Scalar, Simd};
 
 /// Newton's iteration settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -226,6 +227,9 @@ struct Work {
     residual: Vec<f64>,
     /// Columns of states handed back ([`Integrator::recycle`]), for the next states.
     spare: Vec<Col<f64>>,
+    /// The configuration of the last state handed back, for the next step's (any model's
+    /// configuration type: checked when taken).
+    spare_config: Option<Box<dyn std::any::Any>>,
 }
 
 /// At most this many columns are kept for reuse: the four of a state, twice (a caller may
@@ -256,19 +260,39 @@ struct Predict<'a> {
     work: &'a mut Work,
 }
 
-impl Kernel for Predict<'_> {
+impl Lanes for Predict<'_> {
     type Output = ();
 
     #[inline(always)]
-    fn run<A: MulAdd>(self, _: A) {
+    fn run<S: Simd>(self, simd: S) {
         let (h, s, work) = (self.h, self.s, self.work);
-        for (base, (v, a)) in work.base.iter_mut().zip(self.v0.iter().zip(self.a0)) {
-            *base = h * v + (0.5 * h * h) * a;
-        }
-        let old_forces = self.inertial0.iter().zip(self.net0);
-        for (old, (i, g)) in work.old_terms.iter_mut().zip(old_forces) {
-            *old = s.alpha_m * i + s.alpha_f * g;
-        }
+        let m = whole::<S>(work.base.len());
+        let (base, old) = (work.base.split_at_mut(m), work.old_terms.split_at_mut(m));
+        let (v, a) = (self.v0.split_at(m), self.a0.split_at(m));
+        let (i, g) = (self.inertial0.split_at(m), self.net0.split_at(m));
+        predict(simd, h, s, (base.0, old.0), (v.0, a.0, i.0, g.0));
+        predict(Scalar::new(), h, s, (base.1, old.1), (v.1, a.1, i.1, g.1));
+    }
+}
+
+#[inline(always)]
+fn predict<S: Simd>(
+    simd: S,
+    h: f64,
+    s: Scheme,
+    (base, old): (&mut [f64], &mut [f64]),
+    (v, a, i, g): (&[f64], &[f64], &[f64], &[f64]),
+) {
+    let (hv, ha) = (simd.splat_f64s(h), simd.splat_f64s(0.5 * h * h));
+    let (am, af) = (simd.splat_f64s(s.alpha_m), simd.splat_f64s(s.alpha_f));
+    let (base, old) = (S::as_mut_simd_f64s(base).0, S::as_mut_simd_f64s(old).0);
+    let (v, a) = (S::as_simd_f64s(v).0, S::as_simd_f64s(a).0);
+    let (i, g) = (S::as_simd_f64s(i).0, S::as_simd_f64s(g).0);
+    for (base, (v, a)) in base.iter_mut().zip(v.iter().zip(a)) {
+        *base = simd.mul_add_e_f64s(ha, *a, simd.mul_f64s(hv, *v));
+    }
+    for (old, (i, g)) in old.iter_mut().zip(i.iter().zip(g)) {
+        *old = simd.mul_add_e_f64s(af, *g, simd.mul_f64s(am, *i));
     }
 }
 
@@ -283,21 +307,39 @@ struct Kinematics<'a> {
     work: &'a mut Work,
 }
 
-impl Kernel for Kinematics<'_> {
+impl Lanes for Kinematics<'_> {
     type Output = ();
 
     #[inline(always)]
-    fn run<A: MulAdd>(self, _: A) {
-        let (s, h) = (self.s, self.h);
-        let (da, v_old, v_new) = (s.beta * h * h, h * (1.0 - s.gamma), h * s.gamma);
-        let old_rates = self.v0.iter().zip(self.a0);
-        let work = self.work;
-        for (((delta, v1), (base, a1)), (v0, a0)) in
-            work.delta.iter_mut().zip(self.v1).zip(work.base.iter().zip(self.a1)).zip(old_rates)
-        {
-            *delta = base + da * (a1 - a0);
-            *v1 = v0 + v_old * a0 + v_new * a1;
-        }
+    fn run<S: Simd>(self, simd: S) {
+        let (s, h, work) = (self.s, self.h, self.work);
+        let m = whole::<S>(work.delta.len());
+        let (delta, base) = (work.delta.split_at_mut(m), work.base.split_at(m));
+        let (v0, a0, a1) = (self.v0.split_at(m), self.a0.split_at(m), self.a1.split_at(m));
+        let v1 = self.v1.split_at_mut(m);
+        kinematics(simd, s, h, (delta.0, v1.0), (base.0, v0.0, a0.0, a1.0));
+        kinematics(Scalar::new(), s, h, (delta.1, v1.1), (base.1, v0.1, a0.1, a1.1));
+    }
+}
+
+#[inline(always)]
+fn kinematics<S: Simd>(
+    simd: S,
+    s: Scheme,
+    h: f64,
+    (delta, v1): (&mut [f64], &mut [f64]),
+    (base, v0, a0, a1): (&[f64], &[f64], &[f64], &[f64]),
+) {
+    let da = simd.splat_f64s(s.beta * h * h);
+    let (v_old, v_new) = (simd.splat_f64s(h * (1.0 - s.gamma)), simd.splat_f64s(h * s.gamma));
+    let (delta, v1) = (S::as_mut_simd_f64s(delta).0, S::as_mut_simd_f64s(v1).0);
+    let (base, v0) = (S::as_simd_f64s(base).0, S::as_simd_f64s(v0).0);
+    let (a0, a1) = (S::as_simd_f64s(a0).0, S::as_simd_f64s(a1).0);
+    for ((delta, v1), ((base, v0), (a0, a1))) in
+        delta.iter_mut().zip(v1).zip(base.iter().zip(v0).zip(a0.iter().zip(a1)))
+    {
+        *delta = simd.mul_add_e_f64s(da, simd.sub_f64s(*a1, *a0), *base);
+        *v1 = simd.mul_add_e_f64s(v_new, *a1, simd.mul_add_e_f64s(v_old, *a0, *v0));
     }
 }
 
@@ -310,34 +352,44 @@ struct Balance<'a> {
     work: &'a mut Work,
 }
 
-impl Kernel for Balance<'_> {
+impl Lanes for Balance<'_> {
     type Output = (f64, f64);
 
     #[inline(always)]
-    fn run<A: MulAdd>(self, _: A) -> (f64, f64) {
-        let (wi, wn) = (1.0 - self.s.alpha_m, 1.0 - self.s.alpha_f);
+    fn run<S: Simd>(self, simd: S) -> (f64, f64) {
+        let w = (1.0 - self.s.alpha_m, 1.0 - self.s.alpha_f);
         let work = self.work;
-        // One pass: the residual and the three sums of squares, each in four lanes.
-        let ([mut rr, mut ii, mut gg], tail) = ([[0.0; 4]; 3], work.residual.len() / 4 * 4);
-        let (r4, o4) = (work.residual.chunks_exact_mut(4), work.old_terms.chunks_exact(4));
-        let (i4, g4) = (self.inertial.chunks_exact(4), self.net.chunks_exact(4));
-        for ((r, old), (i, g)) in r4.zip(o4).zip(i4.zip(g4)) {
-            for k in 0..4 {
-                r[k] = wi * i[k] + wn * g[k] + old[k];
-                rr[k] += r[k] * r[k];
-                ii[k] += i[k] * i[k];
-                gg[k] += g[k] * g[k];
-            }
-        }
-        for k in tail..work.residual.len() {
-            let (i, g) = (self.inertial[k], self.net[k]);
-            let r = wi * i + wn * g + work.old_terms[k];
-            work.residual[k] = r;
-            (rr[0], ii[0], gg[0]) = (rr[0] + r * r, ii[0] + i * i, gg[0] + g * g);
-        }
-        let total = |x: [f64; 4]| ((x[0] + x[1]) + (x[2] + x[3])).sqrt();
-        (total(rr), total(ii).max(total(gg)))
+        let m = whole::<S>(work.residual.len());
+        let (r, old) = (work.residual.split_at_mut(m), work.old_terms.split_at(m));
+        let (i, g) = (self.inertial.split_at(m), self.net.split_at(m));
+        let head = balance(simd, w, r.0, (old.0, i.0, g.0));
+        let tail = balance(Scalar::new(), w, r.1, (old.1, i.1, g.1));
+        let norm = |k: usize| (head[k] + tail[k]).sqrt();
+        (norm(0), norm(1).max(norm(2)))
     }
+}
+
+/// The residual into `r`, and the sums of squares of it, `inertial` and `net`.
+#[inline(always)]
+fn balance<S: Simd>(
+    simd: S,
+    (wi, wn): (f64, f64),
+    r: &mut [f64],
+    (old, inertial, net): (&[f64], &[f64], &[f64]),
+) -> [f64; 3] {
+    let (wi, wn) = (simd.splat_f64s(wi), simd.splat_f64s(wn));
+    let r = S::as_mut_simd_f64s(r).0;
+    let (old, i, g) = (S::as_simd_f64s(old).0, S::as_simd_f64s(inertial).0, S::as_simd_f64s(net).0);
+    let zero = simd.splat_f64s(0.0);
+    let (mut rr, mut ii, mut gg) = (zero, zero, zero);
+    for ((r, old), (i, g)) in r.iter_mut().zip(old).zip(i.iter().zip(g)) {
+        let x = simd.mul_add_e_f64s(wn, *g, simd.mul_add_e_f64s(wi, *i, *old));
+        *r = x;
+        rr = simd.mul_add_e_f64s(x, x, rr);
+        ii = simd.mul_add_e_f64s(*i, *i, ii);
+        gg = simd.mul_add_e_f64s(*g, *g, gg);
+    }
+    [simd.reduce_sum_f64s(rr), simd.reduce_sum_f64s(ii), simd.reduce_sum_f64s(gg)]
 }
 
 /// `|x|`.
@@ -384,41 +436,40 @@ struct Closing<'a> {
     delta: &'a [f64],
 }
 
-impl Kernel for Closing<'_> {
+impl Lanes for Closing<'_> {
     type Output = (f64, f64);
 
     #[inline(always)]
-    fn run<A: MulAdd>(self, _: A) -> (f64, f64) {
+    fn run<S: Simd>(self, simd: S) -> (f64, f64) {
+        let m = whole::<S>(self.delta.len());
+        let x = [self.a0, self.a1, self.inertial0, self.inertial, self.net0, self.net, self.delta];
         let (s, h) = (self.s, self.h);
-        let kinematic = (s.beta - 0.5 * s.gamma) * h * h;
-        // Partial sums over four lanes (see `norm_of`).
-        let (mut dissipation, mut jump_sq) = ([0.0; 4], [0.0; 4]);
-        let mut add =
-            |lane: usize, a0: f64, a1: f64, i0: f64, i1: f64, g0: f64, g1: f64, d: f64| {
-                let m_a = (1.0 - s.gamma) * i0 + s.gamma * i1;
-                let jump = a1 - a0;
-                jump_sq[lane] += jump * jump;
-                dissipation[lane] += kinematic * jump * m_a - d * (m_a + 0.5 * (g0 + g1));
-            };
-        let (a0, a1) = (self.a0.chunks_exact(4), self.a1.chunks_exact(4));
-        let (i0, i1) = (self.inertial0.chunks_exact(4), self.inertial.chunks_exact(4));
-        let (g0, g1, d) =
-            (self.net0.chunks_exact(4), self.net.chunks_exact(4), self.delta.chunks_exact(4));
-        let tail = self.delta.len() - d.remainder().len();
-        for ((((a0, a1), (i0, i1)), (g0, g1)), d) in
-            a0.zip(a1).zip(i0.zip(i1)).zip(g0.zip(g1)).zip(d)
-        {
-            for k in 0..4 {
-                add(k, a0[k], a1[k], i0[k], i1[k], g0[k], g1[k], d[k]);
-            }
-        }
-        for i in tail..self.delta.len() {
-            let (a0, a1, i0, i1) = (self.a0[i], self.a1[i], self.inertial0[i], self.inertial[i]);
-            add(0, a0, a1, i0, i1, self.net0[i], self.net[i], self.delta[i]);
-        }
-        let total = |x: [f64; 4]| (x[0] + x[1]) + (x[2] + x[3]);
-        (total(dissipation), total(jump_sq).sqrt())
+        let head = closing(simd, s, h, x.map(|x| &x[..m]));
+        let tail = closing(Scalar::new(), s, h, x.map(|x| &x[m..]));
+        (head[0] + tail[0], (head[1] + tail[1]).sqrt())
     }
+}
+
+/// The dissipation and `|a_1 - a_0|^2` over `[a0, a1, inertial0, inertial, net0, net, delta]`:
+/// with `m a = (1 - gamma) I_0 + gamma I_1` (the inertial force at the step's gamma point),
+/// `(beta - gamma / 2) h^2 (a_1 - a_0) . m a - delta . (m a + (g_0 + g_1) / 2)` summed.
+#[inline(always)]
+fn closing<S: Simd>(simd: S, s: Scheme, h: f64, x: [&[f64]; 7]) -> [f64; 2] {
+    let [a0, a1, i0, i1, g0, g1, d] = x.map(|x| S::as_simd_f64s(x).0);
+    let kinematic = simd.splat_f64s((s.beta - 0.5 * s.gamma) * h * h);
+    let (old, new, half) =
+        (simd.splat_f64s(1.0 - s.gamma), simd.splat_f64s(s.gamma), simd.splat_f64s(0.5));
+    let zero = simd.splat_f64s(0.0);
+    let (mut dissipation, mut jump_sq) = (zero, zero);
+    for k in 0..d.len() {
+        let m_a = simd.mul_add_e_f64s(new, i1[k], simd.mul_f64s(old, i0[k]));
+        let jump = simd.sub_f64s(a1[k], a0[k]);
+        jump_sq = simd.mul_add_e_f64s(jump, jump, jump_sq);
+        let work = simd.mul_add_e_f64s(half, simd.add_f64s(g0[k], g1[k]), m_a);
+        let kinetic = simd.mul_f64s(kinematic, simd.mul_f64s(jump, m_a));
+        dissipation = simd.add_f64s(dissipation, simd.sub_f64s(kinetic, simd.mul_f64s(d[k], work)));
+    }
+    [simd.reduce_sum_f64s(dissipation), simd.reduce_sum_f64s(jump_sq)]
 }
 
 impl Integrator {
@@ -522,10 +573,11 @@ impl Integrator {
         self.step_split(model, state, h, 0)
     }
 
-    /// Hands back a state no longer needed, so that the next steps reuse its columns instead
-    /// of allocating (a state of a beam of 256 elements is four columns of 771 entries, and
+    /// Hands back a state no longer needed, so that the next steps reuse its columns and its
+    /// configuration instead of allocating (a state of a beam of 256 elements is four columns of 771 entries, and
     /// a step costs some 20 us).
-    pub fn recycle<C>(&mut self, state: State<C>) {
+    pub fn recycle<C: 'static>(&mut self, state: State<C>) {
+        self.work.spare_config = Some(Box::new(state.q));
         let spare = &mut self.work.spare;
         for c in [state.v, state.a, state.inertial, state.net] {
             if spare.len() < SPARE_COLUMNS {
@@ -656,7 +708,7 @@ impl Integrator {
         for v in [&mut work.base, &mut work.old_terms, &mut work.delta, &mut work.residual] {
             v.resize(n, 0.0);
         }
-        crate::fast::run(Predict { s, h, v0, a0, inertial0, net0, work });
+        crate::fast::run_lanes(Predict { s, h, v0, a0, inertial0, net0, work });
         // The iteration unknown is the new acceleration a_{n+1} (predictor: a_n). Iterating on
         // the configuration increment instead would compute a_{n+1} as a difference of
         // increments divided by beta h^2, a round-off floor of eps |dq| / (beta h^2) on the
@@ -672,10 +724,14 @@ impl Integrator {
         let mut residual_norm = f64::INFINITY;
         let reuse = self.options.reuse_factorisation && !self.full_newton;
         let mut previous_residual = f64::INFINITY;
-        let mut q1 = old.q.clone();
+        let mut q1 = match self.work.spare_config.take().map(|c| c.downcast::<M::Config>()) {
+            Some(Ok(q)) => *q,
+            _ => old.q.clone(),
+        };
+        let constant_mass = model.constant_mass();
         for iteration in 0..=self.options.max_iterations {
             let (a1_now, v1_now) = (entries(&a1), entries_mut(&mut v1));
-            crate::fast::run(Kinematics {
+            crate::fast::run_lanes(Kinematics {
                 s,
                 h,
                 v0,
@@ -684,15 +740,17 @@ impl Integrator {
                 v1: v1_now,
                 work: &mut self.work,
             });
-            if iteration > 0 {
-                q1.clone_from(&old.q);
+            model.displaced(&old.q, ColRef::from_slice(&self.work.delta), &mut q1);
+            if iteration == 0 && constant_mass {
+                // a1 = a_n: the old state's M a_n, to the last bit.
+                entries_mut(&mut inertial).copy_from_slice(inertial0);
+            } else {
+                model.inertial_force(&q1, v1.as_ref(), a1.as_ref(), inertial.as_mut());
             }
-            model.update(&mut q1, ColRef::from_slice(&self.work.delta));
-            model.inertial_force(&q1, v1.as_ref(), a1.as_ref(), inertial.as_mut());
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
             let (inertial_now, net_now) = (entries(&inertial), entries(&net));
             let force_norm;
-            (residual_norm, force_norm) = crate::fast::run(Balance {
+            (residual_norm, force_norm) = crate::fast::run_lanes(Balance {
                 s,
                 inertial: inertial_now,
                 net: net_now,
@@ -726,12 +784,13 @@ impl Integrator {
                 let r = &mut self.work.residual;
                 self.lu.solve_in_place(ColMut::from_slice_mut(r), t1)?;
                 let scaling = -1.0 / (s.beta * h * h);
-                let correction = scaling.abs() * crate::fast::run(Norm(r));
                 // A correction below the round-off of the quantities it corrects cannot improve
                 // the iterate: the balance is then at its floating-point floor (for example a
                 // tiny displacement computed as the difference of two O(1) increments), so accept.
                 // The configuration's own round-off is ~eps |q| per coordinate (sqrt(n) in norm).
+                // (Not at the predictor: its correction is the step's own.)
                 converged = iteration > 0 && {
+                    let correction = scaling.abs() * crate::fast::run(Norm(r));
                     let configuration = model.configuration_scale(&q1) * (n as f64).sqrt();
                     let increments = norm_of(&self.work.delta).max(norm_of(&self.work.base));
                     correction <= 1e-14 * norm_of(entries(&a1)).max(norm_of(a0))
@@ -745,7 +804,7 @@ impl Integrator {
             if !converged {
                 break;
             }
-            let (dissipation, jump) = crate::fast::run(Closing {
+            let (dissipation, jump) = crate::fast::run_lanes(Closing {
                 s,
                 h,
                 a0,

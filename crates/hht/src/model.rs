@@ -101,14 +101,22 @@ impl Triplets {
 /// update `q <- q (+) dq`, and velocities and accelerations are plain vectors in the tangent
 /// space that update uses (for rotations: angular velocities in the same frame as `dq`).
 pub trait Model {
-    /// The configuration (positions, rotations, ...).
-    type Config: Clone;
+    /// The configuration (positions, rotations, ...). `'static` so that the integrator can
+    /// keep a spare one between steps (see [`crate::Integrator::recycle`]).
+    type Config: Clone + 'static;
 
     /// Number of unknowns (the length of `v`, `a` and of every force vector).
     fn ndof(&self) -> usize;
 
     /// `q <- q (+) dq`.
     fn update(&self, q: &mut Self::Config, dq: ColRef<'_, f64>);
+
+    /// `out <- q (+) dq`, `out`'s allocations reused: by default a copy of `q` then
+    /// [`Model::update`]; a model overrides it to do both in one pass.
+    fn displaced(&self, q: &Self::Config, dq: ColRef<'_, f64>, out: &mut Self::Config) {
+        out.clone_from(q);
+        self.update(out, dq);
+    }
 
     /// The inertial force `I(q, v, a)` (for a rigid rotation: `J a + w x J w`), written to `out`.
     fn inertial_force(
@@ -118,6 +126,14 @@ pub trait Model {
         a: ColRef<'_, f64>,
         out: ColMut<'_, f64>,
     );
+
+    /// Whether the inertial force is `M a` with one constant matrix `M` (independent of `q`
+    /// and `v`: point masses, a planar beam). A step's predictor keeps the old acceleration,
+    /// so its inertial force is then the old state's, and the integrator reuses it instead
+    /// of recomputing it (a mass product a step). The default, `false`, recomputes it.
+    fn constant_mass(&self) -> bool {
+        false
+    }
 
     /// The net force `g(t, q, v)`: internal plus damping minus external, written to `out`.
     fn net_force(&self, t: f64, q: &Self::Config, v: ColRef<'_, f64>, out: ColMut<'_, f64>);

@@ -617,6 +617,37 @@ impl Model for PlanarBeam {
         }
     }
 
+    /// One pass over the nodes, writing `out` from `q` (no copy first).
+    fn displaced(&self, q: &PlanarState, dq: ColRef<'_, f64>, out: &mut PlanarState) {
+        let Some((dq, (k0, k1))) = dq.try_as_col_major().zip(self.dense_nodes) else {
+            out.clone_from(q);
+            return self.update(out, dq);
+        };
+        let n = q.x.len();
+        for v in [&mut out.x, &mut out.z, &mut out.theta] {
+            v.resize(n, 0.0);
+        }
+        // Nodes outside k0..k1 have no unknowns (held): copied.
+        for range in [0..k0, k1..n] {
+            out.x[range.clone()].copy_from_slice(&q.x[range.clone()]);
+            out.z[range.clone()].copy_from_slice(&q.z[range.clone()]);
+            out.theta[range.clone()].copy_from_slice(&q.theta[range]);
+        }
+        // Compiled for the wider lanes (the unknowns interleave x, z, theta a node: the
+        // compiler then unpacks them with shuffles instead of element by element).
+        hht::fast::wide(|| {
+            let to = out.x[k0..k1].iter_mut().zip(&mut out.z[k0..k1]).zip(&mut out.theta[k0..k1]);
+            let from = q.x[k0..k1].iter().zip(&q.z[k0..k1]).zip(&q.theta[k0..k1]);
+            for ((((x, z), theta), ((x0, z0), theta0)), d) in
+                to.zip(from).zip(dq.as_slice().chunks_exact(3))
+            {
+                *x = x0 + d[0];
+                *z = z0 + d[1];
+                *theta = theta0 + d[2];
+            }
+        });
+    }
+
     fn inertial_force(
         &self,
         _q: &PlanarState,
@@ -625,6 +656,12 @@ impl Model for PlanarBeam {
         out: ColMut<'_, f64>,
     ) {
         self.mass_times(a, out);
+    }
+
+    /// In the plane a section's rotation is one angle: its inertia `rho I theta''` has no
+    /// gyroscopic term, and the mass matrix is constant.
+    fn constant_mass(&self) -> bool {
+        true
     }
 
     fn net_force(&self, _t: f64, q: &PlanarState, _v: ColRef<'_, f64>, mut out: ColMut<'_, f64>) {

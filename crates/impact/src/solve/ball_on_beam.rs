@@ -317,6 +317,11 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         q.ball += self.ball(dq);
     }
 
+    fn displaced(&self, q: &BallOnBeamConfig, dq: ColRef<'_, f64>, out: &mut BallOnBeamConfig) {
+        self.beam.displaced(&q.beam, dq.subrows(0, self.nb), &mut out.beam);
+        out.ball = q.ball + self.ball(dq);
+    }
+
     fn inertial_force(
         &self,
         q: &BallOnBeamConfig,
@@ -334,6 +339,11 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         for k in 0..2 {
             out[nb + k] = self.mass * a[nb + k];
         }
+    }
+
+    /// The beam's constant mass matrix and the ball's mass.
+    fn constant_mass(&self) -> bool {
+        self.beam.constant_mass()
     }
 
     fn net_force(

@@ -378,7 +378,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             self.accept(next)?;
             let f1 = if separated { 0.0 } else { self.force };
             self.force = f1;
-            contact.step(self.state.t, dt, f1, self.model.approach(&self.state.q));
+            contact.step(self.state.t, dt, f1, self.approach);
             if separated {
                 complete = true;
                 break;
