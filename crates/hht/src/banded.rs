@@ -14,9 +14,10 @@
 //! three unknowns a node) it is a few tens of microseconds.
 
 use crate::error::HhtError;
-use crate::fast::{dot, MulAdd};
+use crate::fast::{dot, whole, Lanes, MulAdd};
 use crate::model::Triplets;
 use faer::ColMut;
+use pulp::{Scalar, Simd};
 
 /// The shape of a Newton matrix that [`BandedLu`] can factorise.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -474,19 +475,31 @@ impl<const KD: usize> crate::fast::Kernel for FixedSolve<'_, KD> {
 
 /// `Singular` unless every entry of the solution is finite.
 fn finite(b: &[f64], t: f64) -> Result<(), HhtError> {
-    // x * 0 is 0 for a finite x and NaN otherwise: a sum over lanes instead of a test a value.
-    let mut lanes = [0.0; 4];
-    let chunks = b.chunks_exact(4);
-    let tail: f64 = chunks.remainder().iter().map(|x| x * 0.0).sum();
-    for c in chunks {
-        for k in 0..4 {
-            lanes[k] += c[k] * 0.0;
-        }
-    }
-    if ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail).is_finite() {
+    if crate::fast::run_lanes(ZeroSum(b)).is_finite() {
         Ok(())
     } else {
         Err(HhtError::Singular { t, reason: "the solution is not finite".into() })
+    }
+}
+
+/// `sum x * 0`: 0 if every `x` is finite, NaN otherwise (a sum on vectors instead of a test
+/// a value).
+struct ZeroSum<'a>(&'a [f64]);
+
+impl Lanes for ZeroSum<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn run<S: Simd>(self, simd: S) -> f64 {
+        #[inline(always)]
+        fn sum<S: Simd>(simd: S, x: &[f64]) -> f64 {
+            let zero = simd.splat_f64s(0.0);
+            let total =
+                S::as_simd_f64s(x).0.iter().fold(zero, |s, x| simd.mul_add_e_f64s(*x, zero, s));
+            simd.reduce_sum_f64s(total)
+        }
+        let (head, tail) = self.0.split_at(whole::<S>(self.0.len()));
+        sum(simd, head) + sum(Scalar::new(), tail)
     }
 }
 

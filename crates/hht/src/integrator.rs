@@ -714,7 +714,7 @@ impl Integrator {
         // increments divided by beta h^2, a round-off floor of eps |dq| / (beta h^2) on the
         // inertial force that stalls Newton at small steps.
         let mut a1 = self.work.column(n);
-        a1.copy_from(&old.a);
+        entries_mut(&mut a1).copy_from_slice(a0);
         // Round-off floor of the balance: forces of the size of the old ones are recomputed at
         // q_n (+) delta, so their round-off is carried even when the balance itself is tiny.
         let old_scale = old.force_norm;
