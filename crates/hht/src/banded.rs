@@ -509,6 +509,23 @@ mod tests {
     use super::*;
     use faer::Col;
 
+    #[test]
+    fn a_solution_with_any_non_finite_entry_is_refused() {
+        // Every position, in the vectors' part and in the one-lane rest, and huge finite
+        // values (whose product with 0 is still 0) accepted.
+        for n in [1, 4, 7, 13] {
+            let fine: Vec<f64> = (0..n).map(|i| 1e300 * (i as f64 - 3.0)).collect();
+            assert!(finite(&fine, 0.0).is_ok(), "n {n}");
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                for at in 0..n {
+                    let mut x = fine.clone();
+                    x[at] = bad;
+                    assert!(finite(&x, 0.0).is_err(), "n {n}, {bad} at {at}");
+                }
+            }
+        }
+    }
+
     /// A cheap, deterministic pseudo-random sequence in [-1, 1].
     fn noise(seed: &mut u64) -> f64 {
         *seed =
