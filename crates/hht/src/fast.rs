@@ -8,6 +8,9 @@
 //! solve's chain from one unknown to the next. Elsewhere the baseline copy runs, with the
 //! separate multiply and add. The two copies give the same results to rounding.
 
+/// pulp's vector interface and its one-lane machine, for [`Lanes`] kernels outside this crate.
+pub use pulp::{Scalar, Simd};
+
 /// `a b + c`, fused (one rounding) or not, as the kernel's copy was compiled.
 pub trait MulAdd: Copy {
     /// `a b + c`.

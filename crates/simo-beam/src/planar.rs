@@ -25,6 +25,7 @@ use crate::error::{positive, BeamError};
 use crate::model::Support;
 use crate::section::Section;
 use faer::{ColMut, ColRef};
+use hht::fast::{whole, Lanes, Scalar, Simd};
 use hht::{Band, Model, NewtonWeights, Triplets};
 
 /// Unknowns of an element: (x, z, theta) of its two nodes.
@@ -446,7 +447,12 @@ impl PlanarBeam {
     /// Strain energy (J) of a configuration whose section strains
     /// ([`PlanarBeam::all_section_strains`]) are `strains`.
     pub fn strain_energy_of(&self, strains: &[(f64, f64, f64)]) -> f64 {
-        strains.iter().enumerate().map(|(e, st)| self.element_energy(e, *st)).sum()
+        // Four partial sums: one chain of additions would wait on each.
+        let mut sums = [0.0; 4];
+        for (e, st) in strains.iter().enumerate() {
+            sums[e % 4] += self.element_energy(e, *st);
+        }
+        (sums[0] + sums[1]) + (sums[2] + sums[3])
     }
 
     /// `l (EA Gamma1^2 + GA Gamma2^2 + EI kappa^2) / 2` of element `e`.
@@ -575,14 +581,54 @@ impl PlanarBeam {
             let v: Vec<f64> = v.iter().copied().collect();
             return self.kinetic_energy(ColRef::from_slice(&v));
         };
-        let diagonal: f64 = self.mass_diagonal.iter().zip(v).map(|(m, v)| m * v * v).sum();
-        // The couplings by a sweep where they allow (as the mass product).
-        let couplings: f64 = match &self.mass_next {
-            Some(next) if v.len() >= 3 => {
-                next.iter().zip(v).zip(&v[3..]).map(|((m, a), b)| m * a * b).sum()
+        match &self.mass_next {
+            // The diagonal and the couplings by sweeps on vectors (as the mass product): a
+            // sum term by term would wait on each addition.
+            Some(next) if v.len() >= 3 => hht::fast::run_lanes(KineticEnergy {
+                diagonal: &self.mass_diagonal,
+                next: &next[..v.len() - 3],
+                v,
+            }),
+            _ => {
+                let diagonal: f64 = self.mass_diagonal.iter().zip(v).map(|(m, v)| m * v * v).sum();
+                let couplings: f64 =
+                    self.mass_couplings.iter().map(|&(i, j, m)| m * v[i] * v[j]).sum();
+                0.5 * diagonal + couplings
             }
-            _ => self.mass_couplings.iter().map(|&(i, j, m)| m * v[i] * v[j]).sum(),
-        };
+        }
+    }
+}
+
+/// `v . M v / 2` with the couplings between unknowns `i` and `i + 3` (`next`), on vectors.
+struct KineticEnergy<'a> {
+    diagonal: &'a [f64],
+    next: &'a [f64],
+    v: &'a [f64],
+}
+
+impl Lanes for KineticEnergy<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn run<S: Simd>(self, simd: S) -> f64 {
+        /// `sum m a b` over equal-length slices.
+        #[inline(always)]
+        fn weighted<S: Simd>(simd: S, m: &[f64], a: &[f64], b: &[f64]) -> f64 {
+            let (m, a, b) = (S::as_simd_f64s(m).0, S::as_simd_f64s(a).0, S::as_simd_f64s(b).0);
+            let mut sum = simd.splat_f64s(0.0);
+            for ((m, a), b) in m.iter().zip(a).zip(b) {
+                sum = simd.mul_add_e_f64s(simd.mul_f64s(*m, *a), *b, sum);
+            }
+            simd.reduce_sum_f64s(sum)
+        }
+        let one = Scalar::new();
+        let (n, c) = (self.v.len(), self.next.len());
+        let (d, k) = (whole::<S>(n), whole::<S>(c));
+        let (v, near, far) = (self.v, &self.v[..c], &self.v[3..3 + c]);
+        let diagonal = weighted(simd, &self.diagonal[..d], &v[..d], &v[..d])
+            + weighted(one, &self.diagonal[d..n], &v[d..], &v[d..]);
+        let couplings = weighted(simd, &self.next[..k], &near[..k], &far[..k])
+            + weighted(one, &self.next[k..], &near[k..], &far[k..]);
         0.5 * diagonal + couplings
     }
 }
