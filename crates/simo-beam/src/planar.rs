@@ -511,9 +511,19 @@ impl PlanarBeam {
             }
             for k in 0..m {
                 let node = [carry[0] - fx[k], carry[1] - fz[k], carry[2] + first[k]];
-                for (d, f) in self.dofs[start + k].iter().zip(node) {
-                    if let Some(i) = d {
-                        out[*i] = f;
+                match self.dense_nodes {
+                    // A free node of the dense run: its three unknowns in a row, written
+                    // without looking each up (a branch an unknown cost 5 % of a step).
+                    Some((k0, k1)) if (k0..k1).contains(&(start + k)) => {
+                        let i = 3 * (start + k - k0);
+                        out[i..i + 3].copy_from_slice(&node);
+                    }
+                    _ => {
+                        for (d, f) in self.dofs[start + k].iter().zip(node) {
+                            if let Some(i) = d {
+                                out[*i] = f;
+                            }
+                        }
                     }
                 }
                 carry = [fx[k], fz[k], second[k]];
