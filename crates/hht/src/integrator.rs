@@ -180,6 +180,10 @@ pub struct Integrator {
     triplets: Triplets,
     /// The weights of the Newton matrix now factorised, if it may be reused.
     factored: Option<NewtonWeights>,
+    /// The reusable factorisation before the current one, for other weights: a step of
+    /// another size (an event's re-steps) and back then costs no factorisation on the way
+    /// back (one is some ten steps' work).
+    aside: Option<(NewtonWeights, LinearSolver)>,
     /// Set while a step that failed with a kept matrix is retried with full Newton.
     full_newton: bool,
     /// Newton matrices factorised so far.
@@ -481,6 +485,7 @@ impl Integrator {
             lu: LinearSolver::Sparse(Box::default()),
             triplets: Triplets::new(),
             factored: None,
+            aside: None,
             full_newton: false,
             factorisations: 0,
             work: Work::default(),
@@ -682,6 +687,31 @@ impl Integrator {
         }
     }
 
+    /// Brings back the factorisation set aside for weights `w`, if there is one, setting the
+    /// current one aside in its place.
+    fn recall(&mut self, w: NewtonWeights) {
+        let Some((weights, lu)) = self.aside.as_mut().filter(|(weights, _)| *weights == w) else {
+            return;
+        };
+        std::mem::swap(&mut self.lu, lu);
+        match self.factored.replace(w) {
+            Some(current) => *weights = current,
+            None => self.aside = None,
+        }
+    }
+
+    /// Sets the current (reusable) factorisation aside before a new one is made; the new one
+    /// reuses the storage of the one set aside before.
+    fn keep_aside(&mut self) {
+        let Some(current) = self.factored.take() else { return };
+        let storage = match self.aside.take() {
+            Some((_, lu)) => lu,
+            None => LinearSolver::Sparse(Box::default()),
+        };
+        let kept = std::mem::replace(&mut self.lu, storage);
+        self.aside = Some((current, kept));
+    }
+
     /// One Newton solve of the step equation; returns the new state without touching the old.
     fn attempt<M: Model>(
         &mut self,
@@ -767,12 +797,18 @@ impl Integrator {
             if !converged && iteration < self.options.max_iterations {
                 // Full Newton rebuilds the matrix every iteration; with reuse, only for new
                 // weights or when the kept matrix stops contracting the residual.
+                if reuse && self.factored != Some(w) {
+                    self.recall(w);
+                }
                 let rebuild = !reuse
                     || self.factored != Some(w)
                     || residual_norm > STALE_CONTRACTION * previous_residual;
                 if rebuild {
                     self.triplets.clear();
                     model.tangent(t1, &q1, v1.as_ref(), a1.as_ref(), w, &mut self.triplets);
+                    if reuse && self.factored.is_some_and(|kept| kept != w) {
+                        self.keep_aside();
+                    }
                     self.factored = None;
                     self.lu.factor(n, model.band(), &self.triplets, t1)?;
                     self.factorisations += 1;

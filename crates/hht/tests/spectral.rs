@@ -285,3 +285,22 @@ fn error_estimate_is_third_order_and_symbolic_analysis_is_reused() {
     let ratio = estimate(0.02) / estimate(0.01);
     assert!((ratio - 8.0).abs() < 0.2, "ratio {ratio}");
 }
+
+#[test]
+fn a_kept_matrix_serves_again_after_a_step_of_another_size() {
+    // With reuse, a run of steps of one size, one of another (an event's re-step) and back
+    // factorises twice, not three times: the first matrix is set aside, not dropped. The
+    // states agree with full Newton's to the convergence tolerance.
+    let options = NewtonOptions { reuse_factorisation: true, rtol: 1e-10, ..Default::default() };
+    let mut kept = Integrator::new(Scheme::hht(-0.05).unwrap(), options);
+    let mut full = Integrator::new(Scheme::hht(-0.05).unwrap(), NewtonOptions::default());
+    let mut a = kept.initial_state(&Duffing, 0.0, 0.01, Col::zeros(1)).unwrap();
+    let mut b = full.initial_state(&Duffing, 0.0, 0.01, Col::zeros(1)).unwrap();
+    let start = kept.factorisations;
+    for h in [1e-3, 1e-3, 3e-4, 1e-3, 1e-3, 3e-4, 1e-3] {
+        kept.step(&Duffing, &mut a, h).unwrap();
+        full.step(&Duffing, &mut b, h).unwrap();
+    }
+    assert_eq!(kept.factorisations - start, 2);
+    assert!((a.q - b.q).abs() < 1e-12 && (a.v[0] - b.v[0]).abs() < 1e-10, "{a:?} {b:?}");
+}
