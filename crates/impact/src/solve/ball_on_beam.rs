@@ -38,6 +38,7 @@ use hht::{Band, Model, NewtonWeights, Triplets};
 use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::{Dual2SVec64, DualSVec64};
 use simo_beam::{PlanarBeam, PlanarState};
+use std::cell::RefCell;
 
 /// Configuration of the coupled model: the beam's and the ball centre's (x, z) (m).
 #[derive(Debug)]
@@ -61,7 +62,7 @@ impl Clone for BallOnBeamConfig {
 }
 
 /// How many derivatives of the approach to compute.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) enum Order {
     Value,
     Gradient,
@@ -98,7 +99,15 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
     /// The contact element of the last accepted step, kept while the projection stays on it
     /// (see [`BallOnBeam::nearest_element`]).
     sticky_element: Option<usize>,
+    /// The last contact point computed, with its element and the 8 numbers it was computed
+    /// from (ball centre, the element's nodes): a step asks for the same one up to five
+    /// times (the converged residual, the step's acceptance, the approach's rate, the
+    /// separation test, the history), and it is a pure function of those.
+    last: RefCell<Option<Memo>>,
 }
+
+/// A contact point with what it was computed from: the element, the 8 numbers, the order.
+type Memo = (usize, [f64; LOCAL], Order, ContactPoint);
 
 /// How far past its ends (in element lengths) the projection may fall on the sticky element
 /// before the nearest element is searched again. Without it a ball over a node flips between
@@ -195,6 +204,7 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
             law_state: L::State::default(),
             local_dofs,
             sticky_element: None,
+            last: RefCell::new(None),
         }
     }
 
@@ -248,6 +258,27 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
         let (element, xi) = self.nearest_element(q);
         let node = |i: usize| [q.beam.x[i], q.beam.z[i], q.beam.theta[i]];
         let (a0, b0) = (node(element), node(element + 1));
+        let key = [q.ball.x, q.ball.y, a0[0], a0[1], a0[2], b0[0], b0[1], b0[2]];
+        if let Some((e, k, o, p)) = &*self.last.borrow() {
+            let same = *e == element && k.iter().zip(&key).all(|(a, b)| a.to_bits() == b.to_bits());
+            if same && *o >= order {
+                return p.clone();
+            }
+        }
+        let p = self.compute_contact_point(q, order, element, xi, (a0, b0));
+        *self.last.borrow_mut() = Some((element, key, order, p.clone()));
+        p
+    }
+
+    /// [`BallOnBeam::contact_point`] on `element` at `xi`, its nodes being `a0` and `b0`.
+    fn compute_contact_point(
+        &self,
+        q: &BallOnBeamConfig,
+        order: Order,
+        element: usize,
+        xi: f64,
+        (a0, b0): ([f64; 3], [f64; 3]),
+    ) -> ContactPoint {
         let surface = Surface {
             radius: self.radius,
             half_thickness: self.half_thickness,
