@@ -465,6 +465,42 @@ mod tests {
     }
 
     #[test]
+    fn a_kept_contact_point_is_the_one_of_the_same_numbers() {
+        // The ball pressed 1 um into the last of 4 elements of a 1 m strip: the point kept
+        // from a value-only call is not served for a gradient, and a moved ball or beam gets
+        // its own point, the same as a model that never computed another.
+        #![allow(clippy::unwrap_used)]
+        let steel = simo_beam::Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let section = simo_beam::Section::rectangle(&steel, 0.025, 0.005).unwrap();
+        let beam = || PlanarBeam::new(&[0.0, 0.25, 0.5, 0.75, 1.0], &section).unwrap();
+        let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
+        let model = BallOnBeam::new(beam(), 0.01, 0.0, 0.005, 0.0025, &law);
+        let mut q = BallOnBeamConfig {
+            beam: beam().reference_state(),
+            ball: Vector2::new(0.9, 0.0075 - 1e-6),
+        };
+        let value = model.contact_point(&q, Order::Value);
+        let gradient = model.contact_point(&q, Order::Gradient);
+        assert!((value.delta - 1e-6).abs() < 1e-15 && (gradient.delta - value.delta).abs() == 0.0);
+        // d delta / d (ball z) = -1 on the upper face.
+        assert!((gradient.gradient[1] + 1.0).abs() < 1e-12, "{:?}", gradient.gradient);
+        for moved in [0, 1] {
+            if moved == 0 {
+                q.ball.y -= 1e-7;
+            } else {
+                q.beam.z[4] += 1e-7;
+            }
+            let fresh = BallOnBeam::new(beam(), 0.01, 0.0, 0.005, 0.0025, &law);
+            let (kept, new) = (
+                model.contact_point(&q, Order::Gradient),
+                fresh.contact_point(&q, Order::Gradient),
+            );
+            assert!((kept.delta - new.delta).abs() == 0.0 && kept.gradient == new.gradient);
+            assert!((kept.delta - value.delta).abs() > 5e-8, "{moved}: {}", kept.delta);
+        }
+    }
+
+    #[test]
     fn the_approach_is_continuous_off_the_end_and_two_sided() {
         // Sliding over the end at 1 um into the face: the face and the corner give the same
         // approach where the ball is right above the corner (to round-off), and it falls
