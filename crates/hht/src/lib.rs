@@ -33,7 +33,13 @@
 //! ## Speed
 //! The step's vector work and the banded substitution run in [`fast`] kernels: compiled for
 //! the baseline and again for AVX2 with fused multiply-adds, the second chosen at run time
-//! where the processor has it (same results to rounding).
+//! where the processor has it (same results to rounding); the sweeps the compiler leaves
+//! scalar are written on pulp's vectors ([`fast::Lanes`]). With
+//! [`NewtonOptions::reuse_factorisation`] a Newton matrix serves the steps of its size, and
+//! the last one of another size is kept aside for when that size comes back. A model with a
+//! constant mass matrix ([`Model::constant_mass`]) spares the predictor's mass product, and
+//! one that writes `q (+) dq` into a kept configuration in one pass ([`Model::displaced`])
+//! the copy of `q` an iteration.
 //!
 //! ## Example: your own model
 //! A hard (Duffing) spring, `a + q + 100 q^3 = 0`, released from `q = 1`. The model gives the
