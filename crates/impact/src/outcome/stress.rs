@@ -72,14 +72,19 @@ impl Envelope {
                 (s.1, s.2) = (v, t);
             }
         }
-        let mut grew = false;
+        // The largest magnitude first, in a loop without branches (vectorised); the point only
+        // when it beats the best so far (seldom once the first impact has passed). NaNs are
+        // never taken (as before).
+        let largest = stresses.iter().fold(0.0, |m: f64, s| if s.abs() > m { s.abs() } else { m });
+        if largest <= self.best.0 {
+            return false;
+        }
         for (i, sigma) in stresses.iter().enumerate() {
             if sigma.abs() > self.best.0 {
                 self.best = (sigma.abs(), *sigma, i, t);
-                grew = true;
             }
         }
-        grew
+        true
     }
 
     /// Where the largest is (point index) and when.
