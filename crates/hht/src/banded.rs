@@ -268,10 +268,14 @@ impl BandedLu {
     #[inline(always)]
     fn solve_band_fixed<const KD: usize, A: MulAdd>(&self, b: &mut [f64], arith: A) {
         let n = self.n;
+        // The rows' factors as fixed-length chunks zipped with the unknowns: no bounds check
+        // and no reload of the slices a row (the loop is a chain of one multiply-add a row,
+        // and the instructions around it count as much).
+        let b = &mut b[..n];
+        let lower = self.lower_rows[..n * KD].chunks_exact(KD);
         // Forward: known[j] = y[row - 1 - j].
         let mut known = [0.0; KD];
-        for (row, value) in b.iter_mut().enumerate().take(n) {
-            let l = &self.lower_rows[row * KD..row * KD + KD];
+        for (value, l) in b.iter_mut().zip(lower) {
             let mut far = *value;
             for j in (1..KD).rev() {
                 far = arith.mul_add(-l[j], known[j], far);
@@ -284,15 +288,16 @@ impl BandedLu {
             known[0] = y;
         }
         // Backward: solved[j] = b[row + 1 + j], with U's rows divided by their diagonal.
+        let upper = self.scaled_upper[..n * KD].chunks_exact(KD);
+        let rows = b.iter_mut().zip(upper).zip(&self.inverse_diagonal[..n]);
         let mut solved = [0.0; KD];
-        for row in (0..n).rev() {
-            let u = &self.scaled_upper[row * KD..row * KD + KD];
-            let mut far = b[row] * self.inverse_diagonal[row];
+        for ((value, u), inverse) in rows.rev() {
+            let mut far = *value * inverse;
             for j in (1..KD).rev() {
                 far = arith.mul_add(-u[j], solved[j], far);
             }
             let x = arith.mul_add(-u[0], solved[0], far);
-            b[row] = x;
+            *value = x;
             for j in (1..KD).rev() {
                 solved[j] = solved[j - 1];
             }
