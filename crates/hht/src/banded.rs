@@ -386,23 +386,24 @@ impl BandedLu {
         let (n, k) = (self.n, self.k);
         let (top, border) = b.split_at_mut(n);
         self.solve_band(top);
-        // z = S^-1 (r2 - D y)
-        if self.coupled {
+        if !self.coupled {
+            return dense_solve(&self.corner, k, &self.corner_pivots, border);
+        }
+        // The border's products of length n (a ball in contact), on the wider lanes.
+        crate::fast::wide(|| {
+            // z = S^-1 (r2 - D y)
             for (r, z) in border.iter_mut().enumerate() {
                 *z -= dot(&self.border_rows[r * n..(r + 1) * n], top);
             }
-        }
-        dense_solve(&self.corner, k, &self.corner_pivots, border);
-        // x1 = y - (B^-1 C) z
-        if !self.coupled {
-            return;
-        }
-        for (c, z) in border.iter().enumerate() {
-            let x = &self.border_columns[c * n..(c + 1) * n];
-            for (yi, xi) in top.iter_mut().zip(x) {
-                *yi -= xi * z;
+            dense_solve(&self.corner, k, &self.corner_pivots, border);
+            // x1 = y - (B^-1 C) z
+            for (c, z) in border.iter().enumerate() {
+                let x = &self.border_columns[c * n..(c + 1) * n];
+                for (yi, xi) in top.iter_mut().zip(x) {
+                    *yi -= xi * z;
+                }
             }
-        }
+        });
     }
 }
 
