@@ -276,8 +276,9 @@ impl Work {
 }
 
 /// The step's predicted increment `h v_n + h^2 a_n / 2` (also the predictor's increment:
-/// its acceleration is `a_n`), the predictor's velocity (Newmark's for `a_{n+1} = a_n`, as
-/// [`Kinematics`] would write it) and the old-time force terms.
+/// its acceleration is `a_n`, copied to `a1`), the predictor's velocity (Newmark's for
+/// `a_{n+1} = a_n`, as [`Kinematics`] would write it), the old-time force terms, and the
+/// old inertial force copied to `inertial` (the predictor's, for a constant mass).
 struct Predict<'a> {
     s: Scheme,
     h: f64,
@@ -286,6 +287,8 @@ struct Predict<'a> {
     inertial0: &'a [f64],
     net0: &'a [f64],
     v1: &'a mut [f64],
+    a1: &'a mut [f64],
+    inertial: &'a mut [f64],
     work: &'a mut Work,
 }
 
@@ -298,10 +301,13 @@ impl Lanes for Predict<'_> {
         let m = whole::<S>(work.base.len());
         let (base, delta) = (work.base.split_at_mut(m), work.delta.split_at_mut(m));
         let (old, v1) = (work.old_terms.split_at_mut(m), self.v1.split_at_mut(m));
+        let (a1, inertial) = (self.a1.split_at_mut(m), self.inertial.split_at_mut(m));
         let (v, a) = (self.v0.split_at(m), self.a0.split_at(m));
         let (i, g) = (self.inertial0.split_at(m), self.net0.split_at(m));
-        predict(simd, h, s, [base.0, delta.0, v1.0, old.0], (v.0, a.0, i.0, g.0));
-        predict(Scalar::new(), h, s, [base.1, delta.1, v1.1, old.1], (v.1, a.1, i.1, g.1));
+        let head = [base.0, delta.0, v1.0, a1.0, old.0, inertial.0];
+        predict(simd, h, s, head, (v.0, a.0, i.0, g.0));
+        let tail = [base.1, delta.1, v1.1, a1.1, old.1, inertial.1];
+        predict(Scalar::new(), h, s, tail, (v.1, a.1, i.1, g.1));
     }
 }
 
@@ -310,7 +316,7 @@ fn predict<S: Simd>(
     simd: S,
     h: f64,
     s: Scheme,
-    [base, delta, v1, old]: [&mut [f64]; 4],
+    [base, delta, v1, a1, old, inertial]: [&mut [f64]; 6],
     (v, a, i, g): (&[f64], &[f64], &[f64], &[f64]),
 ) {
     let (hv, ha) = (simd.splat_f64s(h), simd.splat_f64s(0.5 * h * h));
@@ -318,17 +324,19 @@ fn predict<S: Simd>(
     let (am, af) = (simd.splat_f64s(s.alpha_m), simd.splat_f64s(s.alpha_f));
     let (base, delta) = (S::as_mut_simd_f64s(base).0, S::as_mut_simd_f64s(delta).0);
     let (v1, old) = (S::as_mut_simd_f64s(v1).0, S::as_mut_simd_f64s(old).0);
+    let (a1, inertial) = (S::as_mut_simd_f64s(a1).0, S::as_mut_simd_f64s(inertial).0);
     let (v, a) = (S::as_simd_f64s(v).0, S::as_simd_f64s(a).0);
     let (i, g) = (S::as_simd_f64s(i).0, S::as_simd_f64s(g).0);
-    for (((base, delta), v1), (v, a)) in
-        base.iter_mut().zip(delta.iter_mut()).zip(v1.iter_mut()).zip(v.iter().zip(a))
-    {
+    let new = base.iter_mut().zip(delta.iter_mut()).zip(v1.iter_mut().zip(a1.iter_mut()));
+    for (((base, delta), (v1, a1)), (v, a)) in new.zip(v.iter().zip(a)) {
         *base = simd.mul_add_e_f64s(ha, *a, simd.mul_f64s(hv, *v));
         *delta = *base;
         *v1 = simd.mul_add_e_f64s(v_new, *a, simd.mul_add_e_f64s(v_old, *a, *v));
+        *a1 = *a;
     }
-    for (old, (i, g)) in old.iter_mut().zip(i.iter().zip(g)) {
+    for ((old, inertial), (i, g)) in old.iter_mut().zip(inertial.iter_mut()).zip(i.iter().zip(g)) {
         *old = simd.mul_add_e_f64s(af, *g, simd.mul_f64s(am, *i));
+        *inertial = *i;
     }
 }
 
@@ -771,24 +779,31 @@ impl Integrator {
         // The step's work vectors, kept between steps (every entry is written before it is
         // read): the predicted increment h v + h^2 a / 2, the old-time force terms
         // alpha_m I_n + alpha_f g_n, the increment and the residual.
-        let mut v1 = self.work.column(n);
-        let work = &mut self.work;
-        for v in [&mut work.base, &mut work.old_terms, &mut work.delta, &mut work.residual] {
-            v.resize(n, 0.0);
-        }
-        let v1_now = entries_mut(&mut v1);
-        crate::fast::run_lanes(Predict { s, h, v0, a0, inertial0, net0, v1: v1_now, work });
         // The iteration unknown is the new acceleration a_{n+1} (predictor: a_n). Iterating on
         // the configuration increment instead would compute a_{n+1} as a difference of
         // increments divided by beta h^2, a round-off floor of eps |dq| / (beta h^2) on the
         // inertial force that stalls Newton at small steps.
-        let mut a1 = self.work.column(n);
-        entries_mut(&mut a1).copy_from_slice(a0);
+        let (mut v1, mut a1) = (self.work.column(n), self.work.column(n));
+        let (mut inertial, mut net) = (self.work.column(n), self.work.column(n));
+        let work = &mut self.work;
+        for v in [&mut work.base, &mut work.old_terms, &mut work.delta, &mut work.residual] {
+            v.resize(n, 0.0);
+        }
+        crate::fast::run_lanes(Predict {
+            s,
+            h,
+            v0,
+            a0,
+            inertial0,
+            net0,
+            v1: entries_mut(&mut v1),
+            a1: entries_mut(&mut a1),
+            inertial: entries_mut(&mut inertial),
+            work,
+        });
         // Round-off floor of the balance: forces of the size of the old ones are recomputed at
         // q_n (+) delta, so their round-off is carried even when the balance itself is tiny.
         let old_scale = old.force_norm;
-        let mut inertial = self.work.column(n);
-        let mut net = self.work.column(n);
         let mut residual_norm = f64::INFINITY;
         let reuse = self.options.reuse_factorisation && !self.full_newton;
         let mut previous_residual = f64::INFINITY;
@@ -812,10 +827,9 @@ impl Integrator {
                 });
             }
             model.displaced(&old.q, ColRef::from_slice(&self.work.delta), &mut q1);
-            if iteration == 0 && constant_mass {
-                // a1 = a_n: the old state's M a_n, to the last bit.
-                entries_mut(&mut inertial).copy_from_slice(inertial0);
-            } else {
+            // With a constant mass the predictor's (a1 = a_n) is the old state's M a_n, to the
+            // last bit, which Predict copied.
+            if iteration > 0 || !constant_mass {
                 model.inertial_force(&q1, v1.as_ref(), a1.as_ref(), inertial.as_mut());
             }
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
