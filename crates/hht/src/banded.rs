@@ -390,20 +390,24 @@ impl BandedLu {
             return dense_solve(&self.corner, k, &self.corner_pivots, border);
         }
         // The border's products of length n (a ball in contact), on the wider lanes.
-        crate::fast::wide(|| {
-            // z = S^-1 (r2 - D y)
-            for (r, z) in border.iter_mut().enumerate() {
-                *z -= dot(&self.border_rows[r * n..(r + 1) * n], top);
+        crate::fast::run(CoupledBorder { lu: self, top, border });
+    }
+
+    /// The border's unknowns `z = S^-1 (r2 - D y)` and the band's `x1 = y - (B^-1 C) z`, with
+    /// `y` (the band's solution) in `top` and `r2` in `border`.
+    #[inline(always)]
+    fn solve_coupled_border(&self, top: &mut [f64], border: &mut [f64]) {
+        let n = self.n;
+        for (r, z) in border.iter_mut().enumerate() {
+            *z -= dot(&self.border_rows[r * n..(r + 1) * n], top);
+        }
+        dense_solve(&self.corner, self.k, &self.corner_pivots, border);
+        for (c, z) in border.iter().enumerate() {
+            let x = &self.border_columns[c * n..(c + 1) * n];
+            for (yi, xi) in top.iter_mut().zip(x) {
+                *yi -= xi * z;
             }
-            dense_solve(&self.corner, k, &self.corner_pivots, border);
-            // x1 = y - (B^-1 C) z
-            for (c, z) in border.iter().enumerate() {
-                let x = &self.border_columns[c * n..(c + 1) * n];
-                for (yi, xi) in top.iter_mut().zip(x) {
-                    *yi -= xi * z;
-                }
-            }
-        });
+        }
     }
 }
 
@@ -476,6 +480,23 @@ impl<const KD: usize> crate::fast::Kernel for FixedSolve<'_, KD> {
     #[inline(always)]
     fn run<A: MulAdd>(self, arith: A) {
         self.lu.solve_band_fixed::<KD, A>(self.b, arith);
+    }
+}
+
+/// [`BandedLu::solve_coupled_border`] as a [`crate::fast::Kernel`] (a struct, not a closure:
+/// a closure's body is not inlined into the wider copy, and runs in the baseline one).
+struct CoupledBorder<'a> {
+    lu: &'a BandedLu,
+    top: &'a mut [f64],
+    border: &'a mut [f64],
+}
+
+impl crate::fast::Kernel for CoupledBorder<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, _: A) {
+        self.lu.solve_coupled_border(self.top, self.border);
     }
 }
 

@@ -59,24 +59,6 @@ pub fn run<K: Kernel>(kernel: K) -> K::Output {
     kernel.run(Separate)
 }
 
-/// Runs `f` as [`run`] runs a kernel: a loop without multiply-adds of its own, for the wider
-/// lanes only (the closure is inlined into each copy).
-#[inline]
-pub fn wide<R>(f: impl FnOnce() -> R) -> R {
-    run(Closure(f))
-}
-
-struct Closure<F>(F);
-
-impl<R, F: FnOnce() -> R> Kernel for Closure<F> {
-    type Output = R;
-
-    #[inline(always)]
-    fn run<A: MulAdd>(self, _: A) -> R {
-        (self.0)()
-    }
-}
-
 /// `x . y`, in four partial sums (one chain of additions would bound it by their latency).
 #[inline(always)]
 pub(crate) fn dot(x: &[f64], y: &[f64]) -> f64 {
