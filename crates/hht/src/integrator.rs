@@ -253,8 +253,9 @@ struct Work {
     residual: Vec<f64>,
     /// Columns of states handed back ([`Integrator::recycle`]), for the next states.
     spare: Vec<Col<f64>>,
-    /// The configuration of the last state handed back, for the next step's (any model's
-    /// configuration type: checked when taken).
+    /// The configuration of the last state handed back, for the next step's: an
+    /// `Option<Config>` of any model's configuration type (checked when taken), boxed once and
+    /// refilled, so that a step allocates nothing.
     spare_config: Option<Box<dyn std::any::Any>>,
 }
 
@@ -624,7 +625,10 @@ impl Integrator {
     /// configuration instead of allocating (a state of a beam of 256 elements is four columns
     /// of 771 entries, and a step costs some 15 us).
     pub fn recycle<C: 'static>(&mut self, state: State<C>) {
-        self.work.spare_config = Some(Box::new(state.q));
+        match self.work.spare_config.as_mut().and_then(|c| c.downcast_mut::<Option<C>>()) {
+            Some(slot) => *slot = Some(state.q),
+            None => self.work.spare_config = Some(Box::new(Some(state.q))),
+        }
         let spare = &mut self.work.spare;
         for c in [state.v, state.a, state.inertial, state.net] {
             if spare.len() < SPARE_COLUMNS {
@@ -807,10 +811,9 @@ impl Integrator {
         let mut residual_norm = f64::INFINITY;
         let reuse = self.options.reuse_factorisation && !self.full_newton;
         let mut previous_residual = f64::INFINITY;
-        let mut q1 = match self.work.spare_config.take().map(|c| c.downcast::<M::Config>()) {
-            Some(Ok(q)) => *q,
-            _ => old.q.clone(),
-        };
+        let spare =
+            self.work.spare_config.as_mut().and_then(|c| c.downcast_mut::<Option<M::Config>>());
+        let mut q1 = spare.and_then(Option::take).unwrap_or_else(|| old.q.clone());
         let constant_mass = model.constant_mass();
         for iteration in 0..=self.options.max_iterations {
             // The predictor's increment and velocity are Predict's.
