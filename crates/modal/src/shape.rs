@@ -187,6 +187,22 @@ impl ModeShape {
         self.waves().iter().map(|w| (w.psi * w.lambda * w.factor(x)).re).sum()
     }
 
+    /// d^k Psi'/dx^k at x (m) (1/m^(2+k)): the curvature's k-th derivative, k = 1 the
+    /// bending moment's rate over EI (the shear over EI for Euler-Bernoulli).
+    pub fn curvature_derivative(&self, k: u32, x: f64) -> f64 {
+        self.waves().iter().map(|w| (w.psi * w.lambda.powu(k + 1) * w.factor(x)).re).sum()
+    }
+
+    /// An upper bound of |d^k Psi'/dx^k| anywhere on the beam (1/m^(2+k)): k = 0 bounds the
+    /// curvature, k = 2 its second derivative. Each wave contributes Re(psi lambda^(k+1)
+    /// e^(lambda (x - anchor))), and no wave's exponential exceeds 1 in magnitude on the beam
+    /// (a growing one is anchored at x = L), so |psi| |lambda|^(k+1) summed over the waves
+    /// bounds it. What a search for the largest bending stress needs to know how much the
+    /// curvature can change between two points where it was evaluated.
+    pub fn curvature_bound(&self, k: i32) -> f64 {
+        self.waves().iter().map(|w| w.psi.norm() * w.lambda.norm().powi(k + 1)).sum()
+    }
+
     /// Psi'(x) (1/m^2) at x = x0 + k dx for k = 0 .. count, as [`ModeShape::curvature`] gives
     /// it but with one exponential per wave for the whole grid: each wave is carried from point
     /// to point by its factor over dx (a growing one downward from the last point, the others

@@ -252,3 +252,63 @@ fn curvatures_on_a_grid_match_the_pointwise_ones() {
         }
     }
 }
+
+#[test]
+fn curvature_bounds_hold_everywhere_and_are_not_vacuous() {
+    // ModeShape::curvature_bound(k) bounds |d^k Psi'/dx^k| on the whole beam. Checked against
+    // the curvature sampled at 20001 points and its second derivative by central differences
+    // (step 1e-4 L: truncation ~ (beta dx)^2/12 < 1e-3 of it up to mode 60), for both
+    // theories and every support, up to mode 60. The bound sums the waves' magnitudes, so it
+    // exceeds the sampled maximum by at most their count (3): asserted below 4x.
+    for support in Support::ALL {
+        let base = Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, support).unwrap();
+        let timoshenko = base.with_shear(0.8333 * 8.1e10 * 1.25e-4, 7850.0 * 2.6e-10).unwrap();
+        for beam in [base, timoshenko] {
+            let length = beam.length();
+            for mode in beam.modes(60).unwrap().iter().filter(|m| m.omega > 0.0) {
+                let s = &mode.shape;
+                let (b0, b2) = (s.curvature_bound(0), s.curvature_bound(2));
+                let dx = 1e-4 * length;
+                let (mut m0, mut m2) = (0.0_f64, 0.0_f64);
+                for k in 0..=20000 {
+                    let x = length * k as f64 / 20000.0;
+                    m0 = m0.max(s.curvature(x).abs());
+                    if x > dx && x < length - dx {
+                        let d2 = (s.curvature(x + dx) - 2.0 * s.curvature(x) + s.curvature(x - dx))
+                            / (dx * dx);
+                        m2 = m2.max(d2.abs());
+                    }
+                }
+                assert!(m0 <= b0 * (1.0 + 1e-12) && b0 < 4.0 * m0, "{support}: {m0} vs {b0}");
+                assert!(m2 <= b2 * (1.0 + 1e-3) && b2 < 4.0 * m2, "{support}: {m2} vs {b2}");
+            }
+        }
+    }
+}
+
+#[test]
+fn curvature_derivatives_match_finite_differences() {
+    // d^k Psi'/dx^k against central differences of the order below (step 1e-5 L: truncation
+    // (beta h)^2/6 < 1e-6 at mode 20, round-off ~1e-16 L^2 beta^2 / h^2 far below), both
+    // theories, at 37 points; relative to the derivative's scale beta^(k+2).
+    let base =
+        Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, Support::ClampedPinned).unwrap();
+    let timoshenko = base.with_shear(0.8333 * 8.1e10 * 1.25e-4, 7850.0 * 2.6e-10).unwrap();
+    for beam in [base, timoshenko] {
+        for mode in beam.modes(20).unwrap() {
+            let s = &mode.shape;
+            let (h, scale) = (1e-5 * 1.15, mode.shape.beta());
+            for i in 1..37 {
+                let x = 1.15 * i as f64 / 37.0;
+                for k in 1..=2 {
+                    let below = |x: f64| s.curvature_derivative(k - 1, x);
+                    let fd = (below(x + h) - below(x - h)) / (2.0 * h);
+                    let got = s.curvature_derivative(k, x);
+                    let size = scale.powi(k as i32 + 2);
+                    assert!((got - fd).abs() < 1e-5 * size, "k {k} at {x}: {got} vs {fd}");
+                }
+                assert_eq!(s.curvature_derivative(0, x), s.curvature(x));
+            }
+        }
+    }
+}

@@ -87,23 +87,36 @@ impl Envelope {
         true
     }
 
-    /// Where the largest is (point index) and when.
-    pub(crate) fn best_point(&self) -> (usize, f64) {
-        (self.best.2, self.best.3)
+    /// The largest so far: (signed stress (Pa), position (m), time (s)).
+    pub(crate) fn best(&self) -> (f64, f64, f64) {
+        (self.best.1, self.points.get(self.best.2).copied().unwrap_or(0.0), self.best.3)
     }
 
-    /// The report's stress, the largest moved to `refined` (position, signed stress) when a
-    /// finer search near its point found more; `at_window_end` when it was found at the last
-    /// instant observed.
+    /// Each support's (point index, largest magnitude (Pa), time (s)).
+    pub(crate) fn supports(&self) -> &[(usize, f64, f64)] {
+        &self.supports
+    }
+
+    /// Raises support `k`'s largest magnitude to `max` (Pa) at `time` (s), where a search
+    /// between instants found more.
+    pub(crate) fn raise_support(&mut self, k: usize, max: f64, time: f64) {
+        if let Some(s) = self.supports.get_mut(k).filter(|s| max > s.1) {
+            (s.1, s.2) = (max, time);
+        }
+    }
+
+    /// The report's stress, the largest moved to `refined` (position (m), signed stress (Pa),
+    /// time (s)) when a search between the points and instants found more; `at_window_end`
+    /// when it was found at the last instant observed.
     pub(crate) fn finish(
         &self,
-        refined: Option<(f64, f64)>,
+        refined: Option<(f64, f64, f64)>,
         yield_stress: Option<f64>,
     ) -> BendingStress {
-        let (mut max, mut value, point, time) = self.best;
+        let (mut max, mut value, point, mut time) = self.best;
         let mut position = self.points.get(point).copied().unwrap_or(0.0);
-        if let Some((x, sigma)) = refined.filter(|r| r.1.abs() > max) {
-            (max, value, position) = (sigma.abs(), sigma, x);
+        if let Some((x, sigma, t)) = refined.filter(|r| r.1.abs() > max) {
+            (max, value, position, time) = (sigma.abs(), sigma, x, t);
         }
         BendingStress {
             max,
@@ -142,7 +155,7 @@ mod tests {
         e.observe(3.0, &[0.0, 6.0, 0.0]);
         assert!(e.finish(None, None).at_window_end);
         // A refinement that finds more moves it.
-        let r = e.finish(Some((0.55, 6.5)), None);
-        assert_eq!((r.max, r.position), (6.5, 0.55));
+        let r = e.finish(Some((0.55, 6.5, 2.9)), None);
+        assert_eq!((r.max, r.position, r.time), (6.5, 0.55, 2.9));
     }
 }

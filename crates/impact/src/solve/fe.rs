@@ -501,7 +501,9 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             self.steps, self.newton_iterations, self.integrator.factorisations, self.halvings, self.rejected, self.located
         ));
         let last_time = self.recorders.last_time();
-        let (history, bending_stress, field) = self.recorders.finish(plan.beam_yield_stress);
+        let recovered = self.recorders.finish(plan.beam_yield_stress, self.max_displacement);
+        let (history, bending_stress, field) =
+            (recovered.history, recovered.stress, recovered.field);
         let report = Report::assemble(
             plan,
             Ending {

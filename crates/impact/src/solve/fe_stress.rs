@@ -145,7 +145,7 @@ impl BeamRecorder for FeStress {
         }
     }
 
-    fn finish(&self, yield_stress: Option<f64>) -> BendingStress {
+    fn finish(&mut self, yield_stress: Option<f64>) -> BendingStress {
         self.envelope.finish(None, yield_stress)
     }
 

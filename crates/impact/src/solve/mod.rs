@@ -11,6 +11,7 @@ mod ball_on_beam;
 mod fe;
 mod fe_stress;
 mod modal;
+mod modal_peak;
 mod modal_stress;
 mod observe;
 mod refine;

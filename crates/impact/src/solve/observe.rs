@@ -13,8 +13,8 @@ use simo_beam::PlanarState;
 
 /// What a solver shows of its beam.
 pub(crate) enum BeamView<'a> {
-    /// The modal beam: its modal coordinates and the contact force (N) on it.
-    Modal { q: &'a [f64], force: f64 },
+    /// The modal beam: its modal coordinates, their rates and the contact force (N) on it.
+    Modal { q: &'a [f64], v: &'a [f64], force: f64 },
     /// The fe beam in its configuration, with each element's section strains (extension,
     /// shear, curvature (1/m)) in it, computed once for all their users.
     Fe { state: &'a PlanarState, strains: &'a [(f64, f64, f64)] },
@@ -36,10 +36,39 @@ pub(crate) struct Instant<'a> {
 pub(crate) trait BeamRecorder {
     /// Takes the beam at one instant (views of another method are ignored).
     fn observe(&mut self, at: &Instant<'_>);
+    /// A step of the solver ended at `t` (s) with the contact force `force` (N), the force
+    /// linear in time since the step before: what a search between instants needs (the modal
+    /// method's; others ignore it).
+    fn step(&mut self, _t: f64, _force: f64) {}
+    /// When it next wants to see the beam (s): a solver that can end a step there (the modal
+    /// one in free flight) does, and hands it an instant without a sample.
+    fn next_look(&self) -> f64 {
+        f64::INFINITY
+    }
     /// The stress envelope, with `yield_stress` (Pa) for its ratio.
-    fn finish(&self, yield_stress: Option<f64>) -> BendingStress;
+    fn finish(&mut self, yield_stress: Option<f64>) -> BendingStress;
+    /// The largest displacement at the impact point (m) and when (s), given the largest the
+    /// solver saw (`seen`): a recovery that searches between instants raises it.
+    fn displacement_peak(&mut self, seen: (f64, f64)) -> (f64, f64) {
+        seen
+    }
+    /// What the report's reasons say of how the maxima were found, if anything.
+    fn search_note(&self) -> Option<String> {
+        None
+    }
     /// The recorded field, if it was asked for.
     fn take_field(&mut self) -> Option<Field>;
+}
+
+/// What the recovery hands back at the end of a run.
+pub(crate) struct Recovered {
+    pub(crate) history: History,
+    pub(crate) stress: Option<BendingStress>,
+    pub(crate) field: Option<Field>,
+    /// The largest displacement at the impact point (m) and when (s).
+    pub(crate) displacement: (f64, f64),
+    /// How the maxima were found, for the report's reasons.
+    pub(crate) note: Option<String>,
 }
 
 /// The users of a run's instants.
@@ -73,9 +102,26 @@ impl<'a> Recorders<'a> {
         }
     }
 
-    /// Whether the beam is recovered (a beam, not a rigid block).
-    pub(crate) fn has_beam(&self) -> bool {
-        self.beam.is_some()
+    /// The beam's recovery replaced by `wrap` of it (a test that watches what a solver hands
+    /// over).
+    #[cfg(test)]
+    pub(crate) fn wrap_beam(
+        &mut self,
+        wrap: impl FnOnce(Box<dyn BeamRecorder + 'a>) -> Box<dyn BeamRecorder + 'a>,
+    ) {
+        self.beam = self.beam.take().map(wrap);
+    }
+
+    /// When the beam's recovery next wants to see the beam (see [`BeamRecorder::next_look`]).
+    pub(crate) fn next_look(&self) -> f64 {
+        self.beam.as_ref().map_or(f64::INFINITY, |b| b.next_look())
+    }
+
+    /// A solver step ended at `t` with the force `force` (see [`BeamRecorder::step`]).
+    pub(crate) fn step(&mut self, t: f64, force: f64) {
+        if let Some(beam) = &mut self.beam {
+            beam.step(t, force);
+        }
     }
 
     /// The last recorded instant (s).
@@ -83,13 +129,18 @@ impl<'a> Recorders<'a> {
         self.history.time.last().copied().unwrap_or(0.0)
     }
 
-    /// The history, the stress envelope and the field.
+    /// The history, the stress envelope, the field and the largest displacement (given the
+    /// largest the solver saw, `displacement`).
     pub(crate) fn finish(
         mut self,
         yield_stress: Option<f64>,
-    ) -> (History, Option<BendingStress>, Option<Field>) {
-        let stress = self.beam.as_ref().map(|b| b.finish(yield_stress));
+        displacement: (f64, f64),
+    ) -> Recovered {
+        let stress = self.beam.as_mut().map(|b| b.finish(yield_stress));
+        let displacement =
+            self.beam.as_mut().map_or(displacement, |b| b.displacement_peak(displacement));
+        let note = self.beam.as_ref().and_then(|b| b.search_note());
         let field = self.beam.as_mut().and_then(|b| b.take_field());
-        (self.history, stress, field)
+        Recovered { history: self.history, stress, field, displacement, note }
     }
 }

@@ -1,0 +1,846 @@
+//! The true maxima of the modal method's fields, between the instants and points it observes:
+//! branch and bound over the beam and the window.
+//!
+//! A field value at one point is `F(t) p + sum_n r_n q_n(t)` (the displacement at the impact
+//! point: r = g, p the residual flexibility; the bending stress at x: r = E h/2 c_n(x),
+//! p = E h/2 times the mode-acceleration correction). Within one step of the solver the force
+//! is linear in time and every mode is an exact damped oscillator, so over a stretch of the
+//! run each mode obeys bounds that follow from its state at the stretch's start alone
+//! (validation/REFERENCES.md 1.8):
+//!
+//! - raw: the amplitude sqrt(q^2 + (v/omega)^2) grows by at most |g| (impulse)/omega, so
+//!   |q| <= R = |q| + |v|/omega + |g| I/omega and |v| <= omega R;
+//! - about the quasi-static part: with s = g/omega^2 and the force's slope F', the part
+//!   q~ = q - s F + 2 zeta s F'/omega is a free damped oscillator inside a step (F'' = 0), and
+//!   a change of slope changes its amplitude by at most (1 + 2 zeta) |s| |dF'|/omega, so
+//!   |q~| <= A = |q - s F0| + |v|/omega + (1 + 2 zeta) |s| V/omega, V the slope's variation;
+//! - hence |q| <= Q = min(R, |s| F_max + A + 2 zeta |s| F'_max/omega) and
+//!   |q''| <= min((1 + 2 zeta) omega^2 A, |g| F_max + (1 + 2 zeta) omega^2 R) (a rigid-body
+//!   mode: |q''| = |g F|).
+//!
+//! Over a cell [x_a, x_b] x [t_a, t_b] inside one step, the field differs from the bilinear
+//! interpolation of its four corners by at most h_x^2/8 max|f_xx| + h_t^2/8 max|f_tt|, with
+//! f_tt = sum r_n q_n'' (F is linear) and, for the stress off the impact point and the
+//! supports (where the static moment is linear in x), f_xx = E h/2 sum c_n''(x) (q_n - s_n F)
+//! (mode-acceleration form) or E h/2 sum c_n'' q_n (plain series); |c_n''| is bounded by the
+//! mode's waves ([`modal::ModeShape::curvature_bound`]). So the largest magnitude in a cell is
+//! at most its largest corner plus these terms. The search keeps cells in a heap by that bound,
+//! splits the one with the largest bound (in x or t, whichever term is larger; a split in time
+//! propagates a mode state exactly to the new instant), and stops when no cell can beat the
+//! best value found by more than [`PEAK_TOLERANCE`] of it. Stretches whose bound (a triangle
+//! bound over the modes) cannot beat the best value observed during the run are dropped as
+//! the run goes; the rest are kept with their start state and replayed when the search needs
+//! them.
+
+use modal::{ModalState, OneStep, PointModes};
+use std::collections::{BinaryHeap, HashMap};
+
+/// The relative gap the search over the beam closes: the largest stress reported is below
+/// the field's true one by less than this fraction of it (then polished to its local
+/// maximum by Newton's method, `ModalStress`).
+pub(crate) const PEAK_TOLERANCE: f64 = 1e-4;
+
+/// The relative gap the searches at one point (the displacement at the impact point, each
+/// support's stress) close: one dimension (time) makes it cheap to go to round-off's scale,
+/// so that the maxima do not depend on which instants the run observed.
+pub(crate) const POINT_TOLERANCE: f64 = 1e-10;
+
+/// The most cells one search splits; past it the search stops and reports the gap it reached.
+const MAX_SPLITS: usize = 400_000;
+
+/// A field at one point: value = F p + sum r_n q_n.
+#[derive(Debug, Clone)]
+pub(crate) struct Row {
+    pub(crate) r: Vec<f64>,
+    pub(crate) p: f64,
+}
+
+impl Row {
+    pub(crate) fn value(&self, force: f64, q: &[f64]) -> f64 {
+        force * self.p + dot(&self.r, q)
+    }
+}
+
+/// A dot product in four fixed lanes (the same result on every processor).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut lanes = [0.0; 4];
+    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ac.remainder().iter().zip(bc.remainder()).map(|(x, y)| x * y).sum();
+    for (x, y) in ac.zip(bc) {
+        for k in 0..4 {
+            lanes[k] += x[k] * y[k];
+        }
+    }
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
+}
+
+/// What the bounds need of the modes, fixed for a run.
+pub(crate) struct ModeData {
+    modes: PointModes,
+    /// g / omega^2 (0 for a rigid-body mode) (m sqrt(kg)/N).
+    static_q: Vec<f64>,
+    /// 1 / omega (0 for a rigid-body mode) (s).
+    inv_omega: Vec<f64>,
+}
+
+impl ModeData {
+    pub(crate) fn new(modes: PointModes) -> Self {
+        let static_q = modes
+            .omega()
+            .iter()
+            .zip(modes.gain())
+            .map(|(w, g)| if *w > 0.0 { g / (w * w) } else { 0.0 })
+            .collect();
+        let inv_omega =
+            modes.omega().iter().map(|w| if *w > 0.0 { 1.0 / w } else { 0.0 }).collect();
+        Self { modes, static_q, inv_omega }
+    }
+
+    pub(crate) fn modes(&self) -> &PointModes {
+        &self.modes
+    }
+
+    pub(crate) fn gain(&self) -> &[f64] {
+        self.modes.gain()
+    }
+
+    /// Per-mode bounds over `stretch` from the state at its start, into `out`.
+    fn bounds(&self, state: &ModalState, stretch: &Stretch, out: &mut ModeBounds) {
+        let n = self.modes.len();
+        out.q.resize(n, 0.0);
+        out.acc.resize(n, 0.0);
+        out.dev.resize(n, 0.0);
+        let (omega, zeta, gain) =
+            (self.modes.omega(), self.modes.damping_ratio(), self.modes.gain());
+        let fmax = stretch.force_max;
+        for k in 0..n {
+            let (w, z, g, s, iw) =
+                (omega[k], zeta[k], gain[k], self.static_q[k], self.inv_omega[k]);
+            let (q, v) = (state.q[k], state.v[k]);
+            if w > 0.0 {
+                let raw = q.abs() + v.abs() * iw + g.abs() * stretch.impulse * iw;
+                let free = (q - s * stretch.force_start).abs()
+                    + v.abs() * iw
+                    + (1.0 + 2.0 * z) * s.abs() * stretch.variation * iw;
+                let dev = free + 2.0 * z * s.abs() * stretch.slope_max * iw;
+                let bound = raw.min(s.abs() * fmax + dev);
+                out.q[k] = bound;
+                out.acc[k] = ((1.0 + 2.0 * z) * w * w * free)
+                    .min(g.abs() * fmax + (1.0 + 2.0 * z) * w * w * raw);
+                out.dev[k] = dev.min(s.abs() * fmax + bound);
+            } else {
+                // A rigid-body mode: q'' = g F; it has no curvature, and its displacement is
+                // bounded through q'' only.
+                out.q[k] = f64::INFINITY;
+                out.acc[k] = g.abs() * fmax;
+                out.dev[k] = f64::INFINITY;
+            }
+        }
+    }
+}
+
+/// Per-mode bounds over a stretch: |q| <= q, |q''| <= acc, |q - s F| <= dev.
+#[derive(Debug, Default)]
+struct ModeBounds {
+    q: Vec<f64>,
+    acc: Vec<f64>,
+    dev: Vec<f64>,
+    /// Running sums (see [`running`]) of the stress's weights times q, acc and dev.
+    q_sums: Vec<f64>,
+    acc_sums: Vec<f64>,
+    dev_sums: Vec<f64>,
+}
+
+/// Sum of w_n b_n over the modes whose weight is not zero (an infinite bound of a mode that
+/// the weight ignores does not count).
+fn weighted(weights: &[f64], bounds: &[f64]) -> f64 {
+    weights.iter().zip(bounds).filter(|(w, _)| **w != 0.0).map(|(w, b)| w.abs() * b).sum()
+}
+
+/// Running sums of w_n b_n over the modes (length n + 1, from 0), a zero weight ignoring its
+/// mode's bound (which may be infinite).
+fn running(weights: &[f64], bounds: &[f64], out: &mut Vec<f64>) {
+    out.clear();
+    let mut sum = 0.0;
+    out.push(sum);
+    for (w, b) in weights.iter().zip(bounds) {
+        if *w != 0.0 {
+            sum += w.abs() * b;
+        }
+        out.push(sum);
+    }
+}
+
+/// What bounds the modes over a stretch of piecewise-linear force.
+#[derive(Debug, Clone, Copy, Default)]
+struct Stretch {
+    force_start: f64,
+    force_max: f64,
+    /// Upper bound of the integral of |F| (N s).
+    impulse: f64,
+    /// |first slope| + sum |change of slope| (N/s).
+    variation: f64,
+    slope_max: f64,
+    length: f64,
+}
+
+impl Stretch {
+    /// The stretch from (t0, f0) through the pieces' ends.
+    fn new(t0: f64, f0: f64, ends: &[(f64, f64)]) -> Self {
+        let mut s = Self { force_start: f0, force_max: f0.abs(), ..Self::default() };
+        let (mut t, mut f, mut slope) = (t0, f0, 0.0);
+        for &(t1, f1) in ends {
+            let h = t1 - t;
+            let next = if h > 0.0 { (f1 - f) / h } else { 0.0 };
+            s.variation += (next - slope).abs();
+            s.slope_max = s.slope_max.max(next.abs());
+            s.force_max = s.force_max.max(f1.abs());
+            s.impulse += 0.5 * h * (f.abs() + f1.abs());
+            (t, f, slope) = (t1, f1, next);
+        }
+        s.length = t - t0;
+        s
+    }
+}
+
+/// An instant of a kept stretch: time, force, the modes.
+#[derive(Debug, Clone)]
+struct Node {
+    t: f64,
+    force: f64,
+    state: ModalState,
+}
+
+/// A stretch of the run between two whole-grid instants, kept for the search.
+#[derive(Debug, Clone)]
+pub(crate) struct Block {
+    f0: f64,
+    /// (t, F) at the ends of the force's linear pieces (the last is the stretch's end).
+    ends: Vec<(f64, f64)>,
+    /// Its instants: the start and the end first, then those the search adds.
+    nodes: Vec<Node>,
+    /// Per field searched (stress, displacement, each support): the stretch's bound, and its
+    /// bounds of the second derivatives in x and t.
+    bounds: Vec<f64>,
+    rates: Vec<(f64, f64)>,
+    /// The field at the start and at the end: the stress of the first `low` modes at the
+    /// grid's points (in the recovery's order), then the displacement and each support's
+    /// stress (all modes).
+    grid: [Vec<f64>; 2],
+    values: [Vec<f64>; 2],
+    /// The grid's modes, the other modes' largest stress over the stretch (Pa), and the
+    /// second derivatives' bounds of the grid's modes' stress.
+    low: usize,
+    tail: f64,
+    low_rates: (f64, f64),
+}
+
+/// What a closed stretch tells of the modes' share, for the next, at one candidate count of
+/// modes K.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Share {
+    pub(crate) modes: usize,
+    /// The bound of the stress of the modes from K on (Pa).
+    pub(crate) tail: f64,
+    /// The bounds of the second time and space derivatives of the stress of the modes below K
+    /// (Pa/s^2, Pa/m^2).
+    pub(crate) tt: f64,
+    pub(crate) xx: f64,
+}
+
+/// [`Share`]s at 16, 32, 64, ... modes and all of them.
+pub(crate) type Shares = Vec<Share>;
+
+/// The run as stretches between whole-grid instants: the one being observed and those kept.
+pub(crate) struct Trajectory {
+    /// The open stretch: its start (t, F, state), its pieces' ends, the field at its start
+    /// (the grid's of the first `low` modes).
+    start: Node,
+    ends: Vec<(f64, f64)>,
+    grid: Vec<f64>,
+    values: Vec<f64>,
+    low: usize,
+    pub(crate) kept: Vec<Block>,
+    /// The kept blocks' count at the last pruning.
+    pruned_at: usize,
+    scratch: ModeBounds,
+}
+
+/// What the bounds weigh the modes with.
+pub(crate) struct Weights<'a> {
+    /// max |E h/2 c_n(x)| and max |E h/2 c_n''(x)| over the beam (Pa per unit q, Pa/m^2 per
+    /// unit q).
+    pub(crate) stress: &'a [f64],
+    pub(crate) stress2: &'a [f64],
+    /// Whether the stress is by the mode-acceleration form (its f_xx from q - s F).
+    pub(crate) mode_acceleration: bool,
+    /// The largest spacing of the grid the stress is observed on (m).
+    pub(crate) spacing: f64,
+    /// The stress's correction term's largest magnitude over the beam, E h/2 max|corr| (Pa/N).
+    pub(crate) correction: f64,
+    /// The displacement row (g) and its force term (the residual flexibility).
+    pub(crate) displacement: &'a Row,
+    /// Each support's stress row.
+    pub(crate) supports: &'a [Row],
+}
+
+impl Trajectory {
+    /// Starts at rest, at t = 0, with `n` modes.
+    pub(crate) fn new(n: usize) -> Self {
+        Self {
+            start: Node { t: 0.0, force: 0.0, state: ModalState::at_rest(n) },
+            ends: Vec::new(),
+            grid: Vec::new(),
+            values: Vec::new(),
+            low: n,
+            kept: Vec::new(),
+            pruned_at: 0,
+            scratch: ModeBounds::default(),
+        }
+    }
+
+    /// A step of the run ended at `t` with the force `force`: the force was linear since the
+    /// last. Force-free steps in a row merge into one piece (the propagation is exact).
+    pub(crate) fn step(&mut self, t: f64, force: f64) {
+        let ends = &mut self.ends;
+        let start_of_last = ends.len().checked_sub(2).map_or(self.start.force, |k| ends[k].1);
+        let merge =
+            force == 0.0 && ends.last().is_some_and(|last| last.1 == 0.0) && start_of_last == 0.0;
+        match ends.last_mut() {
+            Some(last) if merge => last.0 = t,
+            _ => ends.push((t, force)),
+        }
+    }
+
+    /// Closes the open stretch at a whole-grid instant (time `t`, `force`, the modes `q`,
+    /// `v`), with the stress of the first `low` modes on the grid there (`grid`, the same
+    /// count as at the stretch's start) and `values` (the displacement, then each support's
+    /// stress); keeps it if any of its bounds beats `best` (the largest stress magnitude,
+    /// displacement and supports' stress magnitudes seen). Returns the stretch's [`Shares`]
+    /// (empty for an empty stretch).
+    pub(crate) fn observe(
+        &mut self,
+        data: &ModeData,
+        weights: &Weights<'_>,
+        now: (f64, f64, &[f64], &[f64]),
+        (grid, values): (&[f64], &[f64]),
+        best: &[f64],
+    ) -> Shares {
+        let (t, force, q, v) = now;
+        let mut shares = Vec::new();
+        if t > self.start.t && !self.ends.is_empty() && self.grid.len() == grid.len() {
+            let span = self.bounds(data, weights, grid, values);
+            shares = span.shares;
+            if span.bounds.iter().zip(best).any(|(b, best)| b > best) {
+                let end = Node { t, force, state: ModalState { q: q.to_vec(), v: v.to_vec() } };
+                self.kept.push(Block {
+                    f0: self.start.force,
+                    ends: std::mem::take(&mut self.ends),
+                    nodes: vec![self.start.clone(), end],
+                    bounds: span.bounds,
+                    rates: span.rates,
+                    grid: [std::mem::take(&mut self.grid), grid.to_vec()],
+                    values: [std::mem::take(&mut self.values), values.to_vec()],
+                    low: self.low,
+                    tail: span.tail,
+                    low_rates: span.low_rates,
+                });
+                if self.kept.len() >= 2 * self.pruned_at + 64 {
+                    self.kept.retain(|b| b.bounds.iter().zip(best).any(|(b, best)| b > best));
+                    self.pruned_at = self.kept.len();
+                }
+            }
+        }
+        self.start.t = t;
+        self.start.force = force;
+        for (to, from) in [(&mut self.start.state.q, q), (&mut self.start.state.v, v)] {
+            to.clear();
+            to.extend_from_slice(from);
+        }
+        self.ends.clear();
+        for (to, from) in [(&mut self.grid, grid), (&mut self.values, values)] {
+            to.clear();
+            to.extend_from_slice(from);
+        }
+        shares
+    }
+
+    /// The open stretch's grid at its start, of the first `low` modes (when the next stretch
+    /// observes another count than the one just closed).
+    pub(crate) fn regrid(&mut self, grid: &[f64], low: usize) {
+        self.grid.clear();
+        self.grid.extend_from_slice(grid);
+        self.low = low;
+    }
+
+    /// The open stretch's bounds (stress, displacement, supports): the larger end plus what
+    /// the second derivatives allow between grid points and instants, plus how far the force's
+    /// term can rise above its chord (the stress's also plus the bound of the modes the grid
+    /// left out, and capped by the triangle bound over the modes); per field, its bounds of the
+    /// second derivatives in x and t; and the modes' shares.
+    fn bounds(
+        &mut self,
+        data: &ModeData,
+        weights: &Weights<'_>,
+        grid: &[f64],
+        values: &[f64],
+    ) -> Span {
+        let start = &self.start;
+        let stretch = Stretch::new(start.t, start.force, &self.ends);
+        data.bounds(&start.state, &stretch, &mut self.scratch);
+        let b = &mut self.scratch;
+        running(weights.stress, &b.q, &mut b.q_sums);
+        running(weights.stress, &b.acc, &mut b.acc_sums);
+        running(
+            weights.stress2,
+            if weights.mode_acceleration { &b.dev } else { &b.q },
+            &mut b.dev_sums,
+        );
+        let b = &self.scratch;
+        let (q_sums, acc_sums, xx_sums) = (&b.q_sums, &b.acc_sums, &b.dev_sums);
+        let f_end = self.ends.last().map_or(start.force, |e| e.1);
+        let rise = stretch.force_max - start.force.min(f_end);
+        let reach = stretch.length * stretch.length / 8.0;
+        let largest = |v: &[f64]| v.iter().fold(0.0, |m: f64, s| m.max(s.abs()));
+        let n = b.q.len();
+        let low = self.low.min(n);
+        let tail = q_sums[n] - q_sums[low];
+        let (xx, tt) = (xx_sums[n], acc_sums[n]);
+        let low_rates = (xx_sums[low], acc_sums[low]);
+        let triangle = stretch.force_max * weights.correction + q_sums[n];
+        let on_grid = largest(&self.grid).max(largest(grid))
+            + weights.spacing * weights.spacing / 8.0 * low_rates.0
+            + reach * low_rates.1
+            + weights.correction * rise
+            + tail;
+        let mut bounds = vec![on_grid.min(triangle)];
+        let mut rates = vec![(xx, tt)];
+        let d = weights.displacement;
+        let w =
+            (self.values.first().copied().unwrap_or(0.0), values.first().copied().unwrap_or(0.0));
+        let dtt = weighted(&d.r, &b.acc);
+        bounds.push(w.0.max(w.1) + reach * dtt + d.p.abs() * rise);
+        rates.push((0.0, dtt));
+        for (k, row) in weights.supports.iter().enumerate() {
+            let ends = (
+                self.values.get(1 + k).copied().unwrap_or(0.0),
+                values.get(1 + k).copied().unwrap_or(0.0),
+            );
+            let stt = weighted(&row.r, &b.acc);
+            bounds.push(ends.0.abs().max(ends.1.abs()) + reach * stt + row.p.abs() * rise);
+            rates.push((0.0, stt));
+        }
+        // Candidate counts: 16, 32, 64, ... and all.
+        let mut shares = Vec::new();
+        let mut k = 16;
+        while k < n {
+            shares.push(Share {
+                modes: k,
+                tail: q_sums[n] - q_sums[k],
+                tt: acc_sums[k],
+                xx: xx_sums[k],
+            });
+            k *= 2;
+        }
+        shares.push(Share { modes: n, tail: 0.0, tt: acc_sums[n], xx: xx_sums[n] });
+        Span { bounds, rates, tail, low_rates, shares }
+    }
+}
+
+/// A closed stretch's bounds (see [`Trajectory::bounds`]).
+struct Span {
+    bounds: Vec<f64>,
+    rates: Vec<(f64, f64)>,
+    tail: f64,
+    low_rates: (f64, f64),
+    shares: Shares,
+}
+
+/// A maximum found: its value (signed), where (m) and when (s), and the gap left: no value of
+/// the field exceeds `bound` (in magnitude, or in value for a signed search).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Peak {
+    pub(crate) value: f64,
+    pub(crate) x: f64,
+    pub(crate) t: f64,
+    pub(crate) bound: f64,
+}
+
+/// What a search looks for.
+pub(crate) enum Field<'a> {
+    /// The largest value of one point's field (the displacement at the impact point, the
+    /// blocks' value 0), at x.
+    Signed(&'a Row, f64),
+    /// The largest magnitude of one point's field (support `k`'s stress, the blocks' value
+    /// 1 + k), at x.
+    Magnitude(&'a Row, f64, usize),
+    /// The largest stress magnitude over the beam.
+    Stress(&'a StressField<'a>),
+}
+
+/// The stress over the beam, for the search: its grid's points and rows, a row anywhere.
+pub(crate) struct StressField<'a> {
+    /// The grid's points (m) in the recovery's order (that of the blocks' grids), with the
+    /// supports and the impact point among them (where the static moment has its kinks).
+    pub(crate) points: &'a [f64],
+    /// Their rows (same order).
+    pub(crate) rows: Vec<Row>,
+    /// The row at any x.
+    pub(crate) row_at: &'a dyn Fn(f64) -> Row,
+    /// The stress's correction term's largest magnitude over the beam (Pa/N).
+    pub(crate) correction: f64,
+}
+
+/// A cell of the search: a rectangle of x (rows xa, xb) and t (nodes ta, tb of a block),
+/// with its field values at the corners (xa, ta), (xb, ta), (xa, tb), (xb, tb).
+#[derive(Debug, Clone, Copy)]
+struct Cell {
+    bound: f64,
+    /// Whether the corners hold the whole field (else the grid's modes' only, see [`Block`]).
+    full: bool,
+    block: u32,
+    xa: u32,
+    xb: u32,
+    ta: u32,
+    tb: u32,
+    corners: [f64; 4],
+}
+
+impl PartialEq for Cell {
+    fn eq(&self, other: &Self) -> bool {
+        self.bound.total_cmp(&other.bound).is_eq()
+    }
+}
+impl Eq for Cell {}
+impl PartialOrd for Cell {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Cell {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.bound.total_cmp(&other.bound)
+    }
+}
+
+/// One search over the kept stretches.
+struct Search<'a> {
+    data: &'a ModeData,
+    blocks: &'a mut [Block],
+    field: &'a Field<'a>,
+    /// Which of a block's bounds is this search's.
+    slot: usize,
+    /// Rows by index (the grid's first, for the stress), their x, and the index of each x.
+    rows: Vec<Row>,
+    xs: Vec<f64>,
+    row_of: HashMap<u64, u32>,
+    /// Exact steps by length, for the instants a split adds.
+    steps: HashMap<u64, OneStep>,
+    best: Peak,
+    /// The largest bound of a cell that could not be split further.
+    stuck: f64,
+}
+
+/// The modes at time t in a kept block (q, v), with the force there, its slope, and the
+/// force's linear piece around t (s, s), by exact steps from the latest instant the block
+/// holds before t; `None` if no kept block holds t.
+pub(crate) fn state_at(
+    data: &ModeData,
+    blocks: &[Block],
+    t: f64,
+) -> Option<(ModalState, f64, f64, (f64, f64))> {
+    let b = blocks.iter().find(|b| b.nodes[0].t <= t && t <= b.nodes[1].t)?;
+    let start = b.nodes.iter().filter(|n| n.t <= t).max_by(|a, c| a.t.total_cmp(&c.t))?;
+    let mut state = start.state.clone();
+    let (mut time, mut force) = (start.t, start.force);
+    let mut previous = (b.nodes[0].t, b.f0);
+    let (mut at_t, mut slope, mut piece) = (b.f0, 0.0, (t, t));
+    for &(te, fe) in &b.ends {
+        if te >= t {
+            let span = te - previous.0;
+            slope = if span > 0.0 { (fe - previous.1) / span } else { 0.0 };
+            at_t = previous.1 + slope * (t - previous.0);
+            piece = (previous.0, te);
+            break;
+        }
+        previous = (te, fe);
+    }
+    let from = time;
+    let stops = b.ends.iter().copied().filter(|e| e.0 > from && e.0 < t).chain([(t, at_t)]);
+    for (te, fe) in stops {
+        if te > time {
+            data.modes.advance_once(&mut state, te - time, force, fe).ok()?;
+        }
+        (time, force) = (te, fe);
+    }
+    Some((state, at_t, slope, piece))
+}
+
+/// The largest of `field` over the kept `blocks`, starting from `best` (a value the run
+/// observed, which the search only raises).
+pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, best: Peak) -> Peak {
+    let slot = match field {
+        Field::Stress(_) => 0,
+        Field::Signed(..) => 1,
+        Field::Magnitude(_, _, k) => 2 + k,
+    };
+    let mut s = Search {
+        data,
+        blocks,
+        field,
+        slot,
+        rows: Vec::new(),
+        xs: Vec::new(),
+        row_of: HashMap::new(),
+        steps: HashMap::new(),
+        best,
+        stuck: f64::NEG_INFINITY,
+    };
+    s.run()
+}
+
+impl Search<'_> {
+    fn signed(&self) -> bool {
+        matches!(self.field, Field::Signed(..))
+    }
+
+    /// What the search maximises of a value.
+    fn measure(&self, v: f64) -> f64 {
+        if self.signed() {
+            v
+        } else {
+            v.abs()
+        }
+    }
+
+    fn target(&self) -> f64 {
+        let b = self.measure(self.best.value);
+        let tolerance = match self.field {
+            Field::Stress(_) => PEAK_TOLERANCE,
+            _ => POINT_TOLERANCE,
+        };
+        b + tolerance * b.abs().max(f64::MIN_POSITIVE)
+    }
+
+    fn offer(&mut self, value: f64, x: f64, t: f64) {
+        if self.measure(value) > self.measure(self.best.value) {
+            (self.best.value, self.best.x, self.best.t) = (value, x, t);
+        }
+    }
+
+    fn run(&mut self) -> Peak {
+        let mut heap = BinaryHeap::new();
+        match self.field {
+            Field::Signed(row, x) | Field::Magnitude(row, x, _) => {
+                self.rows.push((*row).clone());
+                self.xs.push(*x);
+                let value = self.slot - 1;
+                for k in 0..self.blocks.len() {
+                    let b = &self.blocks[k];
+                    let (va, vb) = (b.values[0][value], b.values[1][value]);
+                    let cell = Cell {
+                        bound: 0.0,
+                        full: true,
+                        block: k as u32,
+                        xa: 0,
+                        xb: 0,
+                        ta: 0,
+                        tb: 1,
+                        corners: [va, va, vb, vb],
+                    };
+                    self.push(cell, &mut heap);
+                }
+            }
+            Field::Stress(f) => {
+                // The grid's points in order along the beam, each once.
+                let mut order: Vec<usize> = (0..f.points.len()).collect();
+                order.sort_by(|a, b| f.points[*a].total_cmp(&f.points[*b]));
+                order.dedup_by(|a, b| f.points[*a].to_bits() == f.points[*b].to_bits());
+                for k in 0..f.points.len() {
+                    self.row_of.insert(f.points[k].to_bits(), k as u32);
+                    self.rows.push(f.rows[k].clone());
+                    self.xs.push(f.points[k]);
+                }
+                for k in 0..self.blocks.len() {
+                    if self.blocks[k].bounds[0] <= self.target() {
+                        continue;
+                    }
+                    for pair in order.windows(2) {
+                        let b = &self.blocks[k];
+                        let (i, j) = (pair[0], pair[1]);
+                        let corners = [b.grid[0][i], b.grid[0][j], b.grid[1][i], b.grid[1][j]];
+                        let full = b.low >= f.rows[0].r.len();
+                        let cell = Cell {
+                            bound: 0.0,
+                            full,
+                            block: k as u32,
+                            xa: i as u32,
+                            xb: j as u32,
+                            ta: 0,
+                            tb: 1,
+                            corners,
+                        };
+                        self.push(cell, &mut heap);
+                    }
+                }
+            }
+        }
+        let mut splits = 0;
+        let mut left = f64::NEG_INFINITY;
+        while let Some(cell) = heap.pop() {
+            if cell.bound <= self.target() || splits >= MAX_SPLITS {
+                left = cell.bound;
+                break;
+            }
+            splits += 1;
+            if cell.full {
+                self.split(&cell, &mut heap);
+            } else {
+                // The grid's modes only at its corners: the whole field there, then back in.
+                let corners = [
+                    (cell.xa, cell.ta),
+                    (cell.xb, cell.ta),
+                    (cell.xa, cell.tb),
+                    (cell.xb, cell.tb),
+                ]
+                .map(|(x, t)| self.value(x, cell.block, t));
+                self.push(Cell { full: true, corners, ..cell }, &mut heap);
+            }
+        }
+        let reached = self.measure(self.best.value);
+        self.best.bound = reached.max(left).max(self.stuck);
+        self.best
+    }
+
+    /// Pushes `cell` with its bound, unless that cannot beat the best.
+    fn push(&mut self, mut cell: Cell, heap: &mut BinaryHeap<Cell>) {
+        cell.bound = self.cell_bound(&cell);
+        if cell.bound > self.target() {
+            heap.push(cell);
+        }
+    }
+
+    /// The largest corner, plus what the second derivatives allow inside, plus how far the
+    /// force's term can rise above its chord where the cell holds a change of slope.
+    fn cell_bound(&self, c: &Cell) -> f64 {
+        let b = &self.blocks[c.block as usize];
+        let ((xx, tt), tail) =
+            if c.full { (b.rates[self.slot], 0.0) } else { (b.low_rates, b.tail) };
+        let corners = c.corners.iter().map(|v| self.measure(*v)).fold(f64::NEG_INFINITY, f64::max);
+        let hx = self.xs[c.xb as usize] - self.xs[c.xa as usize];
+        let (na, nb) = (&b.nodes[c.ta as usize], &b.nodes[c.tb as usize]);
+        let ht = nb.t - na.t;
+        // The force's breakpoints strictly inside (ta, tb) (the ends are in time order).
+        let first = b.ends.partition_point(|e| e.0 <= na.t);
+        let last = b.ends.partition_point(|e| e.0 < nb.t);
+        let inside = b.ends[first..last.max(first)].iter().map(|e| e.1);
+        let rise = inside.fold(f64::NEG_INFINITY, f64::max) - na.force.min(nb.force);
+        let force_term = match self.field {
+            Field::Signed(row, _) | Field::Magnitude(row, _, _) => row.p.abs(),
+            Field::Stress(f) => f.correction,
+        };
+        let rise = if rise > 0.0 { force_term * rise } else { 0.0 };
+        corners + hx * hx / 8.0 * xx + ht * ht / 8.0 * tt + rise + tail
+    }
+
+    /// The field at row `row` and node `node` of `block`.
+    fn value(&self, row: u32, block: u32, node: u32) -> f64 {
+        let n = &self.blocks[block as usize].nodes[node as usize];
+        self.rows[row as usize].value(n.force, &n.state.q)
+    }
+
+    /// The row at x, made once.
+    fn row(&mut self, x: f64) -> u32 {
+        if let Some(k) = self.row_of.get(&x.to_bits()) {
+            return *k;
+        }
+        let row = match self.field {
+            Field::Stress(f) => (f.row_at)(x),
+            _ => self.rows[0].clone(),
+        };
+        let k = self.rows.len() as u32;
+        self.rows.push(row);
+        self.xs.push(x);
+        self.row_of.insert(x.to_bits(), k);
+        k
+    }
+
+    /// A node of `block` at time t: exact steps from the latest node before it through the
+    /// force's breakpoints in between.
+    fn node(&mut self, block: u32, t: f64) -> u32 {
+        let b = &self.blocks[block as usize];
+        if let Some(k) = b.nodes.iter().position(|n| n.t.to_bits() == t.to_bits()) {
+            return k as u32;
+        }
+        let start = b
+            .nodes
+            .iter()
+            .filter(|n| n.t <= t)
+            .max_by(|a, c| a.t.total_cmp(&c.t))
+            .unwrap_or(&b.nodes[0]);
+        let mut state = start.state.clone();
+        let (mut time, mut force) = (start.t, start.force);
+        // The force at t: linear between the breakpoints around it.
+        let mut previous = (b.nodes[0].t, b.f0);
+        let mut at_t = b.f0;
+        for &(te, fe) in &b.ends {
+            if te >= t {
+                let span = te - previous.0;
+                at_t = if span > 0.0 {
+                    previous.1 + (fe - previous.1) * (t - previous.0) / span
+                } else {
+                    fe
+                };
+                break;
+            }
+            previous = (te, fe);
+        }
+        let stops: Vec<(f64, f64)> =
+            b.ends.iter().copied().filter(|e| e.0 > time && e.0 < t).chain([(t, at_t)]).collect();
+        for (te, fe) in stops {
+            let tau = te - time;
+            if tau > 0.0 {
+                let step = self.steps.entry(tau.to_bits()).or_default();
+                if step.step_size().to_bits() != tau.to_bits() {
+                    // A failure (a non-finite step) leaves the step empty: the state then stays
+                    // as it was, and the cell's bound still covers the interval.
+                    let _ = self.data.modes.one_step(tau, step);
+                }
+                step.advance(&self.data.modes, &mut state, force, fe);
+            }
+            (time, force) = (te, fe);
+        }
+        let nodes = &mut self.blocks[block as usize].nodes;
+        nodes.push(Node { t, force, state });
+        (nodes.len() - 1) as u32
+    }
+
+    fn split(&mut self, c: &Cell, heap: &mut BinaryHeap<Cell>) {
+        let (xx, tt) = self.blocks[c.block as usize].rates[self.slot];
+        let (xa, xb) = (self.xs[c.xa as usize], self.xs[c.xb as usize]);
+        let nodes = &self.blocks[c.block as usize].nodes;
+        let (ta, tb) = (nodes[c.ta as usize].t, nodes[c.tb as usize].t);
+        let x_term = (xb - xa) * (xb - xa) / 8.0 * xx;
+        let t_term = (tb - ta) * (tb - ta) / 8.0 * tt;
+        let (xm, tm) = (0.5 * (xa + xb), 0.5 * (ta + tb));
+        let [aa, ba, ab, bb] = c.corners;
+        if x_term >= t_term && xm > xa && xm < xb {
+            let m = self.row(xm);
+            let (va, vb) = (self.value(m, c.block, c.ta), self.value(m, c.block, c.tb));
+            self.offer(va, xm, ta);
+            self.offer(vb, xm, tb);
+            self.push(Cell { xb: m, corners: [aa, va, ab, vb], ..*c }, heap);
+            self.push(Cell { xa: m, corners: [va, ba, vb, bb], ..*c }, heap);
+        } else if tm > ta && tm < tb {
+            let m = self.node(c.block, tm);
+            let (va, vb) = (self.value(c.xa, c.block, m), self.value(c.xb, c.block, m));
+            self.offer(va, xa, tm);
+            self.offer(vb, xb, tm);
+            self.push(Cell { tb: m, corners: [aa, ba, va, vb], ..*c }, heap);
+            self.push(Cell { ta: m, corners: [va, vb, ab, bb], ..*c }, heap);
+        } else {
+            // Too small to split in floating point: its bound stands as what is left.
+            self.stuck = self.stuck.max(c.bound);
+        }
+    }
+}
