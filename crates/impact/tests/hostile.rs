@@ -40,6 +40,7 @@ fn finite(value: &serde_json::Value, path: &str) {
                 "static_stiffness",
                 "equivalent_static_force",
                 "estimated_error",
+                "model_error",
                 "bending_stress",
                 "yield_ratio"
             ]

@@ -433,10 +433,9 @@ fn beam_method(
         let fe = fe::plan(beam, s, m, position, damping, pulse, reasons)?;
         Ok(Method::Fe(fe))
     } else {
-        let (chosen, model_error) =
-            theory::choose(s.beam_theory, beam, both, pulse, reasons, warnings);
+        let (chosen, twin) = theory::choose(s.beam_theory, beam, both, pulse, reasons);
         let mut plan = modal::plan(s, chosen, position, damping, pulse.duration, reasons)?;
-        plan.model_error = model_error;
+        plan.twin = twin;
         Ok(Method::Modal(plan))
     }
 }

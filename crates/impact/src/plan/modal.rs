@@ -30,10 +30,11 @@ pub struct ModalPlan {
     /// Whether the bending stress is the plain series (`solver.plain_stress_series`), not the
     /// mode-acceleration form.
     pub(crate) plain_stress_series: bool,
-    /// What the beam theory leaves out, relative, when the plan knows it is notable (an
-    /// Euler-Bernoulli beam asked for where Timoshenko's correction is not negligible): the
-    /// estimated error never claims less.
-    pub(crate) model_error: Option<f64>,
+    /// The other theory's beam and the first-order shift of the frequency the pulse excites
+    /// most, where an Euler-Bernoulli beam was asked for and Timoshenko's correction is
+    /// notable: the run measures what the theory changes by running this beam at the same
+    /// modes (`solve::measure_theory`), and the estimated error includes it.
+    pub(crate) twin: Option<(modal::Beam, f64)>,
 }
 
 impl ModalPlan {
@@ -102,7 +103,7 @@ pub(super) fn plan(
             tolerance: Some(tolerance),
             residual_flexibility,
             plain_stress_series,
-            model_error: None,
+            twin: None,
         });
     }
     let modes = match s.modes {
@@ -127,7 +128,7 @@ pub(super) fn plan(
         tolerance: None,
         residual_flexibility,
         plain_stress_series,
-        model_error: None,
+        twin: None,
     })
 }
 

@@ -535,10 +535,31 @@ struct Search<'a> {
     xs: Vec<f64>,
     row_of: HashMap<u64, u32>,
     /// Exact steps by length, for the instants a split adds.
-    steps: HashMap<u64, OneStep>,
+    stepper: Stepper,
     best: Peak,
     /// The largest bound of a cell that could not be split further.
     stuck: f64,
+}
+
+/// Exact steps of the modes by length, each built once (a sine and a cosine per mode): the
+/// force's pieces come from the solver's few step lengths, so a replay reuses them.
+#[derive(Default)]
+pub(crate) struct Stepper {
+    steps: HashMap<u64, OneStep>,
+}
+
+impl Stepper {
+    /// Advances `state` by tau with the force linear from f0 to f1; a failure (a non-finite
+    /// step) leaves the state as it was.
+    fn advance(&mut self, modes: &PointModes, state: &mut ModalState, tau: f64, f0: f64, f1: f64) {
+        if tau > 0.0 {
+            let step = self.steps.entry(tau.to_bits()).or_default();
+            if step.step_size().to_bits() != tau.to_bits() && modes.one_step(tau, step).is_err() {
+                return;
+            }
+            step.advance(modes, state, f0, f1);
+        }
+    }
 }
 
 /// The modes at time t in a kept block (q, v), with the force there, its slope, and the
@@ -548,6 +569,7 @@ pub(crate) fn state_at(
     data: &ModeData,
     blocks: &[Block],
     t: f64,
+    stepper: &mut Stepper,
 ) -> Option<(ModalState, f64, f64, (f64, f64))> {
     let b = blocks.iter().find(|b| b.nodes[0].t <= t && t <= b.nodes[1].t)?;
     let start = b.nodes.iter().filter(|n| n.t <= t).max_by(|a, c| a.t.total_cmp(&c.t))?;
@@ -568,12 +590,10 @@ pub(crate) fn state_at(
     let from = time;
     let stops = b.ends.iter().copied().filter(|e| e.0 > from && e.0 < t).chain([(t, at_t)]);
     for (te, fe) in stops {
-        if te > time {
-            data.modes.advance_once(&mut state, te - time, force, fe).ok()?;
-        }
+        stepper.advance(&data.modes, &mut state, te - time, force, fe);
         (time, force) = (te, fe);
     }
-    Some((state, at_t, slope, piece))
+    state.q.iter().all(|q| q.is_finite()).then_some((state, at_t, slope, piece))
 }
 
 /// The largest of `field` over the kept `blocks`, starting from `best` (a value the run
@@ -592,7 +612,7 @@ pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, b
         rows: Vec::new(),
         xs: Vec::new(),
         row_of: HashMap::new(),
-        steps: HashMap::new(),
+        stepper: Stepper::default(),
         best,
         stuck: f64::NEG_INFINITY,
     };
@@ -798,16 +818,7 @@ impl Search<'_> {
         let stops: Vec<(f64, f64)> =
             b.ends.iter().copied().filter(|e| e.0 > time && e.0 < t).chain([(t, at_t)]).collect();
         for (te, fe) in stops {
-            let tau = te - time;
-            if tau > 0.0 {
-                let step = self.steps.entry(tau.to_bits()).or_default();
-                if step.step_size().to_bits() != tau.to_bits() {
-                    // A failure (a non-finite step) leaves the step empty: the state then stays
-                    // as it was, and the cell's bound still covers the interval.
-                    let _ = self.data.modes.one_step(tau, step);
-                }
-                step.advance(&self.data.modes, &mut state, force, fe);
-            }
+            self.stepper.advance(&self.data.modes, &mut state, te - time, force, fe);
             (time, force) = (te, fe);
         }
         let nodes = &mut self.blocks[block as usize].nodes;

@@ -57,9 +57,6 @@ const LEFT_SHARE: f64 = 0.6;
 const TAIL_SHARE: f64 = 0.1;
 /// Points near the ball: L/2^k away on each side for k in this range.
 const NEAR_LEVELS: std::ops::RangeInclusive<i32> = 4..=9;
-/// Equal intervals of the beam on which the mode-acceleration correction's largest magnitude
-/// is bounded (the grid's largest plus what its second derivative allows between points).
-const CORRECTION_GRID: usize = 512;
 
 /// The modal beam seen as a stress field.
 pub(crate) struct ModalStress {
@@ -220,9 +217,10 @@ impl ModalStress {
             static_beam.as_ref(),
             &static_q,
             PeakSetup {
-                position,
                 modes,
                 residual,
+                spacing,
+                corrections: &correction,
                 supports: (0..supports.len())
                     .map(|k| Row {
                         r: curvature[k * n..(k + 1) * n].iter().map(|c| c * section).collect(),
@@ -454,10 +452,11 @@ impl ModalStress {
     fn stress_derivatives(
         &self,
         kept: &[modal_peak::Block],
-        x: f64,
-        t: f64,
+        (x, t): (f64, f64),
+        stepper: &mut modal_peak::Stepper,
     ) -> Option<Derivatives> {
-        let (state, force, slope, piece) = modal_peak::state_at(&self.peaks.data, kept, t)?;
+        let (state, force, slope, piece) =
+            modal_peak::state_at(&self.peaks.data, kept, t, stepper)?;
         let modes = self.peaks.data.modes();
         let acc: Vec<f64> = (0..state.q.len())
             .map(|k| {
@@ -490,9 +489,10 @@ impl ModalStress {
             (self.position, self.length)
         };
         let mut best = peak;
+        let mut stepper = modal_peak::Stepper::default();
         for _ in 0..POLISH_STEPS {
             let Some(Derivatives { sigma, gradient: g, hessian: h, piece }) =
-                self.stress_derivatives(kept, best.x, best.t)
+                self.stress_derivatives(kept, (best.x, best.t), &mut stepper)
             else {
                 break;
             };
@@ -514,7 +514,10 @@ impl ModalStress {
             // jumps there by E h/2 corr(x) times the slope's change, so the value decides.)
             let x = (best.x + dx).clamp(lo, hi);
             let t = best.t + dt.clamp(-(piece.1 - piece.0), piece.1 - piece.0);
-            let Some(moved) = self.stress_derivatives(kept, x, t).map(|d| d.sigma) else { break };
+            let Some(moved) = self.stress_derivatives(kept, (x, t), &mut stepper).map(|d| d.sigma)
+            else {
+                break;
+            };
             if sign * moved <= sign * sigma || moved.is_nan() {
                 break;
             }
@@ -585,10 +588,12 @@ struct Derivatives {
 }
 
 /// What the search needs besides the beam and its modes.
-struct PeakSetup {
-    position: f64,
+struct PeakSetup<'a> {
     modes: PointModes,
     residual: f64,
+    /// The grid's widest spacing (m) and the correction at its points (1/m^2 per N).
+    spacing: f64,
+    corrections: &'a [f64],
     /// Each support's stress row.
     supports: Vec<Row>,
 }
@@ -600,39 +605,23 @@ impl Peaks {
         (scale, section): (f64, f64),
         static_beam: Option<&Beam>,
         static_q: &[f64],
-        setup: PeakSetup,
+        setup: PeakSetup<'_>,
     ) -> Self {
-        let PeakSetup { position, modes, residual, supports } = setup;
+        let PeakSetup { modes, residual, spacing, corrections, supports } = setup;
         let bound = |k: i32| -> Vec<f64> {
             shapes.iter().map(|m| section * scale * m.shape.curvature_bound(k)).collect()
         };
         let (curvature, curvature2) = (bound(0), bound(2));
-        // The correction's largest magnitude: on a grid with the impact point among its nodes
-        // (off it and the ends the static curvature is linear, so the correction's second
-        // derivative is -sum c_n'' s_n), plus what that second derivative allows between them.
-        let correction = match static_beam {
-            Some(beam) => {
-                let dx = beam.length() / CORRECTION_GRID as f64;
-                let mut kept = vec![0.0; CORRECTION_GRID + 1];
-                let mut at_impact = 0.0;
-                for (m, sq) in shapes.iter().zip(static_q) {
-                    let on_grid = m.shape.curvatures_on_grid(0.0, dx, CORRECTION_GRID + 1);
-                    for (k, c) in on_grid.iter().enumerate() {
-                        kept[k] += c * scale * sq;
-                    }
-                    at_impact += m.shape.curvature(position) * scale * sq;
-                }
-                let largest = kept
-                    .iter()
-                    .enumerate()
-                    .map(|(k, c)| (k as f64 * dx, *c))
-                    .chain([(position, at_impact)])
-                    .map(|(x, c)| (beam.static_curvature(position, x).unwrap_or(0.0) - c).abs())
-                    .fold(0.0, f64::max);
-                let second: f64 = curvature2.iter().zip(static_q).map(|(b, s)| b * s.abs()).sum();
-                section * largest + dx * dx / 8.0 * second
-            }
-            None => 0.0,
+        // The correction's largest magnitude: its largest at the grid's points (the impact
+        // point among them: off it and the ends the static curvature is linear, so the
+        // correction's second derivative is -sum c_n'' s_n) plus what that second derivative
+        // allows between them.
+        let correction = if static_beam.is_some() {
+            let largest = corrections.iter().fold(0.0, |m: f64, c| m.max(c.abs()));
+            let second: f64 = curvature2.iter().zip(static_q).map(|(b, s)| b * s.abs()).sum();
+            section * largest + spacing * spacing / 8.0 * second
+        } else {
+            0.0
         };
         let n = modes.len();
         let data = ModeData::new(modes);
