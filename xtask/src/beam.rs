@@ -89,6 +89,9 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
         "node at s = {} m: final position ({:.6e}, {:.6e}, {:.6e}) m, rotation vector ({:.6e}, {:.6e}, {:.6e}) rad",
         run.tracked_arc_length, last[0], last[1], last[2], rotation[0], rotation[1], rotation[2]
     )?;
+    for w in &run.warnings {
+        say!("  warning: {w}")?;
+    }
     say!(
         "wrote {}/{{history,shape,tracked-displacement,final-shape}}.csv and the two .svg",
         dir.display()

@@ -108,7 +108,7 @@ const FIGURES: [(&str, &str); 6] = [
 fn captions(outcome: &Outcome) -> Vec<(&'static str, String)> {
     let r = &outcome.report;
     let p = &r.plan;
-    let resolution = crate::simulate::resolution(p);
+    let resolution = resolution(p);
     let error = r.estimated_error.map_or(
         "error not estimated (set solver.tolerance to have the resolution refined until it is)"
             .into(),
@@ -362,4 +362,19 @@ fn stress_map(
     }
     csv.flush()?;
     Ok(())
+}
+
+/// A run's resolution in words: "512 elements", "128 Timoshenko modes", "rigid block".
+pub(crate) fn resolution(plan: &impact::PlanSummary) -> String {
+    match plan.method {
+        impact::MethodKind::Fe => format!("{} elements", plan.elements),
+        impact::MethodKind::Modal => match plan.beam_theory {
+            Some(impact::TheoryName::Timoshenko) => format!("{} Timoshenko modes", plan.modes),
+            Some(impact::TheoryName::EulerBernoulli) => {
+                format!("{} Euler-Bernoulli modes", plan.modes)
+            }
+            _ => format!("{} modes", plan.modes),
+        },
+        impact::MethodKind::HalfSpace => "rigid block".to_string(),
+    }
 }

@@ -68,7 +68,7 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
         say!("{}", serde_json::to_string_pretty(r)?)?;
         return Ok(true);
     }
-    let resolution = resolution(&r.plan);
+    let resolution = crate::plots::resolution(&r.plan);
     // The fe method's contact step grows from the plan's; the others' (adaptive) stays below.
     let bound = if r.plan.method == MethodKind::Fe { "from" } else { "up to" };
     say!(
@@ -158,19 +158,4 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
     )?;
     say!("wall time {:.4} s", r.wall_time)?;
     Ok(true)
-}
-
-/// A run's resolution in words: "512 elements", "128 Timoshenko modes", "rigid block".
-pub(crate) fn resolution(plan: &impact::PlanSummary) -> String {
-    match plan.method {
-        MethodKind::Fe => format!("{} elements", plan.elements),
-        MethodKind::Modal => match plan.beam_theory {
-            Some(impact::TheoryName::Timoshenko) => format!("{} Timoshenko modes", plan.modes),
-            Some(impact::TheoryName::EulerBernoulli) => {
-                format!("{} Euler-Bernoulli modes", plan.modes)
-            }
-            _ => format!("{} modes", plan.modes),
-        },
-        MethodKind::HalfSpace => "rigid block".to_string(),
-    }
 }

@@ -263,6 +263,21 @@ struct Work {
 /// hold a trial and the state it came from).
 const SPARE_COLUMNS: usize = 8;
 
+/// Whether a Newton correction of the acceleration of norm `correction` is below the round-off
+/// of what it corrects: the accelerations `(a1, a0)`, or, times `beta_h2` = beta h^2, the
+/// step's increments `(delta, base)` and the `configuration`'s own round-off scale.
+fn round_off(
+    correction: f64,
+    (a1, a0): (&[f64], &[f64]),
+    (delta, base): (&[f64], &[f64]),
+    beta_h2: f64,
+    configuration: f64,
+) -> bool {
+    let increments = norm_of(delta).max(norm_of(base));
+    correction <= 1e-14 * norm_of(a1).max(norm_of(a0))
+        || beta_h2 * correction <= 1e-14 * increments.max(configuration)
+}
+
 impl Work {
     /// A column of `n` entries whose values are not specified (every one is written before
     /// it is read): a spare one if there is, otherwise a new one.
@@ -760,6 +775,35 @@ impl Integrator {
         self.aside = Some(Aside { weights, lu, since: self.attempts });
     }
 
+    /// The Newton matrix for the weights `w` at the iterate `(t1, q1, v1, a1)`, factored: full
+    /// Newton (no reuse) rebuilds it every iteration; with reuse, only for new weights (after
+    /// bringing back one set aside for them) or when the kept one is `stale` (it stopped
+    /// contracting the residual).
+    fn newton_matrix<M: Model>(
+        &mut self,
+        model: &M,
+        (t1, q1, v1, a1): (f64, &M::Config, ColRef<'_, f64>, ColRef<'_, f64>),
+        w: NewtonWeights,
+        (reuse, stale): (bool, bool),
+    ) -> Result<(), HhtError> {
+        if reuse && self.factored != Some(w) {
+            self.recall(w);
+        }
+        if reuse && self.factored == Some(w) && !stale {
+            return Ok(());
+        }
+        self.triplets.clear();
+        model.tangent(t1, q1, v1, a1, w, &mut self.triplets);
+        if reuse && self.factored.is_some_and(|kept| kept != w) {
+            self.keep_aside();
+        }
+        self.factored = None;
+        self.lu.factor(model.ndof(), model.band(), &self.triplets, t1)?;
+        self.factorisations += 1;
+        self.factored = reuse.then_some(w);
+        Ok(())
+    }
+
     /// One Newton solve of the step equation; returns the new state without touching the old.
     fn attempt<M: Model>(
         &mut self,
@@ -853,25 +897,8 @@ impl Integrator {
             let mut converged =
                 residual_norm <= self.options.atol + self.options.rtol * scale + floor;
             if !converged && iteration < self.options.max_iterations {
-                // Full Newton rebuilds the matrix every iteration; with reuse, only for new
-                // weights or when the kept matrix stops contracting the residual.
-                if reuse && self.factored != Some(w) {
-                    self.recall(w);
-                }
-                let rebuild = !reuse
-                    || self.factored != Some(w)
-                    || residual_norm > STALE_CONTRACTION * previous_residual;
-                if rebuild {
-                    self.triplets.clear();
-                    model.tangent(t1, &q1, v1.as_ref(), a1.as_ref(), w, &mut self.triplets);
-                    if reuse && self.factored.is_some_and(|kept| kept != w) {
-                        self.keep_aside();
-                    }
-                    self.factored = None;
-                    self.lu.factor(n, model.band(), &self.triplets, t1)?;
-                    self.factorisations += 1;
-                    self.factored = reuse.then_some(w);
-                }
+                let stale = residual_norm > STALE_CONTRACTION * previous_residual;
+                self.newton_matrix(model, (t1, &q1, v1.as_ref(), a1.as_ref()), w, (reuse, stale))?;
                 previous_residual = residual_norm;
                 // The Newton matrix solves for the configuration's correction times
                 // -beta h^2; the acceleration's is that solution scaled back.
@@ -886,9 +913,14 @@ impl Integrator {
                 converged = iteration > 0 && {
                     let correction = scaling.abs() * crate::fast::run(Norm(r));
                     let configuration = model.configuration_scale(&q1) * (n as f64).sqrt();
-                    let increments = norm_of(&self.work.delta).max(norm_of(&self.work.base));
-                    correction <= 1e-14 * norm_of(entries(&a1)).max(norm_of(a0))
-                        || s.beta * h * h * correction <= 1e-14 * increments.max(configuration)
+                    let increments = (&self.work.delta[..], &self.work.base[..]);
+                    round_off(
+                        correction,
+                        (entries(&a1), a0),
+                        increments,
+                        s.beta * h * h,
+                        configuration,
+                    )
                 };
                 if !converged {
                     crate::fast::run(AddScaled { x: entries_mut(&mut a1), y: r, scaling });

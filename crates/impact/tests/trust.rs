@@ -160,3 +160,35 @@ fn the_euler_bernoulli_model_error_is_measured_not_bounded() {
         );
     }
 }
+
+#[test]
+fn a_mesh_too_coarse_to_mean_anything_is_refused_or_named() {
+    // One element on a pinned-pinned beam pins both its nodes: the ball would meet a rigid
+    // support, and the report said restitution 1, no displacement and no stress. Refused,
+    // naming solver.elements.
+    let one = aluminium("method = \"fe\"\nelements = 1");
+    let e = Plan::new(&one).unwrap_err().to_string();
+    assert!(e.contains("solver.elements") && e.contains("holds the impact point"), "{e}");
+    // Two elements: the stress was ten times too low with nothing said. Warned, with the
+    // elements' size against the pulse's wavelength and the first mode.
+    let two = Plan::new(&aluminium("method = \"fe\"\nelements = 2")).unwrap();
+    let w = two.warnings().join("\n");
+    assert!(w.contains("solver.elements: elements of") && w.contains("several times off"), "{w}");
+    assert!(w.contains("per half-wave of the first mode"), "{w}");
+    // Struck on a support node: refused too.
+    let mut on_support = aluminium("method = \"fe\"\nelements = 3");
+    on_support.impact.position = Some(0.0);
+    assert!(Plan::new(&on_support).is_err());
+    // A fine mesh says nothing of the kind, and the reasons carry the criterion.
+    let fine = Plan::new(&aluminium("method = \"fe\"\nelements = 512")).unwrap();
+    assert!(
+        fine.warnings().iter().all(|w| !w.contains("solver.elements")),
+        "{:?}",
+        fine.warnings()
+    );
+    assert!(fine.summary().reasons.iter().any(|r| r.starts_with("mesh check:")));
+    // An element size below what a position can tell apart names its key.
+    let tiny = aluminium("method = \"fe\"\nelement_size = 1e-300");
+    let e = Plan::new(&tiny).unwrap_err().to_string();
+    assert!(e.contains("solver.element_size") && e.contains("1e-300"), "{e}");
+}

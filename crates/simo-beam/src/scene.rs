@@ -26,7 +26,11 @@
 //! ```
 //!
 //! A dynamic scene replaces `[static]` by `[dynamic]` (`duration`, `time_step` in s, optional
-//! HHT `alpha` in [-1/3, 0]) and may give each load a `profile` of (time (s), factor) points.
+//! HHT `alpha` in [-1/3, 0]) and may give each load a `profile` of (time (s), factor) points,
+//! linear between them and held beyond their ends: before its first point the first factor
+//! holds from t = 0 (a run warns where that factor is not 0; start with `[0.0, 0.0]` for a
+//! load that comes later). A run warns where a strain passes the small-strain range of the
+//! linear section law ([`SMALL_STRAIN`]).
 
 use crate::{
     solve_static, BeamError, BeamModel, BeamState, Load, Material, Mesh, Profile, Section,
@@ -723,6 +727,24 @@ impl BeamScene {
         Ok((model, stations))
     }
 
+    /// A warning for each load profile that starts after t = 0 with a factor other than 0
+    /// (held from t = 0, which a user may not expect).
+    fn profile_warnings(&self) -> Vec<String> {
+        self.loads
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| {
+                let first = l.profile.as_ref()?.first()?;
+                (first[0] > 0.0 && first[1] != 0.0).then(|| {
+                    format!(
+                        "load[{i}].profile starts at t = {:.4e} s with the factor {}: that factor is held from t = 0 (give a first point [0.0, 0.0] for a load that comes later)",
+                        first[0], first[1]
+                    )
+                })
+            })
+            .collect()
+    }
+
     /// Runs the scene. `progress` is called with the fraction done (0 to 1) after every load
     /// or time step.
     ///
@@ -856,16 +878,18 @@ impl BeamScene {
             AnalysisName::Static => "at load factor",
             AnalysisName::Dynamic => "at t =",
         };
-        let warnings = ["axial", "shear"]
-            .iter()
-            .zip(largest.get())
-            .filter(|(_, (strain, _))| *strain > SMALL_STRAIN)
-            .map(|(kind, (strain, x))| {
-                format!(
-                    "the largest {kind} strain is {strain:.3e} ({at} {x:.4e}), beyond the {SMALL_STRAIN} the linear elastic section law is meant for: the result extrapolates the material"
-                )
-            })
-            .collect();
+        let mut warnings = self.profile_warnings();
+        warnings.extend(
+            ["axial", "shear"]
+                .iter()
+                .zip(largest.get())
+                .filter(|(_, (strain, _))| *strain > SMALL_STRAIN)
+                .map(|(kind, (strain, x))| {
+                    format!(
+                        "the largest {kind} strain is {strain:.3e} ({at} {x:.4e}), beyond the {SMALL_STRAIN} the linear elastic section law is meant for: the result extrapolates the material"
+                    )
+                }),
+        );
         Ok(BeamRun {
             warnings,
             name: self.name.clone(),

@@ -232,6 +232,24 @@ fn a_profile_holds_its_first_factor_before_its_first_time() {
     assert_eq!(p.factor(0.5), 2.0);
     assert_eq!(p.factor(0.75), 3.0);
     assert_eq!(p.factor(7.0), 4.0);
+    // A scene whose profile starts later with a factor other than 0 says so; one that starts
+    // at [0, 0] (the right-angle cantilever's) does not.
+    let late = scene_text("beam-right-angle.toml").replacen(
+        "profile = [[0.0, 0.0], [1.0, 50.0], [2.0, 0.0]]",
+        "profile = [[0.5, 50.0], [2.0, 0.0]]",
+        1,
+    );
+    let mut late = BeamScene::from_toml(&late).unwrap();
+    late.dynamic.as_mut().unwrap().duration = 0.05;
+    let run = late.run(|_| {}).unwrap();
+    assert!(
+        run.warnings.iter().any(|w| w.contains("load[0].profile starts at t = 5.0000e-1 s")),
+        "{:?}",
+        run.warnings
+    );
+    let mut on_time = scene("beam-right-angle.toml");
+    on_time.dynamic.as_mut().unwrap().duration = 0.05;
+    assert!(on_time.run(|_| {}).unwrap().warnings.iter().all(|w| !w.contains("profile")));
 }
 
 #[test]

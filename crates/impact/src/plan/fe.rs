@@ -42,8 +42,9 @@ pub const FE_LADDER_END: usize = 8192;
 /// The finite-element model of a struck beam.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FePlan {
-    /// The same beam as an Euler-Bernoulli beam: its static stiffness defines the equivalent
-    /// static force (as in the modal method).
+    /// The same beam as a uniform Timoshenko beam (shear and rotary inertia, as the fe beam
+    /// has): its static stiffness defines the equivalent static force (as in the modal
+    /// method), its first mode the swing's period, its wavelengths the mesh.
     pub(crate) analytic: modal::Beam,
     /// Beam material.
     pub(crate) material: simo_beam::Material,
@@ -86,7 +87,7 @@ impl FePlan {
     }
 }
 
-/// The finite-element model of `beam` (whose Euler-Bernoulli twin is `analytic`) struck at
+/// The finite-element model of `beam` (whose analytic Timoshenko twin is `analytic`) struck at
 /// `position` (m): the mesh asked for or graded from the impact point, alpha and the steps.
 pub(super) fn plan(
     beam: &BeamSpec,
@@ -95,7 +96,7 @@ pub(super) fn plan(
     position: f64,
     damping: f64,
     pulse: &Pulse,
-    reasons: &mut Vec<String>,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
 ) -> Result<FePlan, ImpactError> {
     if damping > 0.0 {
         return Err(invalid("beam.modal_damping", damping, "must be 0 or absent with method = \"fe\" (the finite-element beam is undamped; HHT alpha adds numerical damping of high frequencies)"));
@@ -120,6 +121,8 @@ pub(super) fn plan(
     };
     reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero".into());
     let nodes = mesh(s, &analytic, position, estimated_duration, reasons)?;
+    let ends = ends(beam.support);
+    resolution(s, &analytic, (&nodes, ends, position), estimated_duration, (reasons, warnings))?;
     if free_time_step > contact_step * (1.0 + 1e-9) {
         reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact (solver.time_step): the waves the impacts leave in the beam are then integrated with HHT's dispersion at the longer steps, and the contacts after the first few are not converged in time (validation/REFERENCES.md 1.7)"));
     } else {
@@ -133,7 +136,7 @@ pub(super) fn plan(
         analytic,
         width: beam.width,
         thickness: beam.thickness,
-        ends: ends(beam.support),
+        ends,
         position,
         nodes,
         alpha,
@@ -193,7 +196,14 @@ fn mesh(
         }
         None => {
             let h0 = match s.element_size {
-                Some(h) => positive("solver.element_size", h, "m")?.min(length),
+                Some(h) if positive("solver.element_size", h, "m")? < MIN_ELEMENT * length => {
+                    return Err(invalid(
+                        "solver.element_size",
+                        format!("{h:e}"),
+                        "at least 1e-7 of beam.length: shorter elements put nodes the same to round-off",
+                    ));
+                }
+                Some(h) => h.min(length),
                 None => (wavelength / FE_ELEMENTS_PER_WAVELENGTH).min(length / 16.0),
             };
             // Elements needed: about log(1 + L (r - 1) / h0) / log(r) per side.
@@ -219,6 +229,91 @@ fn mesh(
             Ok(nodes)
         }
     }
+}
+
+/// The shortest element, as a fraction of the beam's length: a node's position has 16
+/// significant digits, so elements of 1e-7 L still have 9.
+const MIN_ELEMENT: f64 = 1e-7;
+
+/// The largest stress near the ball is low by about this times (h/lambda)^2 on a mesh of
+/// elements h long at the impact point, lambda the flexural wavelength at omega t_c =
+/// MODE_CUTOFF: on the paper's tip (validation/REFERENCES.md 1.5, uniform meshes) 21, 7.2,
+/// 2.1 and 0.5 % at 18, 9, 4.5 and 2.25 mm (lambda = 24.5 mm): 0.39, 0.53, 0.60, 0.60.
+const STRESS_MESH_ERROR: f64 = 0.6;
+
+/// A mesh whose largest stress would be this much low or more is warned about.
+const STRESS_MESH_WARNING: f64 = 0.05;
+
+/// Elements at least per half-wave of the first mode, below which the first mode (the
+/// swing: the largest displacement, the equivalent static force, the stress at the supports)
+/// is not resolved.
+const FIRST_MODE_ELEMENTS: f64 = 4.0;
+
+/// Whether the mesh can say what the report prints: refuses one whose impact point cannot
+/// move along the strike (both nodes of its element held by supports, or on a held node), and
+/// warns, with the size, where the elements at the impact point are too long for the pulse's
+/// waves (STRESS_MESH_ERROR (h/lambda)^2 above STRESS_MESH_WARNING) or the longest ones for
+/// the first mode (fewer than FIRST_MODE_ELEMENTS per half-wave); the criterion goes into the
+/// reasons.
+fn resolution(
+    s: &SolverSpec,
+    beam: &modal::Beam,
+    (nodes, (first, last), position): (&[f64], (Support, Support), f64),
+    estimated_duration: f64,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) -> Result<(), ImpactError> {
+    let n = nodes.len() - 1;
+    let held = |k: usize| (k == 0 && first != Support::Free) || (k == n && last != Support::Free);
+    // The element holding the impact point (the last one for the end).
+    let element = nodes.partition_point(|x| *x <= position).saturating_sub(1).min(n - 1);
+    let on_node = [element, element + 1]
+        .into_iter()
+        .find(|k| (nodes[*k] - position).abs() <= 1e-12 * beam.length());
+    let fixed = match on_node {
+        Some(k) => held(k),
+        None => held(element) && held(element + 1),
+    };
+    let key = if s.elements.is_some() { "solver.elements" } else { "solver.element_size" };
+    if fixed {
+        return Err(ImpactError::Inconsistent(format!(
+            "{key}: the mesh of {n} element(s) holds the impact point (x = {position} m) still: {}; the ball would meet a rigid support. Use more elements (the impact point then lies between free nodes)",
+            if on_node.is_some() { "it is a supported node" } else { "both nodes of its element are supports" }
+        )));
+    }
+    if s.tolerance.is_some() {
+        // The refinement chooses the meshes and checks them against each other.
+        return Ok(());
+    }
+    let omega = MODE_CUTOFF / estimated_duration;
+    let wavelength =
+        2.0 * PI * (beam.flexural_rigidity() / beam.mass_per_length()).powf(0.25) / omega.sqrt();
+    let at_impact = nodes[element + 1] - nodes[element];
+    let stress_error = STRESS_MESH_ERROR * (at_impact / wavelength).powi(2);
+    let longest = nodes.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    let half_wave = PI * beam.length() / beam.support().eigenvalue(1).unwrap_or(PI);
+    let per_half_wave = half_wave / longest;
+    reasons.push(format!(
+        "mesh check: elements of {at_impact:.3e} m at the impact point against the flexural wavelength {wavelength:.3e} m at omega t_c = {MODE_CUTOFF} (the largest stress near the ball is low by about {STRESS_MESH_ERROR} (h/lambda)^2, measured on the paper's tip, validation/REFERENCES.md 1.5: {:.1e} here; warned above {STRESS_MESH_WARNING}); {per_half_wave:.1} of the longest elements per half-wave of the first mode (warned below {FIRST_MODE_ELEMENTS})",
+        stress_error
+    ));
+    if stress_error > STRESS_MESH_WARNING {
+        let size = if at_impact > wavelength {
+            "several times off".to_string()
+        } else {
+            format!("about {:.0} % low", 100.0 * stress_error)
+        };
+        warnings.push(format!(
+            "{key}: elements of {at_impact:.3e} m at the impact point, {:.2} of the flexural wavelength the pulse excites ({wavelength:.3e} m): the contact force and the stress near the ball are not resolved (the largest stress {size}); the default mesh grades from {:.3e} m there, or set solver.tolerance",
+            at_impact / wavelength,
+            wavelength / FE_ELEMENTS_PER_WAVELENGTH
+        ));
+    }
+    if per_half_wave < FIRST_MODE_ELEMENTS {
+        warnings.push(format!(
+            "{key}: {per_half_wave:.1} elements per half-wave of the first mode ({half_wave:.3e} m), below {FIRST_MODE_ELEMENTS}: the beam's swing is not resolved (the largest displacement, the equivalent static force and the stress at the supports)"
+        ));
+    }
+    Ok(())
 }
 
 /// Nodes of `n` equal elements from 0 to `length` (m).

@@ -430,7 +430,7 @@ fn beam_method(
         ));
     }
     if use_fe {
-        let fe = fe::plan(beam, s, m, position, damping, pulse, reasons)?;
+        let fe = fe::plan(beam, s, m, position, damping, pulse, (reasons, warnings))?;
         Ok(Method::Fe(fe))
     } else {
         let (chosen, twin) = theory::choose(s.beam_theory, beam, both, pulse, reasons);

@@ -27,8 +27,8 @@ pub(crate) struct FeStress {
     /// The time of the last instant in the envelope (s).
     observed: Option<f64>,
     envelope: Envelope,
-    /// EI (N m^2).
-    ei: f64,
+    /// EI (N m^2), set with the field (the moment is only the field's).
+    flexural_rigidity: f64,
     /// The field at the nodes, when asked.
     field: Option<Field>,
 }
@@ -74,7 +74,7 @@ impl FeStress {
             stresses: vec![0.0; count],
             observed: None,
             envelope: Envelope::new(points, &positions),
-            ei: youngs_modulus * thickness.powi(3) / 12.0,
+            flexural_rigidity: 0.0,
             field: None,
         }
     }
@@ -83,7 +83,8 @@ impl FeStress {
     /// impact direction), slope -theta, and the moment and stress averaged over the node's
     /// elements (an end node takes its one element's); `width` (m) gives EI.
     pub(crate) fn with_field(mut self, nodes: &[f64], width: f64) -> Self {
-        self.ei *= width;
+        let thickness = 2.0 * self.half_thickness;
+        self.flexural_rigidity = self.youngs_modulus * width * thickness.powi(3) / 12.0;
         self.field = Some(Field::new(nodes.to_vec()));
         self
     }
@@ -95,7 +96,7 @@ impl FeStress {
         let element = |e: usize| {
             let (extension, _, curvature) = strains[e];
             (
-                -self.ei * curvature,
+                -self.flexural_rigidity * curvature,
                 self.youngs_modulus * (extension - self.half_thickness * curvature),
             )
         };

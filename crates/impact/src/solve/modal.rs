@@ -27,6 +27,9 @@ use std::rc::Rc;
 /// above its default output interval of 2.5 us, so the default runs are unchanged).
 const LONGEST_JUMP: f64 = 1024.0;
 
+/// A mode whose frequency is below this fraction of the highest is a rigid-body mode.
+const RIGID_FREQUENCY: f64 = 1e-9;
+
 /// Onset and separation are located to this fraction of the approach scale (impact speed x
 /// estimated contact duration).
 const LOCATE_TOLERANCE: f64 = 1e-9;
@@ -189,7 +192,10 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             .zip(modes.damping_ratio())
             .map(|(w, z)| (1.0 + 2.0 * z) * w)
             .collect();
-        let rigid_modes = modes.omega().iter().filter(|w| **w == 0.0).count();
+        // Rigid-body modes by a tolerance on the frequency, relative to the highest (they are
+        // built with omega = 0, but a basis from elsewhere has them at round-off's scale).
+        let top = modes.omega().iter().fold(0.0, |m: f64, w| m.max(*w));
+        let rigid_modes = modes.omega().iter().filter(|w| **w <= RIGID_FREQUENCY * top).count();
         Ok(Self {
             plan,
             law,
