@@ -62,9 +62,10 @@ pub fn run<K: Kernel>(kernel: K) -> K::Output {
     kernel.run(Separate)
 }
 
-/// `x . y`, in four partial sums (one chain of additions would bound it by their latency).
+/// `x . y`, in four partial sums (one chain of additions would bound it by their latency),
+/// in a fixed order: the same result on every processor.
 #[inline(always)]
-pub(crate) fn dot(x: &[f64], y: &[f64]) -> f64 {
+pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     let mut sums = [0.0; 4];
     let (xs, ys) = (x.chunks_exact(4), y.chunks_exact(4));
     let tail: f64 = xs.remainder().iter().zip(ys.remainder()).map(|(a, b)| a * b).sum();

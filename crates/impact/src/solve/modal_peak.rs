@@ -57,21 +57,8 @@ pub(crate) struct Row {
 
 impl Row {
     pub(crate) fn value(&self, force: f64, q: &[f64]) -> f64 {
-        force * self.p + dot(&self.r, q)
+        force * self.p + hht::fast::dot(&self.r, q)
     }
-}
-
-/// A dot product in four fixed lanes (the same result on every processor).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut lanes = [0.0; 4];
-    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = ac.remainder().iter().zip(bc.remainder()).map(|(x, y)| x * y).sum();
-    for (x, y) in ac.zip(bc) {
-        for k in 0..4 {
-            lanes[k] += x[k] * y[k];
-        }
-    }
-    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
 }
 
 /// What the bounds need of the modes, fixed for a run.
