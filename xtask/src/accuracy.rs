@@ -326,8 +326,7 @@ pub(crate) fn run(
     let ordered: Vec<Report> = all.iter().filter_map(|s| reports.remove(&s.label)).collect();
     let study = Study::new(&scene.name, &all, &ordered)?;
     write(&study, dir.path())?;
-    std::fs::rename(&journal, dir.join("runs.jsonl"))
-        .with_context(|| format!("cannot rename {}", journal.display()))?;
+    crate::files::rename_output(&journal, &dir.join("runs.jsonl"))?;
     say!("{}", table(&study).trim_end())?;
     say!(
         "\nwrote work_precision.csv, work_precision.svg and runs.jsonl (every run's report) to {}",

@@ -23,8 +23,12 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
         .with_context(|| format!("in {}", path.display()))?;
     bar.finish_and_clear();
 
-    run.write_history_csv(create(&dir.join("history.csv"))?)?;
-    run.write_shape_csv(create(&dir.join("shape.csv"))?)?;
+    let mut history = create(&dir.join("history.csv"))?;
+    run.write_history_csv(&mut history)?;
+    history.finish()?;
+    let mut shape = create(&dir.join("shape.csv"))?;
+    run.write_shape_csv(&mut shape)?;
+    shape.finish()?;
     let dir = dir.path();
 
     let (x_label, what) = match scene.analysis {

@@ -6,8 +6,16 @@
 //! - An output folder is `--out` or `target/<command>/<name>`, the name passing
 //!   [`impact::study::folder_name`]; it is created and proven writable ([`OutDir::create`])
 //!   before the first run, so a long study does not fail at its end.
-//! - Whole files are written to a temporary name and renamed into place ([`write_atomic`]): a
-//!   stopped run never leaves a half-written table under the final name.
+//! - Every file is written to a new temporary name in its folder (never following a link there)
+//!   and renamed into place only when it is whole ([`create`], [`Output::finish`],
+//!   [`write_atomic`]): a run that fails or stops leaves an existing file as it was, and a
+//!   symbolic link in an output folder is replaced, never written through.
+//! - An input is known by its identity (device and inode) as well as its path: a hard link or
+//!   another spelling of it is refused as an output, and an output folder that holds an
+//!   input is refused before the run.
+//! - The outputs a user names on one command line ([`claim`]) are checked against each other
+//!   before the run: the same file twice, or a file inside an output folder of the same run,
+//!   is refused.
 //! - Standard output goes through [`say!`]: a closed pipe (`| head`) ends the program quietly,
 //!   a full disk is one line of error, and control characters from a file are escaped.
 
@@ -16,47 +24,200 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-/// The canonical paths of every file read: outputs never replace them.
-static INPUTS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// A file's identity: its device and inode where the platform has them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Identity(u64, u64);
+
+/// The identity of the file at `path` (following links), if it exists.
+fn identity(path: &Path) -> Option<Identity> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        std::fs::metadata(path).ok().map(|m| Identity(m.dev(), m.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = path;
+        None
+    }
+}
+
+/// Every file read (canonical path, identity, and whether a user gave it rather than the
+/// command keeping it in its own folder): outputs never replace them.
+static INPUTS: Mutex<Vec<(PathBuf, Option<Identity>, bool)>> = Mutex::new(Vec::new());
+
+/// The outputs named on this command line (file, or folder with `true`), each as given and
+/// canonical where it exists: checked against each other before the run.
+static CLAIMS: Mutex<Vec<(PathBuf, bool)>> = Mutex::new(Vec::new());
 
 /// The text of the input file `path` ([`impact::study::read_input`]), registered as an input
 /// that no output may replace.
 pub(crate) fn read_input(path: &Path, what: &str) -> anyhow::Result<String> {
+    read_registered(path, what, true)
+}
+
+/// [`read_input`] for a file a command keeps in its own output folder (a sweep's manifest):
+/// an input all the same, but one that folder may hold.
+pub(crate) fn read_own(path: &Path, what: &str) -> anyhow::Result<String> {
+    read_registered(path, what, false)
+}
+
+fn read_registered(path: &Path, what: &str, user: bool) -> anyhow::Result<String> {
     let text = impact::study::read_input(path, what)?;
     if let (Ok(canonical), Ok(mut inputs)) = (path.canonicalize(), INPUTS.lock()) {
-        inputs.push(canonical);
+        inputs.push((canonical, identity(path), user));
     }
     Ok(text)
 }
 
-/// Refuses `path` as an output when it is a file that was read.
+/// Refuses `path` as an output when it is a file that was read: the same path, or the same
+/// file by another path (a hard link, a link).
 pub(crate) fn refuse_input(path: &Path) -> anyhow::Result<()> {
-    let Ok(canonical) = path.canonicalize() else { return Ok(()) };
-    if INPUTS.lock().map(|inputs| inputs.contains(&canonical)).unwrap_or(false) {
+    let (canonical, id) = (path.canonicalize().ok(), identity(path));
+    let read = INPUTS.lock().is_ok_and(|inputs| {
+        // (An identity counts while the input still has it: a deleted file's inode is reused.)
+        inputs.iter().any(|(p, i, _)| {
+            Some(p) == canonical.as_ref() || (id.is_some() && *i == id && identity(p) == *i)
+        })
+    });
+    if read {
         bail!("{} is an input of this run: an output must not replace it", path.display());
     }
     Ok(())
 }
 
-/// A new (or emptied) file at `path` for writing, never an input file.
-pub(crate) fn create(path: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
-    refuse_input(path)?;
-    let file =
-        std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(std::io::BufWriter::new(file))
+/// `path` with its folder made absolute and canonical (the file itself need not exist).
+fn normal(path: &Path) -> PathBuf {
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let parent = parent.canonicalize().unwrap_or(parent);
+    match path.file_name() {
+        Some(name) => parent.join(name),
+        None => parent,
+    }
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same folder renamed into place.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+/// Claims `path` as an output a user named on this command line (`folder` for an output
+/// folder): refused when it is an input, when another claim names the same file (by path or
+/// identity), or when a file lies inside a claimed folder (a figure's table would replace it).
+pub(crate) fn claim(path: &Path, folder: bool, what: &str) -> anyhow::Result<()> {
     refuse_input(path)?;
+    let mine = normal(path);
+    let id = identity(path);
+    let Ok(mut claims) = CLAIMS.lock() else { return Ok(()) };
+    for (other, other_folder) in claims.iter() {
+        let same = *other == mine || (id.is_some() && identity(other) == id);
+        let inside = match (folder, *other_folder) {
+            (false, true) => mine.starts_with(other),
+            (true, false) => other.starts_with(&mine),
+            _ => false,
+        };
+        if same || inside {
+            bail!(
+                "{what} {} {} {}: outputs of one run must not replace each other",
+                path.display(),
+                if same {
+                    "is also"
+                } else if folder {
+                    "holds"
+                } else {
+                    "lies inside"
+                },
+                other.display()
+            );
+        }
+    }
+    claims.push((mine, folder));
+    Ok(())
+}
+
+/// A file being written: a new temporary file in the destination's folder (created new, so a
+/// link there is never followed), renamed over the destination by [`Output::finish`] only
+/// when whole; dropped unfinished, it is removed and the destination left as it was.
+#[derive(Debug)]
+pub(crate) struct Output {
+    path: PathBuf,
+    tmp: PathBuf,
+    file: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+impl Output {
+    /// Renames the whole file into place (replacing a link there, not its target).
+    pub(crate) fn finish(mut self) -> anyhow::Result<()> {
+        let Some(mut file) = self.file.take() else { return Ok(()) };
+        file.flush().with_context(|| format!("cannot write {}", self.path.display()))?;
+        drop(file);
+        // The destination is checked again: it may have become an input's name meanwhile.
+        refuse_input(&self.path)?;
+        std::fs::rename(&self.tmp, &self.path)
+            .with_context(|| format!("cannot write {}", self.path.display()))
+    }
+}
+
+impl Write for Output {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match &mut self.file {
+            Some(f) => f.write(buf),
+            None => Err(std::io::Error::other("output already finished")),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.as_mut().map_or(Ok(()), Write::flush)
+    }
+}
+
+impl Drop for Output {
+    fn drop(&mut self) {
+        if self.file.take().is_some() {
+            std::fs::remove_file(&self.tmp).ok();
+        }
+    }
+}
+
+/// A file for writing at `path` (see [`Output`]), never an input file; its folder must exist
+/// and be writable now, so a path that cannot be written fails before a run.
+pub(crate) fn create(path: &Path) -> anyhow::Result<Output> {
+    refuse_input(path)?;
+    if path.is_dir() {
+        bail!("{} is a folder: an output file must not replace it", path.display());
+    }
+    static COUNT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("file");
-    let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    let mut f = create(&tmp)?;
-    f.write_all(bytes)
-        .and_then(|()| f.flush())
-        .with_context(|| format!("cannot write {}", tmp.display()))?;
-    drop(f);
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
+    let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = path.with_file_name(format!(".{name}.tmp{}-{n}", std::process::id()));
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(Output { path: path.to_path_buf(), tmp, file: Some(std::io::BufWriter::new(file)) })
+}
+
+/// Writes `bytes` to `path` whole (see [`Output`]).
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let mut out = create(path)?;
+    out.write_all(bytes).with_context(|| format!("cannot write {}", path.display()))?;
+    out.finish()
+}
+
+/// Removes the output file `path` if it is there; never an input.
+pub(crate) fn remove_output(path: &Path) -> anyhow::Result<()> {
+    refuse_input(path)?;
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(e).with_context(|| format!("cannot remove {}", path.display()))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Renames the output `from` over `to`; never over an input.
+pub(crate) fn rename_output(from: &Path, to: &Path) -> anyhow::Result<()> {
+    refuse_input(to)?;
+    std::fs::rename(from, to).with_context(|| format!("cannot write {}", to.display()))
 }
 
 /// The output folder of `command` for a scene named `name`: `out` when given, else
@@ -74,10 +235,22 @@ pub(crate) struct OutDir(PathBuf);
 
 impl OutDir {
     /// Creates `path` (and its parents) and writes and removes a probe file in it, so that an
-    /// unwritable folder is found before anything runs.
+    /// unwritable folder is found before anything runs; refused when it holds a file this run
+    /// reads (its own tables or figures could replace it).
     pub(crate) fn create(path: &Path) -> anyhow::Result<Self> {
         std::fs::create_dir_all(path)
             .with_context(|| format!("cannot create the output folder {}", path.display()))?;
+        if let (Ok(folder), Ok(inputs)) = (path.canonicalize(), INPUTS.lock()) {
+            if let Some((input, ..)) =
+                inputs.iter().find(|(p, _, user)| *user && p.starts_with(&folder))
+            {
+                bail!(
+                    "the output folder {} holds {}, an input of this run: give another folder (--out)",
+                    path.display(),
+                    input.display()
+                );
+            }
+        }
         let probe = path.join(format!(".write-probe-{}", std::process::id()));
         std::fs::write(&probe, b"probe")
             .with_context(|| format!("cannot write in the output folder {}", path.display()))?;

@@ -103,8 +103,7 @@ impl Chart<'_> {
 
     fn write_scaled(&self, dir: &Path, stem: &str, log_x: bool, log_y: bool) -> anyhow::Result<()> {
         let svg = dir.join(format!("{stem}.svg"));
-        // The backend writes the file itself: the check that it is no input comes first.
-        crate::files::refuse_input(&svg)?;
+        let mut text = String::new();
         let all = self.series.iter().flat_map(|s| s.points.iter());
         anyhow::ensure!(
             all.clone().all(|(x, y)| x.is_finite() && y.is_finite()),
@@ -124,8 +123,8 @@ impl Chart<'_> {
             // label: no curve passes under it.
             let longest = self.series.iter().map(|s| s.label.chars().count()).max().unwrap_or(0);
             let legend_width = (LEGEND_SAMPLE + 7 * longest as u32 + 24).clamp(140, 420);
-            let root =
-                SVGBackend::new(&svg, (PLOT_WIDTH + legend_width, HEIGHT)).into_drawing_area();
+            let root = SVGBackend::with_string(&mut text, (PLOT_WIDTH + legend_width, HEIGHT))
+                .into_drawing_area();
             root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
             let (plot, legend) = root.split_horizontally(PLOT_WIDTH);
             let mut builder = ChartBuilder::on(&plot);
@@ -153,6 +152,9 @@ impl Chart<'_> {
             self.draw_legend(&legend)?;
             root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
         }
+        // Drawn into memory, then written whole (a link at the name is replaced, not
+        // followed).
+        crate::files::write_atomic(&svg, text.as_bytes())?;
         let csv = dir.join(format!("{stem}.csv"));
         let mut f = crate::files::create(&csv)?;
         let col = |label: &str| {
@@ -170,7 +172,7 @@ impl Chart<'_> {
                 writeln!(f, "\"{}\",{x:.9e},{y:.9e}", s.label)?;
             }
         }
-        Ok(())
+        f.finish()
     }
 }
 

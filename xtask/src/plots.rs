@@ -282,9 +282,9 @@ fn stress_map(
         field.points.last().copied().unwrap_or(1.0),
     );
     let svg = dir.join(format!("{stem}.svg"));
-    crate::files::refuse_input(&svg)?;
+    let mut text = String::new();
     {
-        let root = SVGBackend::new(&svg, (900, 560)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut text, (900, 560)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
         let (plot, bar) = root.split_horizontally(800);
         let mut chart = ChartBuilder::on(&plot)
@@ -353,6 +353,7 @@ fn stress_map(
         .map_err(|e| anyhow::anyhow!("{e}"))?;
         root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
     }
+    crate::files::write_atomic(&svg, text.as_bytes())?;
     let mut csv = crate::files::create(&dir.join(format!("{stem}.csv")))?;
     writeln!(csv, "time_ms,x_m,stress_mpa")?;
     for (i, t) in field.time.iter().enumerate() {
@@ -360,8 +361,7 @@ fn stress_map(
             writeln!(csv, "{:.9e},{x:.6e},{:.9e}", t * 1e3, field.stress[i * p + k] * 1e-6)?;
         }
     }
-    csv.flush()?;
-    Ok(())
+    csv.finish()
 }
 
 /// A run's resolution in words: "512 elements", "128 Timoshenko modes", "rigid block".

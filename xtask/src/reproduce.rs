@@ -114,8 +114,7 @@ pub(crate) fn run(out: &Path, quick: bool) -> anyhow::Result<bool> {
             "{} holds an index.html that reproduce did not write: give another --out",
             out.display()
         );
-        std::fs::remove_file(&index)
-            .with_context(|| format!("cannot remove the earlier {}", index.display()))?;
+        crate::files::remove_output(&index)?;
     }
     let clock = std::time::Instant::now();
     let figures = [

@@ -1,6 +1,6 @@
 //! `cargo xtask simulate SCENE.toml`: one scene, a readable summary or JSON.
 
-use crate::files::{create, read_input, say, OutDir};
+use crate::files::{claim, create, read_input, say, OutDir};
 use anyhow::Context;
 use impact::MethodKind;
 use std::path::Path;
@@ -47,17 +47,39 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
     // The scene is read (and so registered as an input) before any output is opened: an
     // output that names it is refused before it could be emptied.
     read_input(path, "scene file")?;
-    // Every output is opened (or its folder proven writable) before the run: a path that
-    // cannot be written fails now, not after the simulation.
+    // Every output is claimed against the others (the same file twice, a file inside the
+    // plots folder) and opened as a new temporary file (or its folder proven writable) before
+    // the run: a path that cannot be written fails now, not after the simulation, and an
+    // existing file is replaced only when the run has succeeded.
+    for (path, folder, what) in [
+        (outputs.history, false, "--history"),
+        (outputs.field, false, "--field"),
+        (outputs.plots, true, "--plots"),
+    ] {
+        if let Some(path) = path {
+            claim(path, folder, what)?;
+        }
+    }
     let history = outputs.history.map(create).transpose()?;
     let field_file = outputs.field.map(create).transpose()?;
     let plots = outputs.plots.map(OutDir::create).transpose()?;
     let outcome = load_and_run_with(path, outputs.field.is_some() || plots.is_some())?;
-    if let (Some(file), Some(h)) = (history, outputs.history) {
-        outcome.history.write_csv(file).with_context(|| format!("cannot write {}", h.display()))?;
+    if outputs.field.is_some() && outcome.field.is_none() {
+        anyhow::bail!(
+            "--field: {} has no beam field (a half-space is a rigid block); nothing was written",
+            path.display()
+        );
     }
-    if let (Some(file), Some(f), Some(field)) = (field_file, outputs.field, &outcome.field) {
-        field.write_csv(file).with_context(|| format!("cannot write {}", f.display()))?;
+    if let (Some(mut file), Some(h)) = (history, outputs.history) {
+        outcome
+            .history
+            .write_csv(&mut file)
+            .with_context(|| format!("cannot write {}", h.display()))?;
+        file.finish()?;
+    }
+    if let (Some(mut file), Some(f), Some(field)) = (field_file, outputs.field, &outcome.field) {
+        field.write_csv(&mut file).with_context(|| format!("cannot write {}", f.display()))?;
+        file.finish()?;
     }
     if let Some(dir) = &plots {
         crate::plots::one_run(dir.path(), &outcome)?;

@@ -151,7 +151,7 @@ fn run_with(request: &Request<'_>, runner: Runner<'_>) -> anyhow::Result<bool> {
         return Ok(true);
     }
     let figure = finish(&dir, &manifest, &rows)?;
-    std::fs::remove_file(dir.join(PARTIAL)).ok();
+    crate::files::remove_output(&dir.join(PARTIAL))?;
     let what = match (mine.is_empty(), figure) {
         (true, _) => format!(
             "shard {}/{} holds no point of the {}-point grid: wrote a header-only {shown}/{TABLE}",
@@ -205,7 +205,7 @@ fn start(
         "{shown} holds an unfinished sweep ({PARTIAL}): add --resume to finish it, or remove the folder"
     );
     write_atomic(&dir.join(MANIFEST), serde_json::to_string_pretty(manifest)?.as_bytes())?;
-    std::fs::remove_file(dir.join(TABLE)).ok();
+    crate::files::remove_output(&dir.join(TABLE))?;
     write_atomic(&partial, &csv_line(&manifest.header)?)?;
     Ok(BTreeMap::new())
 }
@@ -219,7 +219,7 @@ fn csv_line(cells: &[String]) -> anyhow::Result<Vec<u8>> {
 
 fn read_manifest(dir: &Path) -> anyhow::Result<Manifest> {
     let path = dir.join(MANIFEST);
-    let text = read_input(&path, "sweep manifest")
+    let text = crate::files::read_own(&path, "sweep manifest")
         .with_context(|| format!("{} is no sweep's folder", dir.display()))?;
     serde_json::from_str(&text)
         .with_context(|| format!("{} is not a sweep manifest", path.display()))
@@ -358,7 +358,7 @@ fn chart(
         }
     }
     if first.is_none() {
-        std::fs::remove_file(dir.join("sweep.svg")).ok();
+        crate::files::remove_output(&dir.join("sweep.svg"))?;
         return Ok(false);
     }
     Ok(true)

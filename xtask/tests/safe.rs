@@ -183,3 +183,99 @@ fn outputs_that_cannot_be_written_fail_before_the_run() {
     }
     std::fs::remove_dir_all(&root).ok();
 }
+
+/// The paper's tip over 0.1 ms with 16 modes: a run of a few milliseconds.
+fn quick_tip() -> String {
+    validation("paper-tip.toml")
+        .replace("modes = 128", "modes = 16")
+        .replace("end_time = 0.005", "end_time = 0.0001")
+}
+
+#[test]
+fn a_refused_run_leaves_every_existing_file_as_it_was() {
+    // Before: the history file was opened (emptied) before the scene was known to run.
+    let root = scratch("refused");
+    let work = root.join("work");
+    let bad = work.join("bad.toml");
+    std::fs::write(&bad, quick_tip().replace("length = 1.15", "length = -1.0")).unwrap();
+    let keep = work.join("keep.csv");
+    std::fs::write(&keep, "precious\n").unwrap();
+    let out = xtask(&work, &["simulate", "bad.toml", "--history", "keep.csv"]);
+    assert!(!out.status.success());
+    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "precious\n");
+    // --field on a half-space (no field): refused, nothing replaced (before: emptied).
+    std::fs::write(work.join("half.toml"), validation("half-space-r10.toml")).unwrap();
+    let out = xtask(&work, &["simulate", "half.toml", "--field", "keep.csv"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no field along it"));
+    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "precious\n");
+    // No temporary file is left behind.
+    assert_eq!(tree(&work).len(), 3, "{:?}", tree(&work));
+    std::fs::remove_dir_all(&root).ok();
+}
+
+#[test]
+fn outputs_that_collide_with_each_other_or_an_input_are_refused_before_the_run() {
+    let root = scratch("collide");
+    let work = root.join("work");
+    std::fs::write(work.join("scene.toml"), quick_tip()).unwrap();
+    std::fs::create_dir_all(work.join("pl")).unwrap();
+    std::fs::write(work.join("h.csv"), "old\n").unwrap();
+    std::fs::write(work.join("pl").join("mine.csv"), "old\n").unwrap();
+    std::fs::hard_link(work.join("scene.toml"), work.join("alias.csv")).unwrap();
+    let before = tree(&work);
+    for (args, says) in [
+        // The same file twice (before: exit 0 and the history gone).
+        (vec!["--history", "h.csv", "--field", "./h.csv"], "is also"),
+        // A history inside the plots folder (a figure's table would replace it).
+        (vec!["--history", "pl/mine.csv", "--plots", "pl"], "holds"),
+        // A hard link of the scene (before: the scene emptied).
+        (vec!["--history", "alias.csv"], "an input of this run"),
+    ] {
+        let mut all = vec!["simulate", "scene.toml"];
+        all.extend(&args);
+        let out = xtask(&work, &all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains(says), "{args:?}: {stderr}");
+        assert!(out.stdout.is_empty(), "{args:?} ran");
+    }
+    assert_eq!(tree(&work), before);
+    assert_eq!(std::fs::read_to_string(work.join("h.csv")).unwrap(), "old\n");
+    assert_eq!(std::fs::read_to_string(work.join("scene.toml")).unwrap(), quick_tip());
+    // A scene kept in a sweep's output folder under the name of its table: refused, kept.
+    let sweep = work.join("sw");
+    std::fs::create_dir_all(&sweep).unwrap();
+    std::fs::write(sweep.join("sweep.csv"), quick_tip()).unwrap();
+    let out = xtask(
+        &work,
+        &["sweep", "sw/sweep.csv", "--set", "impact.drop_height=0.1:0.2:2", "--out", "sw"],
+    );
+    assert!(!out.status.success(), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("an input of this run"));
+    assert_eq!(std::fs::read_to_string(sweep.join("sweep.csv")).unwrap(), quick_tip());
+    std::fs::remove_dir_all(&root).ok();
+}
+
+#[cfg(unix)]
+#[test]
+fn a_link_in_an_output_folder_is_replaced_not_followed() {
+    // Before: --plots pl, with pl/contact_force.svg a link to a file outside pl, wrote the
+    // figure into that file.
+    let root = scratch("link");
+    let work = root.join("work");
+    std::fs::write(work.join("scene.toml"), quick_tip()).unwrap();
+    let outside = root.join("outside.txt");
+    std::fs::write(&outside, "keep me\n").unwrap();
+    std::fs::create_dir_all(work.join("pl")).unwrap();
+    for name in ["contact_force.svg", "contact_force.csv"] {
+        std::os::unix::fs::symlink(&outside, work.join("pl").join(name)).unwrap();
+    }
+    let out = xtask(&work, &["simulate", "scene.toml", "--plots", "pl"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read_to_string(&outside).unwrap(), "keep me\n");
+    for name in ["contact_force.svg", "contact_force.csv"] {
+        let meta = std::fs::symlink_metadata(work.join("pl").join(name)).unwrap();
+        assert!(meta.file_type().is_file(), "{name} is still a link");
+    }
+    std::fs::remove_dir_all(&root).ok();
+}
