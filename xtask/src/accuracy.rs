@@ -34,9 +34,13 @@ fn ladders(quick: bool) -> Ladders {
     }
 }
 
-/// One line of the journal: the setting's label and its report.
+/// One line of the journal: the study's fingerprint (the journal's first line), the
+/// setting's label and its report. The fingerprint proves where the line comes from: a run
+/// copied from another study's journal is refused.
 #[derive(serde::Serialize, serde::Deserialize)]
 struct Entry {
+    #[serde(default)]
+    study: String,
     setting: String,
     report: Report,
 }
@@ -272,16 +276,28 @@ pub(crate) fn run(
             "{} holds the runs of another study (scene or ladders differ): nothing to resume",
             journal.display()
         );
-        // A line cut by a kill has no line end: that setting runs again.
-        for line in lines.filter(|l| l.ends_with('\n')) {
-            let entry: Entry = serde_json::from_str(line)
-                .with_context(|| format!("{}: a line is not a run", journal.display()))?;
+        // A line cut by a kill has no line end: that setting runs again. Every other line
+        // must be a run of this study, of one of its settings; an error names its line.
+        for (k, line) in lines.enumerate().filter(|(_, l)| l.ends_with('\n')) {
+            let at = format!("{}, line {}", journal.display(), k + 2);
+            let entry: Entry =
+                serde_json::from_str(line).with_context(|| format!("{at}: not a run"))?;
+            anyhow::ensure!(
+                entry.study == id,
+                "{at}: a run of another study (its fingerprint {:?} is not this study's {id:?}): remove the line, or give the study it comes from",
+                impact::study::printable(&entry.study)
+            );
+            anyhow::ensure!(
+                all.iter().any(|s| s.label == entry.setting),
+                "{at}: {:?} is not a setting of this study",
+                impact::study::printable(&entry.setting)
+            );
             reports.insert(entry.setting, entry.report);
         }
         let mut kept = serde_json::to_string(&id)? + "\n";
         for (label, report) in &reports {
-            kept +=
-                &serde_json::to_string(&Entry { setting: label.clone(), report: report.clone() })?;
+            let entry = Entry { study: id.clone(), setting: label.clone(), report: report.clone() };
+            kept += &serde_json::to_string(&entry)?;
             kept += "\n";
         }
         write_atomic(&journal, kept.as_bytes())?;
@@ -305,6 +321,7 @@ pub(crate) fn run(
         .collect();
     let ran = run_settings(&all, &todo, &|i, report| {
         let line = serde_json::to_string(&Entry {
+            study: id.clone(),
             setting: all[i].label.clone(),
             report: report.clone(),
         })? + "\n";
@@ -390,6 +407,21 @@ mod tests {
         assert!(!parts.join("work_precision.csv").exists());
         // Not thrown away by a run without --resume.
         assert!(run(scene, Some(&parts), true, false, None).is_err());
+        // A run copied from another study's journal, and a damaged third line: refused by
+        // their line (before: taken as this study's reference; "line 1 column 13").
+        let journal = std::fs::read_to_string(parts.join(JOURNAL)).unwrap();
+        let lines: Vec<&str> = journal.lines().collect();
+        let id = lines[0].trim_matches('"');
+        let foreign = lines[1].replacen(id, "0123456789abcdef", 1);
+        for (text, says) in [
+            (format!("{journal}{foreign}\n"), "line 6: a run of another study"),
+            (format!("{}\n{}\n{{\"study\": 1,\n", lines[0], lines[1]), "line 3: not a run"),
+        ] {
+            std::fs::write(parts.join(JOURNAL), text).unwrap();
+            let e = format!("{:#}", run(scene, Some(&parts), true, true, None).unwrap_err());
+            assert!(e.contains(says), "{says}: {e}");
+        }
+        std::fs::write(parts.join(JOURNAL), journal).unwrap();
         run(scene, Some(&parts), true, true, None).unwrap();
         assert_eq!(timeless(&parts), timeless(&whole));
         assert!(parts.join("runs.jsonl").exists() && !parts.join(JOURNAL).exists());

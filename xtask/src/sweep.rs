@@ -137,7 +137,7 @@ fn run_with(request: &Request<'_>, runner: Runner<'_>) -> anyhow::Result<bool> {
             .with_context(|| format!("cannot write {}", dir.join(PARTIAL).display()))
     });
     written.into_iter().collect::<anyhow::Result<()>>()?;
-    let rows = read_rows(&dir.join(PARTIAL), &manifest.header)?;
+    let rows = read_rows(&dir.join(PARTIAL), &manifest)?;
     let failed = rows.values().filter(|r| r.last().is_some_and(|e| !e.is_empty())).count();
     let shown = dir.path().display();
     if rows.len() < mine.len() {
@@ -191,7 +191,7 @@ fn start(
             partial.exists(),
             "{shown} holds no unfinished sweep ({PARTIAL} is missing): nothing to resume"
         );
-        let rows = read_rows(&partial, &manifest.header)?;
+        let rows = read_rows(&partial, &manifest)?;
         // Rewritten without a row cut by a kill, so that appended rows start on a line.
         let mut text = csv_line(&manifest.header)?;
         for row in rows.values() {
@@ -226,9 +226,12 @@ fn read_manifest(dir: &Path) -> anyhow::Result<Manifest> {
 }
 
 /// The rows of a sweep table (`sweep.csv` or its partial form), by point: every row must have
-/// the header's fields, a point number and numbers in the result columns. In a partial table
-/// a last row without its line end (a run stopped while writing it) is left out.
-fn read_rows(path: &Path, header: &[String]) -> anyhow::Result<BTreeMap<usize, Vec<String>>> {
+/// the header's fields, numbers in the result columns, and belong to the folder's sweep (a
+/// point of its grid and of its shard, with that point's swept values: `Manifest::check_row`);
+/// an error names the file's line. In a partial table a last row without its line end (a run
+/// stopped while writing it) is left out.
+fn read_rows(path: &Path, manifest: &Manifest) -> anyhow::Result<BTreeMap<usize, Vec<String>>> {
+    let header = &manifest.header;
     let shown = path.display();
     let mut text = std::fs::read(path).with_context(|| format!("cannot read {shown}"))?;
     if path.ends_with(PARTIAL) {
@@ -242,11 +245,13 @@ fn read_rows(path: &Path, header: &[String]) -> anyhow::Result<BTreeMap<usize, V
         .iter()
         .map(str::to_string)
         .collect();
-    ensure!(found == header, "{shown}: its columns are not the sweep's");
+    ensure!(&found == header, "{shown}: its columns are not the sweep's");
     let numbers = header.len() - 1 - impact::study::COLUMNS.len()..header.len() - 1;
     let mut rows = BTreeMap::new();
-    for (line, record) in reader.records().enumerate() {
-        let at = format!("{shown}, row {}", line + 1);
+    for (row, record) in reader.records().enumerate() {
+        let line =
+            record.as_ref().ok().and_then(|r| r.position()).map_or(row as u64 + 2, |p| p.line());
+        let at = format!("{shown}, line {line}");
         let record = record.with_context(|| at.clone())?;
         ensure!(
             record.len() == header.len(),
@@ -255,8 +260,7 @@ fn read_rows(path: &Path, header: &[String]) -> anyhow::Result<BTreeMap<usize, V
             header.len()
         );
         let cells: Vec<String> = record.iter().map(str::to_string).collect();
-        let point: usize =
-            cells[0].parse().with_context(|| format!("{at}: {:?} is no point number", cells[0]))?;
+        let point = manifest.check_row(&cells).with_context(|| at.clone())?;
         for c in numbers.clone() {
             ensure!(
                 cells[c].is_empty() || cells[c].parse::<f64>().is_ok_and(f64::is_finite),
@@ -403,7 +407,7 @@ pub(crate) fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<bool> {
             manifest.shard.n
         );
         shards.push(manifest.shard.k);
-        let table = read_rows(&dir.join(TABLE), &manifest.header)?;
+        let table = read_rows(&dir.join(TABLE), &manifest)?;
         let expected: Vec<usize> = manifest.expected_points().collect();
         for (point, row) in table {
             ensure!(
@@ -499,7 +503,17 @@ mod tests {
         // A row cut by a kill is dropped and rerun.
         let mut cut = partial.clone();
         cut.push_str("5,1.75,1.7");
-        std::fs::write(parts.join(PARTIAL), cut).unwrap();
+        std::fs::write(parts.join(PARTIAL), &cut).unwrap();
+        // A row outside the grid in the journal is refused by its line, the journal kept.
+        let row = partial.lines().nth(1).unwrap().split_once(',').unwrap().1;
+        std::fs::write(parts.join(PARTIAL), format!("{partial}9,{row}\n")).unwrap();
+        let e = format!(
+            "{:#}",
+            run_with(&Request { resume: true, ..request(&sets, &parts) }, &timeless).unwrap_err()
+        );
+        assert!(e.contains("line 5: point 9 is not in the grid"), "{e}");
+        assert!(parts.join(PARTIAL).exists());
+        std::fs::write(parts.join(PARTIAL), &cut).unwrap();
         // A resume of another sweep is refused.
         let other = ["impact.speed=0.5:2:8".to_string()];
         let e = run_with(&Request { resume: true, ..request(&other, &parts) }, &timeless)
@@ -557,6 +571,21 @@ mod tests {
         let half = table.replacen("1.000000000e0,", "1.00000e,", 1);
         damaged(&half, "is not a number");
         damaged("junk", "columns are not the sweep's");
+        // Rows that are not the shard's: a swept value edited (it no longer matches its
+        // point), a point of another shard, a point past the grid; each named by its line.
+        let edit = |line: usize, field: usize, to: &str| {
+            let mut lines: Vec<String> = table.lines().map(str::to_string).collect();
+            let mut cells: Vec<String> = lines[line - 1].split(',').map(str::to_string).collect();
+            cells[field] = to.to_string();
+            lines[line - 1] = cells.join(",");
+            lines.join("\n") + "\n"
+        };
+        damaged(
+            &edit(3, 1, "1.5"),
+            "line 3: point 5 has impact.speed = 1.5, where the grid has 1.75",
+        );
+        damaged(&edit(2, 0, "3"), "line 2: point 3 is not in shard 3/3");
+        damaged(&edit(2, 0, "8"), "line 2: point 8 is not in the grid (it has 7 points)");
         std::fs::write(dirs[2].join(TABLE), table).unwrap();
         std::fs::remove_file(dirs[2].join(MANIFEST)).unwrap();
         refused(&dirs, "no sweep's folder");
@@ -577,7 +606,7 @@ mod tests {
             timeless(s)
         };
         run_with(&request(&sets, &dir), &failing).unwrap();
-        let rows = read_rows(&dir.join(TABLE), &read_manifest(&dir).unwrap().header).unwrap();
+        let rows = read_rows(&dir.join(TABLE), &read_manifest(&dir).unwrap()).unwrap();
         assert_eq!(rows.len(), 3);
         assert_eq!(rows[&1].last().unwrap(), "the solver failed\\u{a}here, \"quoted\"");
         assert!(rows[&0].last().unwrap().is_empty() && rows[&2].last().unwrap().is_empty());

@@ -20,7 +20,7 @@ pub const MAX_GRID_POINTS: usize = 1_000_000;
 const INTEGER_KEYS: [&str; 3] = ["solver.modes", "solver.elements", "solver.samples_per_pulse"];
 
 /// The version of [`Manifest`]'s layout.
-const MANIFEST_VERSION: u32 = 1;
+const MANIFEST_VERSION: u32 = 2;
 
 fn study(message: String) -> ImpactError {
     ImpactError::Study(message)
@@ -344,10 +344,7 @@ impl Grid {
     /// the reason.
     pub fn row(&self, i: usize, result: Result<&Report, &str>) -> Vec<String> {
         let mut cells = vec![i.to_string()];
-        cells.extend(self.point(i).iter().map(|(_, v)| match v {
-            toml::Value::String(s) => s.clone(),
-            other => other.to_string(),
-        }));
+        cells.extend(self.point(i).iter().map(|(_, v)| cell(v)));
         match result {
             Ok(r) => {
                 cells.extend(
@@ -448,6 +445,14 @@ impl Shard {
     }
 }
 
+/// A swept value as its table cell: a string as it is, anything else as TOML writes it.
+fn cell(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
 /// What a sweep's folder holds, written before its first point runs: which sweep (the
 /// fingerprint of its scene and axes), its keys, its size and which shard. A merge reads it to
 /// refuse shards of different sweeps and to name missing points; a resumed run reads it to
@@ -466,6 +471,10 @@ pub struct Manifest {
     pub shard: Shard,
     /// The CSV header.
     pub header: Vec<String>,
+    /// Each swept key's values as its cells in the table (version 2 on): what a row of the
+    /// folder is checked against.
+    #[serde(default)]
+    pub values: Vec<Vec<String>>,
 }
 
 impl Manifest {
@@ -478,7 +487,50 @@ impl Manifest {
             points: grid.len(),
             shard,
             header: grid.header(),
+            values: grid.axes().iter().map(|a| a.values.iter().map(cell).collect()).collect(),
         }
+    }
+
+    /// Whether the table row `cells` belongs to this folder: its point number in the grid and
+    /// in this shard, and its swept values the grid's at that point.
+    ///
+    /// # Errors
+    /// `Study` saying which of these the row breaks.
+    pub fn check_row(&self, cells: &[String]) -> Result<usize, ImpactError> {
+        let point: usize = cells
+            .first()
+            .and_then(|c| c.parse().ok())
+            .ok_or_else(|| study(format!("{:?} is no point number", cells.first())))?;
+        if point >= self.points {
+            return Err(study(format!(
+                "point {point} is not in the grid (it has {} points)",
+                self.points
+            )));
+        }
+        if (point + 1 - self.shard.k) % self.shard.n.max(1) != 0 || point + 1 < self.shard.k {
+            return Err(study(format!(
+                "point {point} is not in shard {}/{}",
+                self.shard.k, self.shard.n
+            )));
+        }
+        // The point's digits, the last axis fastest (as Grid::point numbers them).
+        let mut rest = point;
+        let mut expected = vec![""; self.values.len()];
+        for (slot, values) in expected.iter_mut().zip(&self.values).rev() {
+            let n = values.len().max(1);
+            *slot = values.get(rest % n).map_or("", String::as_str);
+            rest /= n;
+        }
+        for ((key, want), got) in self.keys.iter().zip(&expected).zip(&cells[1..]) {
+            if got != want {
+                return Err(study(format!(
+                    "point {point} has {key} = {}, where the grid has {}",
+                    crate::study::printable(got),
+                    crate::study::printable(want)
+                )));
+            }
+        }
+        Ok(point)
     }
 
     /// The point numbers this folder should hold.
