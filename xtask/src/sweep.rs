@@ -191,7 +191,7 @@ fn start(
             partial.exists(),
             "{shown} holds no unfinished sweep ({PARTIAL} is missing): nothing to resume"
         );
-        let rows = read_rows(&partial, &manifest)?;
+        let rows = read_rows(&partial, manifest)?;
         // Rewritten without a row cut by a kill, so that appended rows start on a line.
         let mut text = csv_line(&manifest.header)?;
         for row in rows.values() {
