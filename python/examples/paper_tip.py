@@ -55,7 +55,15 @@ def main() -> int:
     if failed:
         print(f"{len(failed)} point(s) failed, first: {failed[0]}", file=sys.stderr)
         return 1
-    import matplotlib
+    try:
+        import matplotlib
+    except ImportError:
+        print(
+            'this example draws its sweep with matplotlib: pip install "./python[examples]" '
+            "(or pip install matplotlib)",
+            file=sys.stderr,
+        )
+        return 1
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

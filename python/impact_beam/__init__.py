@@ -41,6 +41,56 @@ __all__ = [
 
 Scene = Union[str, "os.PathLike[str]", Mapping[str, Any]]
 
+
+def _flag(name: str, value: Any) -> bool:
+    """``value`` as a flag, or a TypeError naming the argument."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected True or False, got {value!r} ({type(value).__name__})")
+    return bool(value)
+
+
+def _callback(name: str, value: Any) -> Any:
+    """``value`` if it can be called (or None), else a TypeError naming the argument."""
+    if value is not None and not callable(value):
+        raise TypeError(
+            f"{name}: expected a function (called with the progress) or None, got {value!r} ({type(value).__name__})"
+        )
+    return value
+
+
+def _counts(name: str, values: Any) -> List[int]:
+    """``values`` as whole numbers >= 1, or an error naming the argument."""
+    try:
+        items = list(values)
+    except TypeError:
+        raise TypeError(f"{name}: expected a list of whole numbers, got {values!r}") from None
+    out = []
+    for v in items:
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise TypeError(f"{name}: expected whole numbers, got {v!r} ({type(v).__name__})")
+        if v < 1:
+            raise ValueError(f"{name}: {v} is not allowed: each must be at least 1")
+        out.append(int(v))
+    return out
+
+
+def _shard(value: Any) -> Optional[str]:
+    """``(k, n)`` or ``"k/n"`` as the native ``"k/n"``, or an error naming ``shard``."""
+    if value is None:
+        return None
+    if isinstance(value, str):
+        return value
+    try:
+        k, n = value
+    except (TypeError, ValueError):
+        raise TypeError(f"shard: expected (k, n) or \"k/n\", got {value!r}") from None
+    for v in (k, n):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise TypeError(f"shard: expected whole numbers (k, n), got {value!r}")
+    if not 1 <= k <= n:
+        raise ValueError(f"shard: {tuple(value)!r} is not allowed: 1 <= k <= n")
+    return f"{k}/{n}"
+
 #: The report's scalars in a sweep's table, with their units in the names (as sweep.csv).
 SWEEP_COLUMNS: List[str] = list(_native.SWEEP_COLUMNS)
 #: The columns of a comparison's table (as compare's summary.csv).
@@ -109,7 +159,7 @@ def simulate(
         scene: a path to a TOML scene file or a dict with its tables and keys.
         field: also record the beam along its length (displacement, slope, moment, stress).
         progress: called with the fraction of the simulated window done (0 to 1), at most a
-            thousand times; an exception it raises is raised when the run ends.
+            thousand times; an exception it raises stops the run and is raised.
 
     Returns:
         The report, the history's arrays and (with ``field``) the field's.
@@ -119,6 +169,8 @@ def simulate(
             allowed) or the file cannot be read.
         RuntimeError: the solver failed (the message says when and what to try).
     """
+    field = _flag("field", field)
+    progress = _callback("progress", progress)
     report, history, recorded = _native.simulate(scene, field, progress)
     return Simulation(json.loads(report), dict(history), None if recorded is None else dict(recorded))
 
@@ -127,17 +179,27 @@ def sweep(
     scene: Scene,
     axes: Mapping[str, Union[Sequence[Any], np.ndarray]],
     *,
-    shard: Optional[str] = None,
+    shard: Union[None, str, Sequence[int]] = None,
     progress: Optional[Callable[[int, int], Any]] = None,
+    journal: Union[None, str, "os.PathLike[str]"] = None,
 ) -> Dict[str, Union[np.ndarray, List[str]]]:
     """Run a scene over the grid of ``axes`` on every core (the GIL released).
+
+    Ctrl-C (KeyboardInterrupt) stops a sweep within a fraction of a second (the points in
+    progress finish); with ``journal``, every finished point is kept there as it finishes, and
+    a sweep given the same journal again runs only the points it lacks.
 
     Args:
         scene: a path to a TOML scene file or a dict with its tables and keys.
         axes: dotted scene keys and their values, ``{"impact.drop_height": [0.1, 0.2]}``; two
             or more keys make a grid (the last key varies fastest, as on the command line).
-        shard: ``"K/N"`` runs points K-1, K-1+N, ... of the grid (as ``sweep --shard``).
-        progress: called with (points done, points) after each point.
+        shard: ``(k, n)`` (or ``"k/n"``) runs points k-1, k-1+n, ... of the grid (as
+            ``sweep --shard k/n``).
+        progress: called with (points done, points) after each point; an exception it raises
+            stops the sweep (no point starts after it) and is raised.
+        journal: a file that keeps the finished points (a table with the sweep's fingerprint
+            on its first line); an existing one of the same sweep is resumed, one of another
+            sweep refused.
 
     Returns:
         The columns of the command line's sweep.csv: ``point`` (int64), each swept key
@@ -146,9 +208,15 @@ def sweep(
         had not ended) and ``error`` (a list of str, empty where the run succeeded).
 
     Raises:
-        ValueError: an axis, the shard or a point's scene is refused (naming the point).
+        ValueError: an axis, the shard or a point's scene is refused (naming the point), or
+            the journal is another sweep's.
+        KeyboardInterrupt: interrupted; the message says how many points were kept.
     """
-    return dict(_native.sweep(scene, dict(axes), shard, progress))
+    shard = _shard(shard)
+    progress = _callback("progress", progress)
+    if journal is not None:
+        journal = os.fspath(journal)
+    return dict(_native.sweep(scene, dict(axes), shard, progress, journal))
 
 
 def accuracy(
@@ -175,6 +243,8 @@ def accuracy(
         from the fe one's; ``theory_difference``: what Euler-Bernoulli modes leave out (or None);
         ``name``: the scene's name.
     """
+    quick = _flag("quick", quick)
+    progress = _callback("progress", progress)
     return dict(_native.accuracy(scene, quick, progress))
 
 
@@ -200,4 +270,6 @@ def compare(
     Raises:
         ValueError: the scene is refused, or has no beam.
     """
-    return dict(_native.compare(scene, list(modes), list(elements), progress))
+    modes, elements = _counts("modes", modes), _counts("elements", elements)
+    progress = _callback("progress", progress)
+    return dict(_native.compare(scene, modes, elements, progress))

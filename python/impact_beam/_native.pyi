@@ -19,6 +19,7 @@ def sweep(
     axes: Dict[str, Any],
     shard: Optional[str] = ...,
     progress: Optional[Callable[[int, int], Any]] = ...,
+    journal: Optional[Union[str, os.PathLike[str]]] = ...,
 ) -> Dict[str, Any]: ...
 def accuracy(
     scene: _Scene, quick: bool = ..., progress: Optional[Callable[[int, int], Any]] = ...

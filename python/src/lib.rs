@@ -13,8 +13,13 @@
 //!   line's message (for a file, "in PATH: ..." as it prints); a failed run raises
 //!   `RuntimeError`; a panic, which the library should never raise, is caught here and
 //!   raised as `RuntimeError` too, never as pyo3's `PanicException`.
-//! - A progress callback is called with the GIL held; an exception it raises is raised once
-//!   the work is done (the run is not stopped halfway).
+//! - Long calls stop early: the calling thread checks Python's signals every
+//!   [`SIGNAL_POLL`] while the work runs on others, so Ctrl-C (KeyboardInterrupt) is raised
+//!   within a fraction of a second; a progress callback that raises stops the work the same
+//!   way and is not called again. A run in progress stops at its next progress report (a
+//!   thousandth of its window); a sweep's points in progress finish, and a sweep with a
+//!   `journal` keeps every finished point there (resumable).
+//! - A progress callback is called with the GIL held.
 
 use impact::study::{self, Axis, Grid, Shard, COLUMNS};
 use impact::{ImpactError, Outcome, Scene};
@@ -40,9 +45,14 @@ impl SceneInput {
         let text = chain(error);
         match &self.path {
             Some(p) => PyValueError::new_err(format!("in {}: {text}", p.display())),
-            None => PyValueError::new_err(text),
+            None => PyValueError::new_err(for_a_dict(&text)),
         }
     }
+}
+
+/// A message about a scene given as a dict, in Python's words: it is no file.
+fn for_a_dict(text: &str) -> String {
+    text.replace("scene file: ", "scene: ").replace("the scene file", "the scene")
 }
 
 /// `value` (a Python object from a scene dict, at `key`) as a TOML value.
@@ -110,8 +120,8 @@ fn to_table(dict: &Bound<'_, PyDict>, at: &str) -> PyResult<toml::Table> {
 fn scene_input(scene: &Bound<'_, PyAny>) -> PyResult<SceneInput> {
     if let Ok(dict) = scene.cast::<PyDict>() {
         let table = to_table(dict, "")?;
-        let parsed =
-            Scene::from_table(table.clone()).map_err(|e| PyValueError::new_err(chain(&e)))?;
+        let parsed = Scene::from_table(table.clone())
+            .map_err(|e| PyValueError::new_err(for_a_dict(&chain(&e))))?;
         return Ok(SceneInput { path: None, table, scene: parsed });
     }
     let path: PathBuf = scene.extract().map_err(|_| {
@@ -140,47 +150,111 @@ fn chain(error: &dyn std::error::Error) -> String {
     text
 }
 
-/// Runs `work` without the GIL, a panic caught and turned into an error.
-fn detached<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
-    py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(work))).map_err(|panic| {
+/// How often the calling thread checks Python's signals while work runs.
+const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(20);
+
+/// Why a call stopped early: the first interrupt or callback exception; the work checks
+/// [`Stop::stopped`] before each point and at each progress report.
+#[derive(Default)]
+struct Stop {
+    flag: std::sync::atomic::AtomicBool,
+    error: Mutex<Option<PyErr>>,
+}
+
+/// The payload with which a run in progress unwinds when its call stops (never a panic's
+/// message: [`std::panic::resume_unwind`] does not run the panic hook).
+struct Stopped;
+
+impl Stop {
+    fn stopped(&self) -> bool {
+        self.flag.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Stops the call with `error` (the first one is kept).
+    fn stop(&self, error: PyErr) {
+        if let Ok(mut slot) = self.error.lock() {
+            slot.get_or_insert(error);
+        }
+        self.flag.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Ends a run in progress when the call has stopped (its progress report calls this).
+    fn unwind_if_stopped(&self) {
+        if self.stopped() {
+            std::panic::resume_unwind(Box::new(Stopped));
+        }
+    }
+
+    /// The reason the call stopped, if it did.
+    fn take(&self) -> Option<PyErr> {
+        self.error.lock().ok().and_then(|mut e| e.take())
+    }
+}
+
+/// Runs `work` on another thread without the GIL while this thread checks Python's signals
+/// every [`SIGNAL_POLL`] (an interrupt stops the call: `stop`); a panic is caught and turned
+/// into an error, a run unwound by [`Stop`] into the reason it stopped.
+fn detached<T: Send>(py: Python<'_>, stop: &Stop, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+    let result = py.detach(|| {
+        std::thread::scope(|scope| {
+            let worker =
+                scope.spawn(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)));
+            while !worker.is_finished() {
+                std::thread::sleep(SIGNAL_POLL);
+                if let Err(e) = Python::attach(|py| py.check_signals()) {
+                    stop.stop(e);
+                }
+            }
+            worker.join().unwrap_or_else(Err)
+        })
+    });
+    let value = result.map_err(|panic| {
+        if panic.is::<Stopped>() {
+            return stop.take().unwrap_or_else(|| PyRuntimeError::new_err("the call was stopped"));
+        }
         let what = panic
             .downcast_ref::<String>()
             .cloned()
             .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_string()))
             .unwrap_or_default();
         PyRuntimeError::new_err(format!("internal error (please report it): {what}"))
-    })
+    })?;
+    // An interrupt that came as the work ended still counts.
+    Python::attach(|py| py.check_signals())?;
+    Ok(value)
 }
 
-/// A progress callback shared by the worker threads: each call takes the GIL; the first
-/// exception is kept for [`Callback::finish`].
-struct Callback {
+/// A progress callback shared by the worker threads: each call takes the GIL; an exception
+/// stops the call (`stop`), and the callback is not called again.
+struct Callback<'a> {
     function: Option<Py<PyAny>>,
-    failed: Mutex<Option<PyErr>>,
+    stop: &'a Stop,
 }
 
-impl Callback {
-    fn new(function: Option<Py<PyAny>>) -> Self {
-        Self { function, failed: Mutex::new(None) }
+impl<'a> Callback<'a> {
+    /// `function` (None: no calls), after checking that it can be called.
+    fn new(function: Option<Py<PyAny>>, stop: &'a Stop) -> PyResult<Self> {
+        if let Some(f) = &function {
+            let callable = Python::attach(|py| f.bind(py).is_callable());
+            if !callable {
+                return Err(PyTypeError::new_err(
+                    "progress: expected a function (callable) or None",
+                ));
+            }
+        }
+        Ok(Self { function, stop })
     }
 
     fn call<A: for<'py> pyo3::call::PyCallArgs<'py>>(&self, args: A) {
         let Some(f) = &self.function else { return };
+        if self.stop.stopped() {
+            return;
+        }
         Python::attach(|py| {
             if let Err(e) = f.call1(py, args) {
-                if let Ok(mut slot) = self.failed.lock() {
-                    slot.get_or_insert(e);
-                }
+                self.stop.stop(e);
             }
         });
-    }
-
-    /// The callback's first exception, if any.
-    fn finish(self) -> PyResult<()> {
-        match self.failed.into_inner() {
-            Ok(Some(e)) => Err(e),
-            _ => Ok(()),
-        }
     }
 }
 
@@ -195,28 +269,32 @@ fn run_error(input: &SceneInput, e: &ImpactError) -> PyErr {
     }
 }
 
-/// Runs `scenes` on every core without the GIL, telling `progress` (points done, points)
-/// after each: the reports (or errors) in the scenes' order.
+/// Runs `scenes` on every core without the GIL: each finished one handed to `finished` (its
+/// index and report) and counted to `callback` (points done, points); a point not started
+/// when the call stopped is `None`.
 fn simulate_all(
     py: Python<'_>,
     scenes: &[Scene],
-    progress: Option<Py<PyAny>>,
-) -> PyResult<Vec<Result<impact::Report, ImpactError>>> {
-    let callback = Callback::new(progress);
+    (stop, callback): (&Stop, &Callback<'_>),
+    finished: &(dyn Fn(usize, &Result<impact::Report, ImpactError>) + Sync),
+) -> PyResult<Vec<Option<Result<impact::Report, ImpactError>>>> {
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let reports = detached(py, || {
+    detached(py, stop, || {
         scenes
             .par_iter()
-            .map(|s| {
+            .enumerate()
+            .map(|(k, s)| {
+                if stop.stopped() {
+                    return None;
+                }
                 let report = impact::simulate(s).map(|o| o.report);
+                finished(k, &report);
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 callback.call((n, scenes.len()));
-                report
+                Some(report)
             })
             .collect()
-    })?;
-    callback.finish()?;
-    Ok(reports)
+    })
 }
 
 fn column<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
@@ -237,10 +315,17 @@ fn simulate<'py>(
     if field {
         plan = plan.with_field().map_err(|e| input.refuse(&e))?;
     }
-    let callback = Callback::new(progress);
-    let outcome: Result<Outcome, ImpactError> =
-        detached(py, || impact::run_with_progress(&plan, &|fraction| callback.call((fraction,))))?;
-    callback.finish()?;
+    let stop = Stop::default();
+    let callback = Callback::new(progress, &stop)?;
+    let outcome: Result<Outcome, ImpactError> = detached(py, &stop, || {
+        impact::run_with_progress(&plan, &|fraction| {
+            callback.call((fraction,));
+            stop.unwind_if_stopped();
+        })
+    })?;
+    if let Some(e) = stop.take() {
+        return Err(e);
+    }
     let outcome = outcome.map_err(|e| run_error(&input, &e))?;
     let report = serde_json::to_string(&outcome.report)
         .map_err(|e| PyRuntimeError::new_err(format!("the report does not serialise: {e}")))?;
@@ -287,18 +372,158 @@ fn key_column<'py>(py: Python<'py>, values: &[&toml::Value]) -> PyResult<Bound<'
     })
 }
 
-/// `sweep`: the columns of the command line's sweep.csv over the points of `shard`.
+/// The first line of a sweep's journal: what it is, then the sweep's fingerprint and shard.
+const JOURNAL_TAG: &str = "# impact-beam sweep journal";
+
+/// A sweep's journal (`journal=PATH`): the tag line, the table's header, then a table row a
+/// finished point, appended (and flushed) as each finishes, so an interrupted sweep keeps
+/// them; a sweep given the same journal again runs only the points it lacks.
+struct Journal {
+    path: PathBuf,
+    file: Mutex<std::fs::File>,
+    /// The rows it held when opened, by point (each checked against the sweep's grid).
+    kept: std::collections::BTreeMap<usize, Vec<String>>,
+}
+
+/// One CSV line of `cells`.
+fn csv_line(cells: &[String]) -> PyResult<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(cells).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    w.into_inner().map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
+impl Journal {
+    /// Opens `path` for the sweep of `manifest`: a new file with its tag and header, or an
+    /// existing one of the same sweep, whose rows are checked ([`study::Manifest::check_row`])
+    /// and kept; another sweep's, or a damaged one, is refused naming the line.
+    fn open(path: PathBuf, manifest: &study::Manifest) -> PyResult<Self> {
+        use std::io::Write;
+        let tag = format!(
+            "{JOURNAL_TAG} {} shard {}/{}",
+            manifest.fingerprint, manifest.shard.k, manifest.shard.n
+        );
+        let shown = path.display().to_string();
+        let refuse = |line: usize, why: String| {
+            PyValueError::new_err(format!("journal {shown}, line {line}: {why}"))
+        };
+        let mut kept = std::collections::BTreeMap::new();
+        if path.exists() {
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| PyValueError::new_err(format!("journal {shown}: {e}")))?;
+            let mut lines = text.split_inclusive('\n');
+            if lines.next().map(str::trim_end) != Some(tag.as_str()) {
+                return Err(refuse(1, "the journal of another sweep (scene, axes or shard differ), or not a journal: give another path".into()));
+            }
+            let header = csv_line(&manifest.header)?;
+            if lines.next().map(str::as_bytes) != Some(header.as_slice()) {
+                return Err(refuse(2, "its columns are not the sweep's".into()));
+            }
+            // A last line without its end (a write cut short) is left out: that point runs.
+            for (k, line) in lines.enumerate().filter(|(_, l)| l.ends_with('\n')) {
+                let mut reader =
+                    csv::ReaderBuilder::new().has_headers(false).from_reader(line.as_bytes());
+                let record = reader
+                    .records()
+                    .next()
+                    .and_then(Result::ok)
+                    .ok_or_else(|| refuse(k + 3, "not a table row".into()))?;
+                let cells: Vec<String> = record.iter().map(str::to_string).collect();
+                if cells.len() != manifest.header.len() {
+                    return Err(refuse(
+                        k + 3,
+                        format!(
+                            "{} fields where the header has {}",
+                            cells.len(),
+                            manifest.header.len()
+                        ),
+                    ));
+                }
+                let point = manifest.check_row(&cells).map_err(|e| refuse(k + 3, chain(&e)))?;
+                kept.insert(point, cells);
+            }
+        }
+        let mut text = tag.into_bytes();
+        text.push(b'\n');
+        text.extend(csv_line(&manifest.header)?);
+        for row in kept.values() {
+            text.extend(csv_line(row)?);
+        }
+        // Rewritten whole (a cut last line dropped), then appended to.
+        let tmp = path.with_extension("journal-tmp");
+        std::fs::write(&tmp, &text)
+            .and_then(|()| std::fs::rename(&tmp, &path))
+            .map_err(|e| PyValueError::new_err(format!("journal {shown}: cannot write it: {e}")))?;
+        let mut file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&path)
+            .map_err(|e| PyValueError::new_err(format!("journal {shown}: cannot write it: {e}")))?;
+        file.flush().ok();
+        Ok(Self { path, file: Mutex::new(file), kept })
+    }
+
+    /// Appends a finished point's row.
+    fn append(&self, cells: &[String]) {
+        use std::io::Write;
+        if let (Ok(line), Ok(mut f)) = (csv_line(cells), self.file.lock()) {
+            f.write_all(&line).and_then(|()| f.flush()).ok();
+        }
+    }
+}
+
+/// A sweep table's cells as the Python columns: `point`, the swept keys, the scalars
+/// (NaN where blank), `error`.
+fn sweep_columns<'py>(
+    py: Python<'py>,
+    grid: &Grid,
+    rows: &std::collections::BTreeMap<usize, Vec<String>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let points: Vec<usize> = rows.keys().copied().collect();
+    let out = PyDict::new(py);
+    out.set_item("point", PyArray1::from_vec(py, points.iter().map(|&i| i as i64).collect()))?;
+    let keys = grid.keys();
+    for (a, key) in keys.iter().enumerate() {
+        let values: Vec<&toml::Value> = points.iter().map(|&i| grid.point(i)[a].1).collect();
+        out.set_item(key, key_column(py, &values)?)?;
+    }
+    for (c, name) in COLUMNS.iter().enumerate() {
+        let values: Vec<f64> = rows
+            .values()
+            .map(|cells| cells[1 + keys.len() + c].parse().unwrap_or(f64::NAN))
+            .collect();
+        out.set_item(name, column(py, &values))?;
+    }
+    let errors: Vec<String> =
+        rows.values().map(|c| c.last().cloned().unwrap_or_default()).collect();
+    out.set_item("error", errors)?;
+    Ok(out)
+}
+
+/// `sweep`: the columns of the command line's sweep.csv over the points of `shard`; with a
+/// `journal`, every finished point kept there as it finishes, and the points it already holds
+/// not run again.
 #[pyfunction]
-#[pyo3(signature = (scene, axes, shard = None, progress = None))]
+#[pyo3(signature = (scene, axes, shard = None, progress = None, journal = None))]
 fn sweep<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
     axes: &Bound<'py, PyDict>,
     shard: Option<&str>,
     progress: Option<Py<PyAny>>,
+    journal: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let input = scene_input(scene)?;
-    let refuse = |e: ImpactError| PyValueError::new_err(chain(&e));
+    // The library's messages name the command line's options: in Python they are arguments.
+    let refuse = |e: ImpactError| {
+        PyValueError::new_err(
+            chain(&e)
+                .replace(
+                    "give at least one --set KEY=START:STOP:COUNT or KEY=v1,v2,...",
+                    "axes: give at least one key and its values",
+                )
+                .replace("--set ", "axes: ")
+                .replace("--shard ", "shard: "),
+        )
+    };
     let mut parsed = Vec::new();
     for (k, v) in axes.iter() {
         let key: String = k
@@ -312,7 +537,12 @@ fn sweep<'py>(
     }
     let grid = Grid::new(parsed).map_err(refuse)?;
     let shard = shard.map(Shard::parse).transpose().map_err(refuse)?.unwrap_or(Shard::WHOLE);
-    let mine: Vec<usize> = shard.points(grid.len()).collect();
+    let manifest = study::Manifest::new(&input.table, &grid, shard);
+    let journal = journal.map(|p| Journal::open(p, &manifest)).transpose()?;
+    let mine: Vec<usize> = shard
+        .points(grid.len())
+        .filter(|i| journal.as_ref().is_none_or(|j| !j.kept.contains_key(i)))
+        .collect();
     // Every point's scene before any run, as the command line does: a bad point stops the
     // sweep before it costs anything (the message names the point and its values).
     let scenes: Vec<Scene> = mine
@@ -320,30 +550,43 @@ fn sweep<'py>(
         .map(|&i| grid.scene(&input.table, i))
         .collect::<Result<_, _>>()
         .map_err(refuse)?;
-    let results: Vec<Result<impact::Report, String>> = simulate_all(py, &scenes, progress)?
-        .into_iter()
-        .map(|r| r.map_err(|e| chain(&e)))
-        .collect();
-    let out = PyDict::new(py);
-    out.set_item("point", PyArray1::from_vec(py, mine.iter().map(|&i| i as i64).collect()))?;
-    for (a, key) in grid.keys().iter().enumerate() {
-        let values: Vec<&toml::Value> = mine.iter().map(|&i| grid.point(i)[a].1).collect();
-        out.set_item(key, key_column(py, &values)?)?;
+    let row = |k: usize, r: &Result<impact::Report, ImpactError>| {
+        let why = r.as_ref().err().map(|e| chain(e));
+        grid.row(mine[k], r.as_ref().map_err(|_| why.as_deref().unwrap_or("")))
+    };
+    let stop = Stop::default();
+    let callback = Callback::new(progress, &stop)?;
+    let results = simulate_all(py, &scenes, (&stop, &callback), &|k, r| {
+        if let Some(j) = &journal {
+            j.append(&row(k, r));
+        }
+    })?;
+    let mut rows = journal.as_ref().map(|j| j.kept.clone()).unwrap_or_default();
+    for (k, r) in results.iter().enumerate() {
+        if let Some(r) = r {
+            rows.insert(mine[k], row(k, r));
+        }
     }
-    let scalars: Vec<[Option<f64>; COLUMNS.len()]> = results
-        .iter()
-        .map(|r| r.as_ref().map_or([None; COLUMNS.len()], study::grid::scalars))
-        .collect();
-    for (c, name) in COLUMNS.iter().enumerate() {
-        let values: Vec<f64> = scalars.iter().map(|row| row[c].unwrap_or(f64::NAN)).collect();
-        out.set_item(name, column(py, &values))?;
+    if let Some(e) = stop.take() {
+        let total = shard.points(grid.len()).count();
+        let kept = match &journal {
+            Some(j) => format!(
+                "{} of {total} points are kept in {}: call sweep again with the same journal to finish",
+                rows.len(),
+                j.path.display()
+            ),
+            None => format!(
+                "{} of {total} points had finished and are lost: pass journal=PATH to keep them",
+                rows.len()
+            ),
+        };
+        return Err(if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
+            pyo3::exceptions::PyKeyboardInterrupt::new_err(format!("sweep interrupted: {kept}"))
+        } else {
+            e
+        });
     }
-    let errors: Vec<String> = results
-        .iter()
-        .map(|r| r.as_ref().err().map_or_else(String::new, |e| study::printable(e)))
-        .collect();
-    out.set_item("error", errors)?;
-    Ok(out)
+    sweep_columns(py, &grid, &rows)
 }
 
 /// `accuracy`: the work-precision study's table, references and the models' differences.
@@ -358,10 +601,17 @@ fn accuracy<'py>(
     use study::accuracy::{run, Ladders, ROW_COLUMNS};
     let input = scene_input(scene)?;
     let ladders = if quick { Ladders::quick() } else { Ladders::full() };
-    let callback = Callback::new(progress);
-    let study =
-        detached(py, || run(&input.scene, &ladders, &|done, total| callback.call((done, total))))?;
-    callback.finish()?;
+    let stop = Stop::default();
+    let callback = Callback::new(progress, &stop)?;
+    let study = detached(py, &stop, || {
+        run(&input.scene, &ladders, &|done, total| {
+            callback.call((done, total));
+            stop.unwind_if_stopped();
+        })
+    })?;
+    if let Some(e) = stop.take() {
+        return Err(e);
+    }
     let study = study.map_err(|e| run_error(&input, &e))?;
     let rows = PyDict::new(py);
     rows.set_item("method", study.rows.iter().map(|r| r.method).collect::<Vec<_>>())?;
@@ -415,10 +665,14 @@ fn compare<'py>(
     let input = scene_input(scene)?;
     let runs = runs(&input.scene, &modes, &elements).map_err(|e| input.refuse(&e))?;
     let scenes: Vec<Scene> = runs.iter().map(|(_, s)| s.clone()).collect();
-    let reports: Vec<impact::Report> = simulate_all(py, &scenes, progress)?
-        .into_iter()
-        .collect::<Result<_, _>>()
-        .map_err(|e| run_error(&input, &e))?;
+    let stop = Stop::default();
+    let callback = Callback::new(progress, &stop)?;
+    let all = simulate_all(py, &scenes, (&stop, &callback), &|_, _| {})?;
+    if let Some(e) = stop.take() {
+        return Err(e);
+    }
+    let reports: Vec<impact::Report> =
+        all.into_iter().flatten().collect::<Result<_, _>>().map_err(|e| run_error(&input, &e))?;
     let rows = summary(runs.iter().map(|(l, _)| l.as_str()).zip(&reports));
     let floats = |value: fn(&SummaryRow) -> Option<f64>| {
         column(py, &rows.iter().map(|r| value(r).unwrap_or(f64::NAN)).collect::<Vec<_>>())

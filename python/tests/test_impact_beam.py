@@ -264,3 +264,81 @@ def test_the_example_runs_and_prints_the_first_contact(tmp_path):
     assert f"first contact: {first['duration'] * 1e6:.3f} µs, peak force {first['peak_force']:.1f} N" in done.stdout
     assert (tmp_path / "drop_height_sweep.png").stat().st_size > 10_000
     assert "modal reference" in done.stdout and "fe reference" in done.stdout
+
+
+def long_sweep_axes(points):
+    """A sweep of `points` points of the paper's tip, each a few milliseconds."""
+    return {"solver.end_time": [2e-4], "impact.drop_height": list(np.linspace(0.05, 0.5, points))}
+
+
+def test_an_interrupted_sweep_raises_promptly_and_its_journal_keeps_the_finished_points(tmp_path):
+    """Ctrl-C (SIGINT) half a second into a long sweep: KeyboardInterrupt within half a second
+    more, saying how many points were kept; the journal holds them, and the same call with the
+    same journal runs only the rest (before: the interrupt waited for every point, then a
+    PanicException, and every finished point was lost)."""
+    import signal
+
+    journal = tmp_path / "journal.csv"
+    axes = long_sweep_axes(1500)
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt, match="points are kept in") as caught:
+        ib.sweep(TIP, axes, journal=journal)
+    late = time.perf_counter() - start - 0.5
+    assert late < 0.5, f"KeyboardInterrupt {late:.3f} s after the signal"
+    kept = journal.read_text().splitlines()[2:]
+    assert 0 < len(kept) < 1500, len(kept)
+    assert f"{len(kept)} of 1500" in str(caught.value)
+    # Resumed: the kept points are not run again.
+    ran = []
+    table = ib.sweep(TIP, axes, journal=journal, progress=lambda done, total: ran.append(total))
+    assert list(table["point"]) == list(range(1500))
+    assert ran and ran[0] == 1500 - len(kept)
+
+
+def test_a_raising_progress_callback_stops_a_sweep_after_one_call():
+    calls = []
+
+    def fail(done, total):
+        calls.append(done)
+        raise KeyError("stop here")
+
+    with pytest.raises(KeyError, match="stop here"):
+        ib.sweep(TIP, long_sweep_axes(400), progress=fail)
+    assert len(calls) == 1, calls
+
+
+def test_a_journal_of_another_sweep_is_refused(tmp_path):
+    journal = tmp_path / "journal.csv"
+    ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 1.0]}, journal=journal)
+    with pytest.raises(ValueError, match="line 1: the journal of another sweep"):
+        ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 2.0]}, journal=journal)
+    # An edited row: refused by its line.
+    lines = journal.read_text().splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith("1,1.0,"))
+    lines[at] = lines[at].replace("1,1.0,", "1,1.5,", 1)
+    journal.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=f"line {at + 1}: point 1 has impact.speed = 1.5"):
+        ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 1.0]}, journal=journal)
+
+
+def test_arguments_are_refused_in_pythons_words():
+    with pytest.raises(TypeError, match="field: expected True or False, got 'yes'"):
+        ib.simulate(TIP, field="yes")
+    started = time.perf_counter()
+    with pytest.raises(TypeError, match="progress: expected a function"):
+        ib.sweep(TIP, long_sweep_axes(400), progress=5)
+    assert time.perf_counter() - started < 0.2, "refused only after the run"
+    with pytest.raises(ValueError, match="modes: -1 is not allowed"):
+        ib.compare(TIP, modes=[-1])
+    with pytest.raises(ValueError, match=r"shard: \(3, 2\) is not allowed"):
+        ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 1.0]}, shard=(3, 2))
+    half = ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 1.0, 1.5]}, shard=(2, 2))
+    assert list(half["point"]) == [1]
+    with pytest.raises(ValueError, match="axes: give at least one key") as caught:
+        ib.sweep(HALF_SPACE, {})
+    assert "--set" not in str(caught.value)
+    with pytest.raises(ValueError) as caught:
+        ib.simulate({"beam": {"length": 1.0}, "nonsense": 1})
+    assert "scene file" not in str(caught.value), caught.value
