@@ -14,7 +14,7 @@
 //!   `RuntimeError`; a panic, which the library should never raise, is caught here and
 //!   raised as `RuntimeError` too, never as pyo3's `PanicException`.
 //! - Long calls stop early: the calling thread checks Python's signals every
-//!   [`SIGNAL_POLL`] while the work runs on others, so Ctrl-C (KeyboardInterrupt) is raised
+//!   `SIGNAL_POLL` (20 ms) while the work runs on others, so Ctrl-C (KeyboardInterrupt) is raised
 //!   within a fraction of a second; a progress callback that raises stops the work the same
 //!   way and is not called again. A run in progress stops at its next progress report (a
 //!   thousandth of its window); a sweep's points in progress finish, and a sweep with a
