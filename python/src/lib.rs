@@ -470,12 +470,14 @@ impl Journal {
     }
 }
 
-/// A sweep table's cells as the Python columns: `point`, the swept keys, the scalars
-/// (NaN where blank), `error`.
+/// A sweep table's rows as the Python columns: `point`, the swept keys, the scalars (the
+/// runs' own values where this call ran them, else the journal's printed ones; NaN where
+/// blank), `error`.
 fn sweep_columns<'py>(
     py: Python<'py>,
     grid: &Grid,
     rows: &std::collections::BTreeMap<usize, Vec<String>>,
+    exact: &std::collections::BTreeMap<usize, [Option<f64>; COLUMNS.len()]>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let points: Vec<usize> = rows.keys().copied().collect();
     let out = PyDict::new(py);
@@ -487,8 +489,11 @@ fn sweep_columns<'py>(
     }
     for (c, name) in COLUMNS.iter().enumerate() {
         let values: Vec<f64> = rows
-            .values()
-            .map(|cells| cells[1 + keys.len() + c].parse().unwrap_or(f64::NAN))
+            .iter()
+            .map(|(point, cells)| match exact.get(point) {
+                Some(row) => row[c].unwrap_or(f64::NAN),
+                None => cells[1 + keys.len() + c].parse().unwrap_or(f64::NAN),
+            })
             .collect();
         out.set_item(name, column(py, &values))?;
     }
@@ -562,9 +567,12 @@ fn sweep<'py>(
         }
     })?;
     let mut rows = journal.as_ref().map(|j| j.kept.clone()).unwrap_or_default();
+    let mut exact = std::collections::BTreeMap::new();
     for (k, r) in results.iter().enumerate() {
         if let Some(r) = r {
             rows.insert(mine[k], row(k, r));
+            let scalars = r.as_ref().map_or([None; COLUMNS.len()], study::grid::scalars);
+            exact.insert(mine[k], scalars);
         }
     }
     if let Some(e) = stop.take() {
@@ -586,7 +594,7 @@ fn sweep<'py>(
             e
         });
     }
-    sweep_columns(py, &grid, &rows)
+    sweep_columns(py, &grid, &rows, &exact)
 }
 
 /// `accuracy`: the work-precision study's table, references and the models' differences.
