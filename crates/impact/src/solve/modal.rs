@@ -779,6 +779,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         self.max_displacement = recovered.displacement;
         let mut summary = plan.summary.clone();
         summary.reasons.extend(recovered.note);
+        warnings.extend(recovered.warnings);
         let static_stiffness = match &plan.method {
             Method::Modal(m) => {
                 let length = m.beam.length();

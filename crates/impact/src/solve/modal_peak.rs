@@ -48,6 +48,11 @@ pub(crate) const POINT_TOLERANCE: f64 = 1e-10;
 /// The most cells one search splits; past it the search stops and reports the gap it reached.
 const MAX_SPLITS: usize = 400_000;
 
+/// The most mode-values (a row or a state's q and v: one a mode each) one search makes, a
+/// bound on its time and memory (2e7: 160 MB); with many modes (20000, a scene's most) it
+/// stops sooner and reports the gap it reached.
+const MAX_MODE_VALUES: usize = 20_000_000;
+
 /// A field at one point: value = F p + sum r_n q_n.
 #[derive(Debug, Clone)]
 pub(crate) struct Row {
@@ -695,7 +700,10 @@ impl Search<'_> {
         let mut splits = 0;
         let mut left = f64::NEG_INFINITY;
         while let Some(cell) = heap.pop() {
-            if cell.bound <= self.target() || splits >= MAX_SPLITS {
+            let made =
+                self.rows.len() + 2 * self.blocks.iter().map(|b| b.nodes.len()).sum::<usize>();
+            let spent = made * self.rows.first().map_or(1, |r| r.r.len().max(1));
+            if cell.bound <= self.target() || splits >= MAX_SPLITS || spent >= MAX_MODE_VALUES {
                 left = cell.bound;
                 break;
             }

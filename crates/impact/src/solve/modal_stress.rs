@@ -658,20 +658,44 @@ impl Peaks {
 
     /// What the reasons say of the searches: the gap each closed, as a fraction of its value.
     fn note(&self) -> Option<String> {
-        let gap = |p: &Peak| if p.value.abs() > 0.0 { p.bound / p.value.abs() - 1.0 } else { 0.0 };
-        let all: Vec<&Peak> = self
-            .stress_peak
-            .iter()
-            .chain(&self.displacement_peak)
-            .chain(&self.support_peaks)
-            .collect();
-        let worst = all.iter().map(|p| gap(p)).fold(0.0, f64::max);
+        let all = self.gaps();
+        let worst = all.iter().map(|g| g.1).fold(0.0, f64::max);
         (!all.is_empty()).then(|| {
             format!(
-                "largest stress (over the beam), each support's and the largest displacement at the impact point: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e})",
-                modal_peak::PEAK_TOLERANCE
+                "largest stress (over the beam), each support's and the largest displacement at the impact point: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e} for the stress, {:.0e} at a point)",
+                modal_peak::PEAK_TOLERANCE,
+                modal_peak::POINT_TOLERANCE
             )
         })
+    }
+
+    /// Each search's name and the gap it left, as a fraction of its value.
+    fn gaps(&self) -> Vec<(String, f64)> {
+        let gap = |p: &Peak| if p.value.abs() > 0.0 { p.bound / p.value.abs() - 1.0 } else { 0.0 };
+        let mut out: Vec<(String, f64)> = Vec::new();
+        out.extend(self.stress_peak.iter().map(|p| ("the largest stress".to_string(), gap(p))));
+        out.extend(
+            self.displacement_peak.iter().map(|p| ("the largest displacement".to_string(), gap(p))),
+        );
+        out.extend(
+            self.support_peaks.iter().map(|p| (format!("the stress at x = {} m", p.x), gap(p))),
+        );
+        out
+    }
+
+    /// Warnings for searches that stopped at their budget short of their tolerance: the
+    /// value printed is one the field takes, but a larger one is not ruled out.
+    fn warnings(&self) -> Vec<String> {
+        self.gaps()
+            .into_iter()
+            .filter(|(_, g)| *g > 10.0 * modal_peak::PEAK_TOLERANCE)
+            .map(|(what, g)| {
+                format!(
+                    "{what} is certain only to {g:.1e} of itself: the search between the observed instants stopped at its budget ({} modes make its bounds loose); fewer modes, or solver.tolerance",
+                    self.displacement.r.len()
+                )
+            })
+            .collect()
     }
 }
 
@@ -700,6 +724,10 @@ impl BeamRecorder for ModalStress {
 
     fn search_note(&self) -> Option<String> {
         self.peaks.note()
+    }
+
+    fn search_warnings(&self) -> Vec<String> {
+        self.peaks.warnings()
     }
 
     fn take_field(&mut self) -> Option<Field> {

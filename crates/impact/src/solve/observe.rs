@@ -56,6 +56,10 @@ pub(crate) trait BeamRecorder {
     fn search_note(&self) -> Option<String> {
         None
     }
+    /// Warnings of maxima the recovery could not make certain.
+    fn search_warnings(&self) -> Vec<String> {
+        Vec::new()
+    }
     /// The recorded field, if it was asked for.
     fn take_field(&mut self) -> Option<Field>;
 }
@@ -67,8 +71,10 @@ pub(crate) struct Recovered {
     pub(crate) field: Option<Field>,
     /// The largest displacement at the impact point (m) and when (s).
     pub(crate) displacement: (f64, f64),
-    /// How the maxima were found, for the report's reasons.
+    /// How the maxima were found, for the report's reasons, and what could not be made
+    /// certain, for its warnings.
     pub(crate) note: Option<String>,
+    pub(crate) warnings: Vec<String>,
 }
 
 /// The users of a run's instants.
@@ -140,7 +146,8 @@ impl<'a> Recorders<'a> {
         let displacement =
             self.beam.as_mut().map_or(displacement, |b| b.displacement_peak(displacement));
         let note = self.beam.as_ref().and_then(|b| b.search_note());
+        let warnings = self.beam.as_ref().map(|b| b.search_warnings()).unwrap_or_default();
         let field = self.beam.as_mut().and_then(|b| b.take_field());
-        Recovered { history: self.history, stress, field, displacement, note }
+        Recovered { history: self.history, stress, field, displacement, note, warnings }
     }
 }
