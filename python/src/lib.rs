@@ -247,10 +247,12 @@ impl<'a> Callback<'a> {
 
     fn call<A: for<'py> pyo3::call::PyCallArgs<'py>>(&self, args: A) {
         let Some(f) = &self.function else { return };
-        if self.stop.stopped() {
-            return;
-        }
         Python::attach(|py| {
+            // Checked with the GIL held: a call that raised on another thread set it while it
+            // held the GIL, so no call waiting for the GIL follows one that raised.
+            if self.stop.stopped() {
+                return;
+            }
             if let Err(e) = f.call1(py, args) {
                 self.stop.stop(e);
             }
