@@ -4,6 +4,13 @@
 
 use impact::*;
 
+/// The steel ball of radius 5 mm both beams here are struck by.
+const BALL: &str = r#"[ball]
+radius = 0.005
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0"#;
+
 /// An aluminium strip (1 m, 30 x 6 mm) pinned at both ends, struck at a third of its span by
 /// a 10 mm steel ball at 1.5 m/s, gravity off, over 20 ms (its first mode's period is 36 ms,
 /// so the largest displacement comes in free flight, far from any contact step).
@@ -19,11 +26,7 @@ support = "pinned-pinned"
 youngs_modulus = 7.0e10
 poisson_ratio = 0.33
 density = 2700.0
-[ball]
-radius = 0.005
-youngs_modulus = 2.1e11
-poisson_ratio = 0.3
-density = 7850.0
+{BALL}
 [impact]
 position = 0.3333333333333333
 speed = 1.5
@@ -112,11 +115,7 @@ support = "pinned-pinned"
 youngs_modulus = 2.1e11
 poisson_ratio = 0.3
 density = 7850.0
-[ball]
-radius = 0.005
-youngs_modulus = 2.1e11
-poisson_ratio = 0.3
-density = 7850.0
+{BALL}
 [impact]
 position = 0.05
 speed = 1.0
