@@ -73,6 +73,8 @@ pub(crate) struct ModeData {
     static_q: Vec<f64>,
     /// 1 / omega (0 for a rigid-body mode) (s).
     inv_omega: Vec<f64>,
+    /// The first elastic mode (the rigid-body modes, omega = 0, come first).
+    elastic_from: usize,
 }
 
 impl ModeData {
@@ -85,7 +87,8 @@ impl ModeData {
             .collect();
         let inv_omega =
             modes.omega().iter().map(|w| if *w > 0.0 { 1.0 / w } else { 0.0 }).collect();
-        Self { modes, static_q, inv_omega }
+        let elastic_from = modes.omega().iter().take_while(|w| **w <= 0.0).count();
+        Self { modes, static_q, inv_omega, elastic_from }
     }
 
     pub(crate) fn modes(&self) -> &PointModes {
@@ -105,39 +108,43 @@ impl ModeData {
         let (omega, zeta, gain) =
             (self.modes.omega(), self.modes.damping_ratio(), self.modes.gain());
         let fmax = stretch.force_max;
-        for k in 0..n {
+        // A rigid-body mode: q'' = g F. It has no curvature, so the stress weighs its |q| and
+        // |q - s F| by 0: they are left 0 here (its displacement is bounded through q'' only).
+        let rigid = self.elastic_from.min(n);
+        out.q[..rigid].fill(0.0);
+        out.dev[..rigid].fill(0.0);
+        for (acc, g) in out.acc[..rigid].iter_mut().zip(gain) {
+            *acc = g.abs() * fmax;
+        }
+        // The elastic modes, in a loop without branches (the compiler vectorises it).
+        for k in rigid..n {
             let (w, z, g, s, iw) =
                 (omega[k], zeta[k], gain[k], self.static_q[k], self.inv_omega[k]);
             let (q, v) = (state.q[k], state.v[k]);
-            if w > 0.0 {
-                let raw = q.abs() + v.abs() * iw + g.abs() * stretch.impulse * iw;
-                let free = (q - s * stretch.force_start).abs()
-                    + v.abs() * iw
-                    + (1.0 + 2.0 * z) * s.abs() * stretch.variation * iw;
-                let dev = free + 2.0 * z * s.abs() * stretch.slope_max * iw;
-                let bound = raw.min(s.abs() * fmax + dev);
-                out.q[k] = bound;
-                out.acc[k] = ((1.0 + 2.0 * z) * w * w * free)
-                    .min(g.abs() * fmax + (1.0 + 2.0 * z) * w * w * raw);
-                out.dev[k] = dev.min(s.abs() * fmax + bound);
-            } else {
-                // A rigid-body mode: q'' = g F; it has no curvature, and its displacement is
-                // bounded through q'' only.
-                out.q[k] = f64::INFINITY;
-                out.acc[k] = g.abs() * fmax;
-                out.dev[k] = f64::INFINITY;
-            }
+            let raw = q.abs() + v.abs() * iw + g.abs() * stretch.impulse * iw;
+            let free = (q - s * stretch.force_start).abs()
+                + v.abs() * iw
+                + (1.0 + 2.0 * z) * s.abs() * stretch.variation * iw;
+            let dev = free + 2.0 * z * s.abs() * stretch.slope_max * iw;
+            let bound = raw.min(s.abs() * fmax + dev);
+            out.q[k] = bound;
+            out.acc[k] = ((1.0 + 2.0 * z) * w * w * free)
+                .min(g.abs() * fmax + (1.0 + 2.0 * z) * w * w * raw);
+            out.dev[k] = dev.min(s.abs() * fmax + bound);
         }
     }
 }
 
-/// Per-mode bounds over a stretch: |q| <= q, |q''| <= acc, |q - s F| <= dev.
+/// Per-mode bounds over a stretch: |q| <= q, |q''| <= acc, |q - s F| <= dev (a rigid-body
+/// mode's q and dev are 0: see [`ModeData::bounds`]).
 #[derive(Debug, Default)]
 struct ModeBounds {
     q: Vec<f64>,
     acc: Vec<f64>,
     dev: Vec<f64>,
-    /// Running sums (see [`running`]) of the stress's weights times q, acc and dev.
+    /// The mode counts the sums are taken at (0, 16, 32, 64, ... and all), and the sums of
+    /// the stress's weights times q, acc and dev over the modes below each ([`cumulative`]).
+    marks: Vec<usize>,
     q_sums: Vec<f64>,
     acc_sums: Vec<f64>,
     dev_sums: Vec<f64>,
@@ -149,17 +156,15 @@ fn weighted(weights: &[f64], bounds: &[f64]) -> f64 {
     weights.iter().zip(bounds).filter(|(w, _)| **w != 0.0).map(|(w, b)| w.abs() * b).sum()
 }
 
-/// Running sums of w_n b_n over the modes (length n + 1, from 0), a zero weight ignoring its
-/// mode's bound (which may be infinite).
-fn running(weights: &[f64], bounds: &[f64], out: &mut Vec<f64>) {
+/// The sums of w_n b_n over the modes below each of `marks` (increasing), into `out`: each
+/// segment between marks in four partial sums (the weights are not negative).
+fn cumulative(weights: &[f64], bounds: &[f64], marks: &[usize], out: &mut Vec<f64>) {
     out.clear();
-    let mut sum = 0.0;
-    out.push(sum);
-    for (w, b) in weights.iter().zip(bounds) {
-        if *w != 0.0 {
-            sum += w.abs() * b;
-        }
+    let (mut sum, mut from) = (0.0, 0);
+    for &m in marks {
+        sum += hht::fast::dot(&weights[from..m], &bounds[from..m]);
         out.push(sum);
+        from = m;
     }
 }
 
@@ -381,25 +386,31 @@ impl Trajectory {
         let stretch = Stretch::new(start.t, start.force, &self.ends);
         data.bounds(&start.state, &stretch, &mut self.scratch);
         let b = &mut self.scratch;
-        running(weights.stress, &b.q, &mut b.q_sums);
-        running(weights.stress, &b.acc, &mut b.acc_sums);
-        running(
-            weights.stress2,
-            if weights.mode_acceleration { &b.dev } else { &b.q },
-            &mut b.dev_sums,
-        );
+        let n = b.q.len();
+        // Candidate counts: 16, 32, 64, ... and all (and the stretch's own, one of them).
+        b.marks.clear();
+        b.marks.push(0);
+        b.marks.extend((4..usize::BITS).map(|p| 1usize << p).take_while(|k| *k < n));
+        b.marks.push(n);
+        let marks = &b.marks;
+        cumulative(weights.stress, &b.q, marks, &mut b.q_sums);
+        cumulative(weights.stress, &b.acc, marks, &mut b.acc_sums);
+        let dev = if weights.mode_acceleration { &b.dev } else { &b.q };
+        cumulative(weights.stress2, dev, marks, &mut b.dev_sums);
         let b = &self.scratch;
-        let (q_sums, acc_sums, xx_sums) = (&b.q_sums, &b.acc_sums, &b.dev_sums);
+        let at = |sums: &[f64], k: usize| {
+            b.marks.iter().position(|m| *m == k).map_or(f64::INFINITY, |i| sums[i])
+        };
+        let (q_sums, acc_sums, xx_sums) = (&b.q_sums[..], &b.acc_sums[..], &b.dev_sums[..]);
         let f_end = self.ends.last().map_or(start.force, |e| e.1);
         let rise = stretch.force_max - start.force.min(f_end);
         let reach = stretch.length * stretch.length / 8.0;
         let largest = |v: &[f64]| v.iter().fold(0.0, |m: f64, s| m.max(s.abs()));
-        let n = b.q.len();
         let low = self.low.min(n);
-        let tail = q_sums[n] - q_sums[low];
-        let (xx, tt) = (xx_sums[n], acc_sums[n]);
-        let low_rates = (xx_sums[low], acc_sums[low]);
-        let triangle = stretch.force_max * weights.correction + q_sums[n];
+        let tail = at(q_sums, n) - at(q_sums, low);
+        let (xx, tt) = (at(xx_sums, n), at(acc_sums, n));
+        let low_rates = (at(xx_sums, low), at(acc_sums, low));
+        let triangle = stretch.force_max * weights.correction + at(q_sums, n);
         let on_grid = largest(&self.grid).max(largest(grid))
             + weights.spacing * weights.spacing / 8.0 * low_rates.0
             + reach * low_rates.1
@@ -422,19 +433,18 @@ impl Trajectory {
             bounds.push(ends.0.abs().max(ends.1.abs()) + reach * stt + row.p.abs() * rise);
             rates.push((0.0, stt));
         }
-        // Candidate counts: 16, 32, 64, ... and all.
-        let mut shares = Vec::new();
-        let mut k = 16;
-        while k < n {
-            shares.push(Share {
+        // Each candidate count's share.
+        let shares = b.marks[1..]
+            .iter()
+            .zip(&q_sums[1..])
+            .zip(acc_sums[1..].iter().zip(&xx_sums[1..]))
+            .map(|((&k, q), (acc, xx))| Share {
                 modes: k,
-                tail: q_sums[n] - q_sums[k],
-                tt: acc_sums[k],
-                xx: xx_sums[k],
-            });
-            k *= 2;
-        }
-        shares.push(Share { modes: n, tail: 0.0, tt: acc_sums[n], xx: xx_sums[n] });
+                tail: at(q_sums, n) - q,
+                tt: *acc,
+                xx: *xx,
+            })
+            .collect();
         Span { bounds, rates, tail, low_rates, shares }
     }
 }
