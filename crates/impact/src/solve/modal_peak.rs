@@ -574,28 +574,48 @@ pub(crate) fn state_at(
     stepper: &mut Stepper,
 ) -> Option<(ModalState, f64, f64, (f64, f64))> {
     let b = blocks.iter().find(|b| b.nodes[0].t <= t && t <= b.nodes[1].t)?;
-    let start = b.nodes.iter().filter(|n| n.t <= t).max_by(|a, c| a.t.total_cmp(&c.t))?;
-    let mut state = start.state.clone();
-    let (mut time, mut force) = (start.t, start.force);
-    let mut previous = (b.nodes[0].t, b.f0);
-    let (mut at_t, mut slope, mut piece) = (b.f0, 0.0, (t, t));
-    for &(te, fe) in &b.ends {
-        if te >= t {
-            let span = te - previous.0;
-            slope = if span > 0.0 { (fe - previous.1) / span } else { 0.0 };
-            at_t = previous.1 + slope * (t - previous.0);
-            piece = (previous.0, te);
-            break;
+    let (node, slope, piece) = b.at(t, &data.modes, stepper);
+    node.state.q.iter().all(|q| q.is_finite()).then_some((node.state, node.force, slope, piece))
+}
+
+impl Block {
+    /// The block at time t (within it): its modes by exact steps from the latest instant it
+    /// holds before t through the force's breakpoints in between, with the force's slope at t
+    /// and its linear piece around t (s, s).
+    fn at(&self, t: f64, modes: &PointModes, stepper: &mut Stepper) -> (Node, f64, (f64, f64)) {
+        let start = self
+            .nodes
+            .iter()
+            .filter(|n| n.t <= t)
+            .max_by(|a, c| a.t.total_cmp(&c.t))
+            .unwrap_or(&self.nodes[0]);
+        let mut state = start.state.clone();
+        let (mut time, mut force) = (start.t, start.force);
+        // The force at t: linear between the breakpoints around it.
+        let mut previous = (self.nodes[0].t, self.f0);
+        let (mut at_t, mut slope, mut piece) = (self.f0, 0.0, (t, t));
+        for &(te, fe) in &self.ends {
+            if te >= t {
+                let span = te - previous.0;
+                (slope, at_t) = if span > 0.0 {
+                    let slope = (fe - previous.1) / span;
+                    (slope, previous.1 + slope * (t - previous.0))
+                } else {
+                    (0.0, fe)
+                };
+                piece = (previous.0, te);
+                break;
+            }
+            previous = (te, fe);
         }
-        previous = (te, fe);
+        let from = time;
+        let stops = self.ends.iter().copied().filter(|e| e.0 > from && e.0 < t).chain([(t, at_t)]);
+        for (te, fe) in stops {
+            stepper.advance(modes, &mut state, te - time, force, fe);
+            (time, force) = (te, fe);
+        }
+        (Node { t, force, state }, slope, piece)
     }
-    let from = time;
-    let stops = b.ends.iter().copied().filter(|e| e.0 > from && e.0 < t).chain([(t, at_t)]);
-    for (te, fe) in stops {
-        stepper.advance(&data.modes, &mut state, te - time, force, fe);
-        (time, force) = (te, fe);
-    }
-    state.q.iter().all(|q| q.is_finite()).then_some((state, at_t, slope, piece))
 }
 
 /// The largest of `field` over the kept `blocks`, starting from `best` (a value the run
@@ -793,42 +813,13 @@ impl Search<'_> {
     /// A node of `block` at time t: exact steps from the latest node before it through the
     /// force's breakpoints in between.
     fn node(&mut self, block: u32, t: f64) -> u32 {
-        let b = &self.blocks[block as usize];
+        let b = &mut self.blocks[block as usize];
         if let Some(k) = b.nodes.iter().position(|n| n.t.to_bits() == t.to_bits()) {
             return k as u32;
         }
-        let start = b
-            .nodes
-            .iter()
-            .filter(|n| n.t <= t)
-            .max_by(|a, c| a.t.total_cmp(&c.t))
-            .unwrap_or(&b.nodes[0]);
-        let mut state = start.state.clone();
-        let (mut time, mut force) = (start.t, start.force);
-        // The force at t: linear between the breakpoints around it.
-        let mut previous = (b.nodes[0].t, b.f0);
-        let mut at_t = b.f0;
-        for &(te, fe) in &b.ends {
-            if te >= t {
-                let span = te - previous.0;
-                at_t = if span > 0.0 {
-                    previous.1 + (fe - previous.1) * (t - previous.0) / span
-                } else {
-                    fe
-                };
-                break;
-            }
-            previous = (te, fe);
-        }
-        let stops: Vec<(f64, f64)> =
-            b.ends.iter().copied().filter(|e| e.0 > time && e.0 < t).chain([(t, at_t)]).collect();
-        for (te, fe) in stops {
-            self.stepper.advance(&self.data.modes, &mut state, te - time, force, fe);
-            (time, force) = (te, fe);
-        }
-        let nodes = &mut self.blocks[block as usize].nodes;
-        nodes.push(Node { t, force, state });
-        (nodes.len() - 1) as u32
+        let (node, ..) = b.at(t, &self.data.modes, &mut self.stepper);
+        b.nodes.push(node);
+        (b.nodes.len() - 1) as u32
     }
 
     fn split(&mut self, c: &Cell, heap: &mut BinaryHeap<Cell>) {
