@@ -399,7 +399,6 @@ impl Journal {
     /// existing one of the same sweep, whose rows are checked ([`study::Manifest::check_row`])
     /// and kept; another sweep's, or a damaged one, is refused naming the line.
     fn open(path: PathBuf, manifest: &study::Manifest) -> PyResult<Self> {
-        use std::io::Write;
         let tag = format!(
             "{JOURNAL_TAG} {} shard {}/{}",
             manifest.fingerprint, manifest.shard.k, manifest.shard.n
@@ -455,11 +454,10 @@ impl Journal {
         std::fs::write(&tmp, &text)
             .and_then(|()| std::fs::rename(&tmp, &path))
             .map_err(|e| PyValueError::new_err(format!("journal {shown}: cannot write it: {e}")))?;
-        let mut file = std::fs::OpenOptions::new()
+        let file = std::fs::OpenOptions::new()
             .append(true)
             .open(&path)
             .map_err(|e| PyValueError::new_err(format!("journal {shown}: cannot write it: {e}")))?;
-        file.flush().ok();
         Ok(Self { path, file: Mutex::new(file), kept })
     }
 

@@ -64,12 +64,6 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
     let field_file = outputs.field.map(create).transpose()?;
     let plots = outputs.plots.map(OutDir::create).transpose()?;
     let outcome = load_and_run_with(path, outputs.field.is_some() || plots.is_some())?;
-    if outputs.field.is_some() && outcome.field.is_none() {
-        anyhow::bail!(
-            "--field: {} has no beam field (a half-space is a rigid block); nothing was written",
-            path.display()
-        );
-    }
     if let (Some(mut file), Some(h)) = (history, outputs.history) {
         outcome
             .history

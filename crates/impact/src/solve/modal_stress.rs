@@ -324,17 +324,18 @@ impl ModalStress {
             }
         }
         self.envelope.observe(t, &self.stresses[..self.near_count]);
-        let supports = self.peaks.supports.len();
-        let values: Vec<f64> = [self.peaks.displacement.value(force, q)]
-            .into_iter()
-            .chain(self.stresses[..supports].iter().copied())
-            .collect();
-        if values[0] > self.peaks.seen_displacement.0 {
-            self.peaks.seen_displacement = (values[0], t);
+        let w = self.peaks.displacement.value(force, q);
+        if w > self.peaks.seen_displacement.0 {
+            self.peaks.seen_displacement = (w, t);
         }
         if !(last || t - self.last_full >= self.full_spacing) {
             return;
         }
+        // The stretch's field values at this end, all modes (the supports are among the near
+        // points, evaluated above), before the grid's evaluation overwrites them.
+        let supports = self.peaks.supports.len();
+        let values: Vec<f64> =
+            [w].into_iter().chain(self.stresses[..supports].iter().copied()).collect();
         // A whole-grid instant: the grid with the modes the last stretch chose (with all of
         // them, its values are the field's), then the stretch since the last such instant,
         // certified or kept for the search.
