@@ -170,6 +170,11 @@ pub struct BallSpec {
 pub struct ImpactSpec {
     /// Impact point (m) from x = 0 (the first support); required with a beam.
     pub position: Option<f64>,
+    /// The strike's distance from the beam's centreline across its width (m; default 0, a
+    /// centred strike): the contact force twists the beam by offset x force. At most half
+    /// the width (the face's edge).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<f64>,
     /// Drop height h (m): speed sqrt(2 g h). Exactly one of `drop_height` and `speed`.
     pub drop_height: Option<f64>,
     /// Impact speed (m/s), toward the beam.

@@ -47,6 +47,7 @@ mod propagate;
 mod shape;
 mod support;
 mod timoshenko;
+mod torsion;
 
 pub use beam::{Beam, Mode, Shear, Theory};
 pub use duhamel::duhamel_series;
@@ -54,3 +55,4 @@ pub use error::ModalError;
 pub use propagate::{Hold, ModalState, OneStep, PointModes, Transition};
 pub use shape::ModeShape;
 pub use support::Support;
+pub use torsion::{rectangle_torsion, Torsion, TorsionMode};

@@ -147,6 +147,12 @@ impl ModeShape {
         Self { beta: 0.0, length, waves: [NO_WAVE; 3], count: 0, p: -k, r: 2.0 * k }
     }
 
+    /// The bending shape of a mode of another family (a torsion mode beside the bending ones):
+    /// no displacement, no rotation, no curvature anywhere.
+    pub fn absent(length: f64) -> Self {
+        Self { beta: 0.0, length, waves: [NO_WAVE; 3], count: 0, p: 0.0, r: 0.0 }
+    }
+
     /// Bending wavenumber beta (1/m); zero for a rigid-body mode.
     pub fn beta(&self) -> f64 {
         self.beta

@@ -165,6 +165,13 @@ pub struct Report {
     pub max_displacement_at_window_end: bool,
     /// The beam's largest bending stress over the beam and the window; null on a half-space.
     pub bending_stress: Option<BendingStress>,
+    /// The struck section's largest rotation about the beam's axis (rad, magnitude) for an
+    /// off-centre strike (`impact.offset`); null for a centred one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_twist: Option<f64>,
+    /// When it happened (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_twist_time: Option<f64>,
     /// Static stiffness of the beam at the impact point (N/m); null for a half-space or a
     /// free-free beam.
     pub static_stiffness: Option<f64>,
@@ -198,6 +205,8 @@ pub(crate) struct Ending {
     pub(crate) wall_time: f64,
     /// The bending stress envelope, where the solver recovers it.
     pub(crate) bending_stress: Option<BendingStress>,
+    /// The struck section's largest twist (rad) and when (s), for an off-centre strike.
+    pub(crate) twist: Option<(f64, f64)>,
     /// The last instant the solver observed (s): a maximum there is not yet one.
     pub(crate) last_time: f64,
 }
@@ -237,6 +246,8 @@ impl Report {
             model_error: None,
             wall_time: end.wall_time,
             bending_stress: end.bending_stress,
+            max_twist: end.twist.map(|t| t.0),
+            max_twist_time: end.twist.map(|t| t.1),
         }
     }
 }
@@ -444,13 +455,13 @@ fn small_strain_warnings(plan: &Plan, contacts: &[Contact], warnings: &mut Vec<S
     }
 }
 
-/// Static stiffness (N/m) of `beam` at `position` (m), or a warning when there is none.
+/// Static stiffness (N/m) from the static flexibility at the impact point (m/N), or a warning
+/// when there is none.
 pub(crate) fn static_stiffness(
-    beam: &modal::Beam,
-    position: f64,
+    flexibility: Option<f64>,
     warnings: &mut Vec<String>,
 ) -> Option<f64> {
-    match beam.static_flexibility(position) {
+    match flexibility {
         Some(f) if f > 0.0 => Some(1.0 / f),
         _ => {
             warnings.push("no static stiffness at the impact point (free-free beam or a support point): no equivalent static force".into());

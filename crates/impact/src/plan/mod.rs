@@ -378,6 +378,8 @@ fn beam_method(
         ));
     }
     free_end(beam, position, scene.ball.radius, pulse, warnings);
+    let offset = offset(beam, scene.impact.offset, scene.ball.radius, pulse, warnings)?;
+    let torsion = if offset == 0.0 { None } else { Some(theory::torsion(beam)?) };
     let damping = beam.modal_damping.unwrap_or(0.0);
     if !(damping.is_finite() && (0.0..1.0).contains(&damping)) {
         return Err(invalid("beam.modal_damping", damping, "must be a damping ratio in [0, 1)"));
@@ -385,7 +387,8 @@ fn beam_method(
     // The deflection if the ball's whole kinetic energy went into static bending at the
     // impact point, w = sqrt(m V^2 f): an upper bound that decides whether small-deflection
     // theory can hold.
-    let flexibility = m.static_flexibility(position).unwrap_or(0.0);
+    let twist = torsion.as_ref().and_then(|t| t.static_flexibility(position)).unwrap_or(0.0);
+    let flexibility = m.static_flexibility(position).unwrap_or(0.0) + offset * offset * twist;
     let deflection = (pulse.ball_mass * pulse.speed * pulse.speed * flexibility).sqrt();
     let large = deflection > LARGE_DEFLECTION * length;
     let use_fe = match s.method {
@@ -429,6 +432,11 @@ fn beam_method(
             "solver.beam_theory belongs to the modal method; the fe beam always has shear and rotary inertia".into(),
         ));
     }
+    if use_fe && offset != 0.0 {
+        return Err(ImpactError::Inconsistent(format!(
+            "impact.offset = {offset} m needs a beam that twists, and the fe method's beam is planar (its 3D beam is not coupled to the ball yet): use solver.method = \"modal\" (bending and Saint-Venant torsion modes), or impact.offset = 0"
+        )));
+    }
     if use_fe {
         let fe = fe::plan(beam, s, m, position, damping, pulse, (reasons, warnings))?;
         Ok(Method::Fe(fe))
@@ -436,6 +444,15 @@ fn beam_method(
         let (chosen, twin) = theory::choose(s.beam_theory, beam, both, pulse, reasons);
         let mut plan = modal::plan(s, chosen, position, damping, pulse.duration, reasons)?;
         plan.twin = twin;
+        if let Some(t) = torsion {
+            reasons.push(format!(
+                "struck {offset} m off the centreline: Saint-Venant torsion modes beside the bending ones (G J = {:.4e} N m^2, rho Ip = {:.4e} kg m, wave speed {:.4e} m/s; warping free), up to the highest bending mode's frequency; the face moves by w + offset x twist",
+                t.rigidity(),
+                t.rotary_inertia(),
+                t.wave_speed()
+            ));
+            plan.torsion = Some((t, offset));
+        }
         Ok(Method::Modal(plan))
     }
 }
@@ -465,6 +482,37 @@ fn free_end(
             "impact.position is {distance:.3e} m from a free end of the beam, within the contact radius (about {patch:.3e} m): the contact patch runs over the beam's end, where the contact law (a half-space) does not hold, and the beam models load one point where the response changes fast with it (on the paper's tip, struck 0.1 mm further in, the ball leaves the first contact 3 % slower and the second contact starts 9 % later; validation/REFERENCES.md 1.6): strike at least the contact radius inside the end for a result the models vouch for"
         ));
     }
+}
+
+/// `impact.offset` (m), checked: on the face (at most half the width from the centreline).
+/// Warns when the contact patch (radius sqrt(R delta) at the largest approach on a rigid
+/// support) reaches past the face's edge, where the contact law (a half-space) does not hold.
+fn offset(
+    beam: &BeamSpec,
+    offset: Option<f64>,
+    radius: f64,
+    pulse: &Pulse,
+    warnings: &mut Vec<String>,
+) -> Result<f64, ImpactError> {
+    let Some(e) = offset else { return Ok(0.0) };
+    let half = 0.5 * beam.width;
+    if !(e.is_finite() && e.abs() <= half) {
+        return Err(invalid(
+            "impact.offset",
+            e,
+            &format!(
+                "must be on the struck face: -beam.width/2 <= offset <= beam.width/2 = {half} (m)"
+            ),
+        ));
+    }
+    let patch = (radius * pulse.max_approach).sqrt();
+    if e.abs() + patch > half {
+        warnings.push(format!(
+            "impact.offset = {e} m puts the contact patch (radius about {patch:.3e} m) past the face's edge ({:.3} of the half-width {half} m): the contact law (a half-space) does not hold there, and the beam models load the point as if the face went on",
+            (e.abs() + patch) / half
+        ));
+    }
+    Ok(e)
 }
 
 /// The contact step (s) and the modal method's energy tolerance, with the reason.

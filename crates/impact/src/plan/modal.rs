@@ -35,6 +35,10 @@ pub struct ModalPlan {
     /// notable: the run measures what the theory changes by running this beam at the same
     /// modes (`solve::measure_theory`), and the estimated error includes it.
     pub(crate) twin: Option<(modal::Beam, f64)>,
+    /// An off-centre strike: the beam in torsion and the offset (m). Its modes are those up
+    /// to the highest bending mode's frequency (both families cut at one frequency, so the
+    /// refinement that doubles the bending modes refines both).
+    pub(crate) torsion: Option<(modal::Torsion, f64)>,
 }
 
 impl ModalPlan {
@@ -48,9 +52,24 @@ impl ModalPlan {
         self.position
     }
 
-    /// Number of modes.
+    /// Number of bending modes (the torsion modes of an off-centre strike come with them).
     pub fn modes(&self) -> usize {
         self.modes
+    }
+
+    /// The static flexibility of the struck face at the impact point (m/N): bending plus
+    /// offset^2 times the twist under a unit torque; `None` for a free-free beam.
+    pub fn static_flexibility(&self) -> Option<f64> {
+        let bending = self.beam.static_flexibility(self.position)?;
+        match &self.torsion {
+            Some((t, e)) => Some(bending + e * e * t.static_flexibility(self.position)?),
+            None => Some(bending),
+        }
+    }
+
+    /// The beam in torsion and the strike's offset (m), for an off-centre strike.
+    pub fn torsion(&self) -> Option<(&modal::Torsion, f64)> {
+        self.torsion.as_ref().map(|(t, e)| (t, *e))
     }
 }
 
@@ -104,6 +123,7 @@ pub(super) fn plan(
             residual_flexibility,
             plain_stress_series,
             twin: None,
+            torsion: None,
         });
     }
     let modes = match s.modes {
@@ -129,6 +149,7 @@ pub(super) fn plan(
         residual_flexibility,
         plain_stress_series,
         twin: None,
+        torsion: None,
     })
 }
 

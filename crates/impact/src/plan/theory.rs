@@ -46,6 +46,24 @@ pub(crate) fn beams(spec: &BeamSpec) -> Result<(Beam, Beam), ImpactError> {
     Ok((euler_bernoulli, timoshenko))
 }
 
+/// The beam of `spec` in Saint-Venant torsion (validation/REFERENCES.md 1.9): G J with the
+/// rectangle's exact torsion constant, rho Ip with Ip = (b t^3 + t b^3) / 12, the same ends.
+///
+/// # Errors
+/// From `modal` for a value that is not finite and positive (checked before, not expected).
+pub(crate) fn torsion(spec: &BeamSpec) -> Result<modal::Torsion, ImpactError> {
+    let shear_modulus = spec.youngs_modulus / (2.0 * (1.0 + spec.poisson_ratio));
+    let (j, _) = modal::rectangle_torsion(spec.width, spec.thickness);
+    let (b, t) = (spec.width, spec.thickness);
+    let polar = (b * t.powi(3) + t * b.powi(3)) / 12.0;
+    Ok(modal::Torsion::new(
+        shear_modulus * j,
+        spec.density * polar,
+        spec.length,
+        spec.support.into(),
+    )?)
+}
+
 /// The frequency (rad/s) the pulse excites most: a half-sine of the contact duration t_c has
 /// its energy around pi / t_c.
 fn pulse_frequency(pulse: &Pulse) -> f64 {

@@ -493,8 +493,10 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let plan = self.plan;
         let energy = self.energy();
         let mut warnings = plan.warnings.clone();
-        let static_stiffness =
-            static_stiffness(&self.target.analytic, self.target.position, &mut warnings);
+        let static_stiffness = static_stiffness(
+            self.target.analytic.static_flexibility(self.target.position),
+            &mut warnings,
+        );
         let mut summary = plan.summary.clone();
         summary.reasons.push(format!(
             "{} HHT steps ({} Newton iterations, {} Newton matrices factorised, {} step halvings, {} contact steps rejected by the error control), {} events located by re-stepping",
@@ -515,6 +517,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 energy,
                 wall_time,
                 bending_stress,
+                twist: None,
                 last_time,
             },
         );

@@ -11,6 +11,7 @@
 //! and the ball can close it, so no re-contact longer than a quarter contact step is missed.
 //! Onset and separation are located by root finding on the approach.
 
+use super::modal_peak::Row;
 use super::modal_stress::{ModalStress, StressSetup};
 use super::observe::{BeamRecorder, BeamView, Instant, Recorders};
 use super::Progress;
@@ -20,12 +21,16 @@ use crate::law::WithLaw;
 use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample};
 use crate::plan::{Method, Plan, FINEST_LEVEL, LARGE_DEFLECTION};
 use hertz::ContactLaw;
-use modal::{Hold, ModalState, OneStep, PointModes, Transition};
+use modal::{Hold, ModalState, Mode, OneStep, PointModes, Transition};
 use std::rc::Rc;
 
 /// The longest free-flight jump, in estimated contact durations (41 ms on the paper's tip, far
 /// above its default output interval of 2.5 us, so the default runs are unchanged).
 const LONGEST_JUMP: f64 = 1024.0;
+
+/// A twist of the struck section above this (rad) is warned of: the small-rotation reading of
+/// the face's motion, w + offset x twist, is then off by twist^2/2 (5e-3 at 0.1 rad).
+const SMALL_TWIST: f64 = 0.1;
 
 /// A mode whose frequency is below this fraction of the highest is a rigid-body mode.
 const RIGID_FREQUENCY: f64 = 1e-9;
@@ -118,6 +123,69 @@ struct Solver<'a, L: ContactLaw> {
 /// 5.5e-2 off, 80 (14.5) 6.6e-3, 93 (the plan's, 19.7) and 128 1.5e-3.
 const STRESS_REACH: f64 = 10.0;
 
+/// The modes a modal plan's solver steps, seen from the impact point.
+struct Basis {
+    modes: PointModes,
+    /// Each mode's bending shape, in the same order (a torsion mode's is
+    /// [`modal::ModeShape::absent`]).
+    shapes: Vec<Mode>,
+    /// For an off-centre strike: the twist of the struck section (rad), as a row over the
+    /// modes (1/sqrt(kg m^2) on the torsion modes, 0 on the bending ones), and the truncated
+    /// torsion modes' twist per unit force (rad/N: offset x their static twist per torque).
+    twist: Option<(Row, f64)>,
+}
+
+/// The bending modes of `m` and, for an off-centre strike, the torsion modes up to the
+/// highest bending frequency, in one basis: the rigid-body modes first (bending, then the
+/// free twist), then the elastic bending modes, then the elastic torsion modes. A torsion
+/// mode's gain is offset x Theta(c) / sqrt(rho Ip L): the face at the offset moves by
+/// w + offset x twist (small rotation).
+fn point_modes(m: &crate::plan::ModalPlan) -> Result<Basis, ImpactError> {
+    let bending = m.beam.modes(m.modes)?;
+    let scale = 1.0 / m.beam.mass().sqrt();
+    let Some((torsion, offset)) = m.torsion() else {
+        let modes = PointModes::new(&m.beam, &bending, m.position, m.damping)?;
+        return Ok(Basis { modes, shapes: bending, twist: None });
+    };
+    let top = bending.iter().fold(0.0, |a: f64, b| a.max(b.omega));
+    let twisting = torsion.modes(torsion.count_below(top));
+    let rigid_b = bending.iter().take_while(|b| b.omega <= 0.0).count();
+    let rigid_t = twisting.iter().take_while(|t| t.omega <= 0.0).count();
+    let t_scale = 1.0 / torsion.mass().sqrt();
+    let absent =
+        |omega: f64| Mode { beta_l: 0.0, omega, shape: modal::ModeShape::absent(m.beam.length()) };
+    // (mode, gain, twist row entry) in the basis' order.
+    let bend = |b: &Mode| (*b, b.shape.value(m.position) * scale, 0.0);
+    let twist = |t: &modal::TorsionMode| {
+        let theta = t.value(m.position) * t_scale;
+        (absent(t.omega), offset * theta, theta)
+    };
+    let all: Vec<(Mode, f64, f64)> = bending[..rigid_b]
+        .iter()
+        .map(bend)
+        .chain(twisting[..rigid_t].iter().map(twist))
+        .chain(bending[rigid_b..].iter().map(bend))
+        .chain(twisting[rigid_t..].iter().map(twist))
+        .collect();
+    let omega: Vec<f64> = all.iter().map(|a| a.0.omega).collect();
+    let gain: Vec<f64> = all.iter().map(|a| a.1).collect();
+    let row: Vec<f64> = all.iter().map(|a| a.2).collect();
+    // The truncated torsion modes' twist per unit torque at the point.
+    let kept: f64 = twisting
+        .iter()
+        .filter(|t| t.omega > 0.0)
+        .map(|t| (t.value(m.position) * t_scale / t.omega).powi(2))
+        .sum();
+    let residual_twist =
+        torsion.static_flexibility(m.position).map_or(0.0, |f| offset * (f - kept).max(0.0));
+    let modes = PointModes::from_parts(omega, vec![m.damping; all.len()], gain)?;
+    Ok(Basis {
+        modes,
+        shapes: all.into_iter().map(|a| a.0).collect(),
+        twist: Some((Row { r: row, p: 0.0 }, residual_twist)),
+    })
+}
+
 /// 0, 1, 2, 3, 4, 6, 8, 12, 16, ... (powers of two and 1.5 times them) below n, then n.
 fn horizon_splits(n: usize) -> Vec<usize> {
     let mut splits = vec![0, 1, 2];
@@ -145,13 +213,13 @@ fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
 
 impl<'a, L: ContactLaw> Solver<'a, L> {
     fn new(plan: &'a Plan, law: &'a L, progress: Progress<'a>) -> Result<Self, ImpactError> {
-        let (modes, shapes) = match &plan.method {
+        let (modes, shapes, twist) = match &plan.method {
             Method::Modal(m) => {
-                let shapes = m.beam.modes(m.modes)?;
-                (PointModes::new(&m.beam, &shapes, m.position, m.damping)?, Some(shapes))
+                let basis = point_modes(m)?;
+                (basis.modes, Some(basis.shapes), basis.twist)
             }
             Method::HalfSpace | Method::Fe(_) => {
-                (PointModes::from_parts(vec![], vec![], vec![])?, None)
+                (PointModes::from_parts(vec![], vec![], vec![])?, None, None)
             }
         };
         let n = modes.len();
@@ -159,7 +227,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         // add to the point's static compliance (validation/REFERENCES.md 1.4).
         let residual = match &plan.method {
             Method::Modal(m) if m.residual_flexibility => {
-                let total = m.beam.static_flexibility(m.position).unwrap_or(0.0);
+                let total = m.static_flexibility().unwrap_or(0.0);
                 (total - modes.static_flexibility()).max(0.0)
             }
             _ => 0.0,
@@ -174,6 +242,12 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                     modes: modes.clone(),
                     residual,
                     duration: plan.estimated_duration,
+                    twist: twist.map(|(mut row, residual_twist)| {
+                        if m.residual_flexibility {
+                            row.p = residual_twist;
+                        }
+                        row
+                    }),
                 };
                 let mut s = ModalStress::new(&m.beam, shapes, setup);
                 if plan.field {
@@ -780,6 +854,12 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         let mut summary = plan.summary.clone();
         summary.reasons.extend(recovered.note);
         warnings.extend(recovered.warnings);
+        if let Some((twist, _)) = recovered.twist.filter(|t| t.0 > SMALL_TWIST) {
+            warnings.push(format!(
+                "the struck section twists {twist:.3e} rad, beyond small rotation ({SMALL_TWIST} rad): the torsion modes take the face's motion as offset x twist, which is off by about twist^2/2 = {:.1e} of it, and a strip twisted this far also shortens and stiffens (Wagner), which Saint-Venant torsion leaves out",
+                0.5 * twist * twist
+            ));
+        }
         let static_stiffness = match &plan.method {
             Method::Modal(m) => {
                 let length = m.beam.length();
@@ -792,15 +872,15 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 }
                 // The mode-acceleration form takes the truncated modes as quasi-static: true
                 // for those far faster than the pulse (see STRESS_REACH).
-                let reach =
-                    self.modes.omega().last().copied().unwrap_or(0.0) * plan.estimated_duration;
+                let reach = self.modes.omega().iter().fold(0.0, |a: f64, w| a.max(*w))
+                    * plan.estimated_duration;
                 if recovered.stress.is_some() && reach < STRESS_REACH {
                     warnings.push(format!(
                         "{} modes reach only omega_N t_c = {reach:.1} (the highest mode's frequency times the contact's estimated duration), below {STRESS_REACH}: the bending stress near the ball is not resolved (several per cent to several times off); more modes, or solver.tolerance",
                         m.modes
                     ));
                 }
-                static_stiffness(&m.beam, m.position, &mut warnings)
+                static_stiffness(m.static_flexibility(), &mut warnings)
             }
             Method::HalfSpace | Method::Fe(_) => None,
         };
@@ -815,6 +895,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 energy,
                 wall_time: clock.elapsed().as_secs_f64(),
                 bending_stress: recovered.stress,
+                twist: recovered.twist,
                 last_time,
             },
         );

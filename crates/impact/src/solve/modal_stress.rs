@@ -107,14 +107,21 @@ struct Peaks {
     curvature2: Vec<f64>,
     correction: f64,
     displacement: Row,
+    /// The one-point fields searched in time: each support's stress, then (an off-centre
+    /// strike) the twist of the struck section.
     supports: Vec<Row>,
+    /// How many of `supports` are supports.
+    support_count: usize,
 
     /// The largest displacement observed (m) and when (s).
     seen_displacement: (f64, f64),
+    /// The largest twist magnitude of the struck section observed (rad) and when (s).
+    seen_twist: (f64, f64),
     /// The searches' results, once run: the stress's, the displacement's, each support's.
     stress_peak: Option<Peak>,
     displacement_peak: Option<Peak>,
     support_peaks: Vec<Peak>,
+    twist_peak: Option<Peak>,
 }
 
 /// What the modal stress recovery needs besides the beam and its modes.
@@ -132,6 +139,8 @@ pub(crate) struct StressSetup {
     pub(crate) residual: f64,
     /// The contact's estimated duration (s): sets the grid's density.
     pub(crate) duration: f64,
+    /// An off-centre strike: the struck section's twist (rad) as a row over the modes.
+    pub(crate) twist: Option<Row>,
 }
 
 /// The field's precomputed rows.
@@ -146,7 +155,8 @@ struct FieldRecorder {
 impl ModalStress {
     /// The stress field of `shapes` of `beam`, struck as `setup` says.
     pub(crate) fn new(beam: &Beam, shapes: Vec<Mode>, setup: StressSetup) -> Self {
-        let StressSetup { position, thickness, width, plain, modes, residual, duration } = setup;
+        let StressSetup { position, thickness, width, plain, modes, residual, duration, twist } =
+            setup;
         let length = beam.length();
         let scale = 1.0 / beam.mass().sqrt();
         let inertia = width * thickness.powi(3) / 12.0;
@@ -227,6 +237,7 @@ impl ModalStress {
                         p: correction[k] * section,
                     })
                     .collect(),
+                twist,
             },
         );
         Self {
@@ -328,14 +339,21 @@ impl ModalStress {
         if w > self.peaks.seen_displacement.0 {
             self.peaks.seen_displacement = (w, t);
         }
+        let twist = self.peaks.supports.get(self.peaks.support_count).map(|r| r.value(force, q));
+        if let Some(theta) = twist.filter(|th| th.abs() > self.peaks.seen_twist.0) {
+            self.peaks.seen_twist = (theta.abs(), t);
+        }
         if !(last || t - self.last_full >= self.full_spacing) {
             return;
         }
         // The stretch's field values at this end, all modes (the supports are among the near
         // points, evaluated above), before the grid's evaluation overwrites them.
-        let supports = self.peaks.supports.len();
-        let values: Vec<f64> =
-            [w].into_iter().chain(self.stresses[..supports].iter().copied()).collect();
+        let supports = self.peaks.support_count;
+        let values: Vec<f64> = [w]
+            .into_iter()
+            .chain(self.stresses[..supports].iter().copied())
+            .chain(twist.map(|t| t.abs()))
+            .collect();
         // A whole-grid instant: the grid with the modes the last stretch chose (with all of
         // them, its values are the field's), then the stretch since the last such instant,
         // certified or kept for the search.
@@ -347,6 +365,7 @@ impl ModalStress {
         let best: Vec<f64> = [self.envelope.best().0.abs(), self.peaks.seen_displacement.0]
             .into_iter()
             .chain(self.envelope.supports().iter().map(|s| s.1))
+            .chain(twist.map(|_| self.peaks.seen_twist.0))
             .collect();
         let Peaks {
             data,
@@ -560,7 +579,8 @@ impl ModalStress {
         );
         let peak = self.polish(&kept, peak);
         let mut supports = Vec::new();
-        for (k, row) in self.peaks.supports.iter().enumerate() {
+        let count = self.peaks.support_count;
+        for (k, row) in self.peaks.supports[..count].iter().enumerate() {
             let (i, max, time) = self.envelope.supports()[k];
             let x = self.envelope.points[i];
             let seen = Peak { value: max, x, t: time, bound: max };
@@ -569,6 +589,13 @@ impl ModalStress {
         }
         for (k, found) in supports.iter().enumerate() {
             self.envelope.raise_support(k, found.value.abs(), found.t);
+        }
+        if let Some(row) = self.peaks.supports.get(count) {
+            let (max, time) = self.peaks.seen_twist;
+            let seen = Peak { value: max, x: self.position, t: time, bound: max };
+            let field = modal_peak::Field::Magnitude(row, self.position, count);
+            self.peaks.twist_peak =
+                Some(modal_peak::search(&self.peaks.data, &mut kept, &field, seen));
         }
         self.peaks.trajectory.kept = kept;
         self.peaks.stress_peak = Some(peak);
@@ -597,6 +624,8 @@ struct PeakSetup<'a> {
     corrections: &'a [f64],
     /// Each support's stress row.
     supports: Vec<Row>,
+    /// The struck section's twist row, for an off-centre strike.
+    twist: Option<Row>,
 }
 
 impl Peaks {
@@ -608,7 +637,9 @@ impl Peaks {
         static_q: &[f64],
         setup: PeakSetup<'_>,
     ) -> Self {
-        let PeakSetup { modes, residual, spacing, corrections, supports } = setup;
+        let PeakSetup { modes, residual, spacing, corrections, mut supports, twist } = setup;
+        let support_count = supports.len();
+        supports.extend(twist);
         let bound = |k: i32| -> Vec<f64> {
             shapes.iter().map(|m| section * scale * m.shape.curvature_bound(k)).collect()
         };
@@ -635,10 +666,13 @@ impl Peaks {
             correction,
             displacement,
             supports,
+            support_count,
             seen_displacement: (0.0, 0.0),
+            seen_twist: (0.0, 0.0),
             stress_peak: None,
             displacement_peak: None,
             support_peaks: Vec::new(),
+            twist_peak: None,
         }
     }
 
@@ -663,7 +697,8 @@ impl Peaks {
         let worst = all.iter().map(|g| g.1).fold(0.0, f64::max);
         (!all.is_empty()).then(|| {
             format!(
-                "largest stress (over the beam), each support's and the largest displacement at the impact point: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e} for the stress, {:.0e} at a point)",
+                "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e} for the stress, {:.0e} at a point)",
+                if self.twist_peak.is_some() { " and the struck section's largest twist" } else { "" },
                 modal_peak::PEAK_TOLERANCE,
                 modal_peak::POINT_TOLERANCE
             )
@@ -681,6 +716,7 @@ impl Peaks {
         out.extend(
             self.support_peaks.iter().map(|p| (format!("the stress at x = {} m", p.x), gap(p))),
         );
+        out.extend(self.twist_peak.iter().map(|p| ("the largest twist".to_string(), gap(p))));
         out
     }
 
@@ -721,6 +757,10 @@ impl BeamRecorder for ModalStress {
 
     fn displacement_peak(&mut self, seen: (f64, f64)) -> (f64, f64) {
         self.peaks.displacement(seen, self.position)
+    }
+
+    fn twist_peak(&self) -> Option<(f64, f64)> {
+        self.peaks.twist_peak.map(|p| (p.value.abs(), p.t))
     }
 
     fn search_note(&self) -> Option<String> {
@@ -820,6 +860,7 @@ mod tests {
             modes,
             residual: 0.0,
             duration,
+            twist: None,
         };
         ModalStress::new(b, shapes, setup)
     }
@@ -912,6 +953,7 @@ mod tests {
             modes,
             residual: 0.0,
             duration: 1.0,
+            twist: None,
         };
         let mut s = ModalStress::new(&b, shapes, setup);
         let mode = &s.shapes[6];
@@ -945,5 +987,59 @@ mod tests {
         );
         assert!(((beta * e.position).sin().abs() - 1.0).abs() < 1e-5, "at {}", e.position);
         assert!((e.time - t_star).abs() < 1e-9, "at {} vs {t_star}", e.time);
+    }
+
+    #[test]
+    fn the_largest_twist_between_instants_is_found() {
+        // An off-centre strike's basis: 8 bending modes of a pinned-pinned beam and a torsion
+        // mode (no bending shape) ringing alone, q = A cos(omega t + phi), seen through the
+        // twist row (its Theta(c)/sqrt(rho Ip L) = 3). The twist's largest magnitude is 3 A at
+        // omega t* = pi - phi, half-way between two observed instants; the stress stays 0.
+        let b = beam(Support::PinnedPinned);
+        let mut shapes = b.modes(8).unwrap();
+        let omega = 4.0 * shapes[7].omega;
+        shapes.push(Mode { beta_l: 0.0, omega, shape: modal::ModeShape::absent(b.length()) });
+        let mut gain: Vec<f64> = shapes[..8].iter().map(|m| m.shape.value(0.5)).collect();
+        gain.push(0.01 * 3.0);
+        let modes =
+            PointModes::from_parts(shapes.iter().map(|m| m.omega).collect(), vec![0.0; 9], gain)
+                .unwrap();
+        let mut row = vec![0.0; 9];
+        row[8] = 3.0;
+        let setup = StressSetup {
+            position: 0.5,
+            thickness: 0.005,
+            width: 0.025,
+            plain: false,
+            modes,
+            residual: 0.0,
+            duration: 1e-3,
+            twist: Some(Row { r: row, p: 0.0 }),
+        };
+        let mut s = ModalStress::new(&b, shapes, setup);
+        let (amplitude, phi) = (1e-3, 0.3);
+        let t_star = (std::f64::consts::PI - phi) / omega;
+        let step = t_star / 10.5;
+        let mut t: f64 = 0.0;
+        let end = t_star + 5.0 * step;
+        while t <= end {
+            let (mut q, mut v) = (vec![0.0; 9], vec![0.0; 9]);
+            q[8] = amplitude * (omega * t + phi).cos();
+            v[8] = -amplitude * omega * (omega * t + phi).sin();
+            if t > 0.0 {
+                s.step(t, 0.0);
+            }
+            s.observe_modes(t, (&q, &v), 0.0, (true, t + step > end));
+            t += step;
+        }
+        let e = s.envelope(None);
+        assert!(e.max.abs() < 1e-300, "{}", e.max);
+        let (twist, when) = s.twist_peak().unwrap();
+        let exact = 3.0 * amplitude;
+        assert!(
+            twist <= exact * (1.0 + 1e-12) && twist >= exact * (1.0 - 1e-10),
+            "{twist} vs {exact}"
+        );
+        assert!((when - t_star).abs() < 1e-6 * t_star, "at {when} vs {t_star}");
     }
 }

@@ -52,6 +52,11 @@ pub(crate) trait BeamRecorder {
     fn displacement_peak(&mut self, seen: (f64, f64)) -> (f64, f64) {
         seen
     }
+    /// The struck section's largest twist magnitude (rad) and when (s), for an off-centre
+    /// strike (after [`BeamRecorder::finish`]).
+    fn twist_peak(&self) -> Option<(f64, f64)> {
+        None
+    }
     /// What the report's reasons say of how the maxima were found, if anything.
     fn search_note(&self) -> Option<String> {
         None
@@ -71,6 +76,8 @@ pub(crate) struct Recovered {
     pub(crate) field: Option<Field>,
     /// The largest displacement at the impact point (m) and when (s).
     pub(crate) displacement: (f64, f64),
+    /// The struck section's largest twist (rad) and when (s), for an off-centre strike.
+    pub(crate) twist: Option<(f64, f64)>,
     /// How the maxima were found, for the report's reasons, and what could not be made
     /// certain, for its warnings.
     pub(crate) note: Option<String>,
@@ -145,9 +152,10 @@ impl<'a> Recorders<'a> {
         let stress = self.beam.as_mut().map(|b| b.finish(yield_stress));
         let displacement =
             self.beam.as_mut().map_or(displacement, |b| b.displacement_peak(displacement));
+        let twist = self.beam.as_ref().and_then(|b| b.twist_peak());
         let note = self.beam.as_ref().and_then(|b| b.search_note());
         let warnings = self.beam.as_ref().map(|b| b.search_warnings()).unwrap_or_default();
         let field = self.beam.as_mut().and_then(|b| b.take_field());
-        Recovered { history: self.history, stress, field, displacement, note, warnings }
+        Recovered { history: self.history, stress, field, displacement, twist, note, warnings }
     }
 }
