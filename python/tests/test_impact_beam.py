@@ -72,6 +72,23 @@ def test_the_report_equals_the_command_lines_json_to_the_last_digit():
         assert got["wall_time"] > 0
 
 
+def test_an_off_centre_strike_reports_its_twist_as_the_command_line_does():
+    # validation/scenes/paper-tip-offset.toml: 10 mm off the centreline (validation/REFERENCES.md
+    # 1.9, 491.921 N by the independent reference); the same scene centred has no twist.
+    offset = SCENES / "paper-tip-offset.toml"
+    stdout, _ = cli("simulate", offset, "--json")
+    got = ib.simulate(offset).report
+    assert timeless(got) == timeless(json.loads(stdout))
+    assert got["max_twist"] > 0
+    assert got["contacts"][0]["peak_force"] == pytest.approx(491.921, rel=1e-4)
+    centred = scene_dict(offset)
+    centred["impact"]["offset"] = 0.0
+    centred["solver"]["end_time"] = 2e-4
+    report = ib.simulate(centred).report
+    assert "max_twist" not in report
+    assert report["contacts"][0]["peak_force"] == pytest.approx(781.6675, rel=1e-4)
+
+
 def test_a_simulation_prints_its_headline_not_its_arrays():
     run = ib.simulate(TIP)
     text = repr(run)

@@ -83,9 +83,20 @@ fn torsion_frequencies_meet_the_3d_beam() {
     }
 }
 
-/// The paper's tip (gravity off, 0.2 ms) struck `offset` m off the centreline.
+/// The paper's beam struck at x = 1.1 m, `offset` m off the centreline (gravity off, 0.2 ms).
 fn tip(offset: &str, solver: &str) -> Result<Scene, impact::ImpactError> {
-    Scene::from_toml(&format!(
+    struck(1.1, offset, &format!("end_time = 0.0002\n{solver}"))
+}
+
+/// The paper's beam and ball (0.2 m, gravity off) struck at `position` (m), `offset` (m) off
+/// the centreline, with the `[solver]` lines `solver`.
+fn struck(position: f64, offset: &str, solver: &str) -> Result<Scene, impact::ImpactError> {
+    Scene::from_toml(&text(position, offset, solver))
+}
+
+/// The scene file of [`struck`].
+fn text(position: f64, offset: &str, solver: &str) -> String {
+    format!(
         r#"
 name = "tip-offset"
 [beam]
@@ -103,15 +114,14 @@ youngs_modulus = {E}
 poisson_ratio = {NU}
 density = {RHO}
 [impact]
-position = 1.1
+position = {position}
 offset = {offset}
 drop_height = 0.2
 gravity = false
 [solver]
-end_time = 0.0002
 {solver}
 "#
-    ))
+    )
 }
 
 #[test]
@@ -148,4 +158,79 @@ fn an_offset_off_the_face_or_on_the_planar_beam_is_refused() {
         "{:?}",
         plan.warnings()
     );
+}
+
+/// The converged row (most modes, residual flexibility) of `case` in
+/// validation/reference/offcentre_tip.csv: (peak force (N), duration (s), impulse (N s)).
+fn reference(case: &str) -> (f64, f64, f64) {
+    let text = std::fs::read_to_string(format!(
+        "{}/../../validation/reference/offcentre_tip.csv",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && l.starts_with(case))
+        .map(|l| l.split(',').collect())
+        .filter(|r: &Vec<&str>| r[0] == case && r[5] == "1")
+        .collect();
+    let best = rows.iter().max_by_key(|r| r[3].parse::<usize>().unwrap()).unwrap();
+    let f = |k: usize| best[k].parse::<f64>().unwrap();
+    (f(6), f(7), f(8))
+}
+
+#[test]
+fn an_off_centre_strike_meets_the_independent_bending_and_torsion_reference() {
+    // validation/peers/offcentre_reference.py (scipy, DOP853 at rtol 1e-10, 800 bending and
+    // 11083 torsion modes with the residual flexibility; converged to 6-8 digits,
+    // validation/REFERENCES.md 1.9). The modal method at 256 bending modes (and the torsion
+    // modes below the highest, 1132) with the residual flexibility, Euler-Bernoulli like the
+    // reference: measured within 3e-6 in force and 1e-6 in duration and impulse in all four
+    // cases; held to 1e-4, a fifth of the issue's 0.5 %. The tip's off-centre contact is long
+    // (the ball rides the twisting tip for 0.83 ms at a few newtons), so its window is 1 ms.
+    let mut force = std::collections::HashMap::new();
+    for (case, position, offset, end) in [
+        ("tip-offset10", 1.15, "0.01", 1e-3),
+        ("tip-centred", 1.15, "0.0", 2e-4),
+        ("x1.10-offset10", 1.10, "0.01", 2e-4),
+        ("x1.10-centred", 1.10, "0.0", 2e-4),
+    ] {
+        let solver = format!(
+            "end_time = {end}\nmethod = \"modal\"\nmodes = 256\nresidual_flexibility = true\nbeam_theory = \"euler-bernoulli\""
+        );
+        let report = simulate(&struck(position, offset, &solver).unwrap()).unwrap().report;
+        let c = &report.contacts[0];
+        let (peak, duration, impulse) = reference(case);
+        let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+        assert!(c.complete, "{case}");
+        assert!(rel(c.peak_force, peak) < 1e-4, "{case}: {} vs {peak}", c.peak_force);
+        assert!(rel(c.duration, duration) < 1e-4, "{case}: {} vs {duration}", c.duration);
+        assert!(rel(c.impulse, impulse) < 1e-4, "{case}: {} vs {impulse}", c.impulse);
+        force.insert(case, c.peak_force);
+    }
+    // What the offset changes, as the reference says: 37 % less force at the tip, 32 % at 1.1 m.
+    let ratio = |a: &str, b: &str| force[a] / force[b];
+    let expected = |a: &str, b: &str| reference(a).0 / reference(b).0;
+    for (a, b) in [("tip-offset10", "tip-centred"), ("x1.10-offset10", "x1.10-centred")] {
+        assert!((ratio(a, b) / expected(a, b) - 1.0).abs() < 1e-4, "{a}/{b}: {}", ratio(a, b));
+    }
+}
+
+#[test]
+fn every_support_takes_an_off_centre_strike_with_its_ledger_closed() {
+    // Each support's torsion ends (a free-free strip has a rigid twist mode, which comes first
+    // with the rigid bending modes): the energy ledger closes as on a centred strike (the
+    // adaptive step's 1e-6 of the impact energy per contact), and the twist is finite.
+    for support in
+        ["clamped-free", "pinned-pinned", "clamped-clamped", "clamped-pinned", "free-free"]
+    {
+        let scene = text(1.1, "0.01", "end_time = 0.0002\nmethod = \"modal\"\nmodes = 64")
+            .replace("support = \"clamped-free\"", &format!("support = \"{support}\""));
+        let report = simulate(&Scene::from_toml(&scene).unwrap()).unwrap().report;
+        let e = &report.energy;
+        assert!((e.balance_error / e.initial).abs() < 1e-6, "{support}: {e:?}");
+        let twist = report.max_twist.unwrap();
+        assert!(twist.is_finite() && twist > 0.0, "{support}: {twist}");
+        assert!(report.contacts[0].peak_force.is_finite(), "{support}");
+    }
 }

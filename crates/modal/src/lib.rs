@@ -22,6 +22,11 @@
 //! an implicit contact step a scalar equation. [`duhamel_series`] is the paper's eq. (1),
 //! kept as a reference.
 //!
+//! **Torsion.** [`Torsion`]: Saint-Venant torsion of the same uniform beam (G J theta'' =
+//! rho Ip theta-double-dot, sine or cosine modes; a clamped or pinned end holds the twist),
+//! its static twist, and [`rectangle_torsion`], the exact torsion constant of a rectangle: what
+//! an off-centre strike adds to the bending modes (validation/REFERENCES.md 1.9).
+//!
 //! **Units.** SI: m, kg, s, N; modal coordinates in m sqrt(kg).
 //!
 //! ```

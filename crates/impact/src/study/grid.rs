@@ -362,7 +362,7 @@ impl Grid {
 }
 
 /// The report's scalars in a sweep's table, with their units in the names.
-pub const COLUMNS: [&str; 16] = [
+pub const COLUMNS: [&str; 17] = [
     "impact_speed_m_s",
     "contact_count",
     "first_duration_s",
@@ -373,6 +373,7 @@ pub const COLUMNS: [&str; 16] = [
     "max_displacement_m",
     "equivalent_static_force_n",
     "max_bending_stress_pa",
+    "max_twist_rad",
     "energy_initial_j",
     "energy_dissipated_j",
     "energy_numerical_dissipation_j",
@@ -396,6 +397,7 @@ pub fn scalars(r: &Report) -> [Option<f64>; COLUMNS.len()] {
         Some(r.max_displacement),
         r.equivalent_static_force,
         r.bending_stress.as_ref().map(|b| b.max),
+        r.max_twist,
         Some(r.energy.initial),
         Some(r.energy.dissipated),
         Some(r.energy.numerical_dissipation),
