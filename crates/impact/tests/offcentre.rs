@@ -151,6 +151,14 @@ fn an_offset_off_the_face_or_on_the_planar_beam_is_refused() {
     }
     let err = Plan::new(&tip("0.01", "method = \"fe\"").unwrap()).unwrap_err().to_string();
     assert!(err.contains("impact.offset") && err.contains("solver.method = \"modal\""), "{err}");
+    let half_space = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/half-space-r10.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("[impact]", "[impact]\noffset = 0.001");
+    let err = Plan::new(&Scene::from_toml(&half_space).unwrap()).unwrap_err().to_string();
+    assert!(err.contains("impact.offset") && err.contains("[half_space]"), "{err}");
     // The patch (radius ~0.37 mm) past the edge: allowed, with a warning giving the ratio.
     let plan = Plan::new(&tip("0.0123", "").unwrap()).unwrap();
     assert!(

@@ -696,6 +696,11 @@ impl Plan {
             max_approach: rigid.max_approach,
         };
         let method = match beam_spec {
+            None if scene.impact.offset.is_some() => {
+                return Err(ImpactError::Inconsistent(
+                    "impact.offset belongs to a [beam] (the distance from its centreline); a [half_space] has none".into(),
+                ))
+            }
             None => half_space(s, &mut reasons)?,
             Some(beam) => beam_method(scene, beam, &pulse, &mut reasons, &mut warnings)?,
         };
