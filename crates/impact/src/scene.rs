@@ -132,6 +132,38 @@ pub struct BeamSpec {
     pub yield_stress: Option<f64>,
     /// Modal damping ratio of every elastic mode (-), default 0.
     pub modal_damping: Option<f64>,
+    /// Point masses on the beam (`[[beam.mass]]`): sensors, tip masses.
+    #[serde(default, rename = "mass", skip_serializing_if = "Vec::is_empty")]
+    pub masses: Vec<MassSpec>,
+    /// Elastic supports (`[[beam.spring]]`).
+    #[serde(default, rename = "spring", skip_serializing_if = "Vec::is_empty")]
+    pub springs: Vec<SpringSpec>,
+}
+
+/// A point mass on a beam (`[[beam.mass]]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MassSpec {
+    /// Where (m from x = 0).
+    pub at: f64,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Rotary inertia about the beam's axis (kg m^2), default 0: it resists twist only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotary_inertia: Option<f64>,
+}
+
+/// An elastic support on a beam (`[[beam.spring]]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    /// Where (m from x = 0).
+    pub at: f64,
+    /// Stiffness along the impact direction (N/m).
+    pub stiffness: f64,
+    /// Stiffness against the section's bending rotation (N m/rad), default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotational_stiffness: Option<f64>,
 }
 
 /// A massive elastic block: the ball's counterface does not move.

@@ -15,7 +15,8 @@
 //!   [`Profile`].
 //! - [`PlanarBeam`]: the same rod restricted to the x-z plane (three unknowns a node, analytic
 //!   tangent, banded Newton matrix), for motions that stay in a plane, such as a ball striking
-//!   the beam's face.
+//!   the beam's face; point masses and elastic supports at its nodes
+//!   ([`PlanarBeam::attach_mass`], [`PlanarBeam::attach_spring`]), its modes by [`planar_modes`].
 //! - [`solve_static`]: Newton with load steps and automatic step cutting.
 //! - [`natural_modes`]: linearised modes about the reference configuration (faer, dense).
 //! - `scene` (feature `scene`): beam-only scene files (TOML) under prescribed loads, static or
@@ -74,7 +75,7 @@ pub use element::{Element, Strains};
 pub use error::BeamError;
 pub use mesh::Mesh;
 pub use model::{BeamModel, BeamState, Load, Profile, Support};
-pub use modes::{bending_frequencies, natural_frequencies, natural_modes, Mode};
+pub use modes::{bending_frequencies, natural_frequencies, natural_modes, planar_modes, Mode};
 pub use planar::{PlanarBeam, PlanarState};
 pub use section::{Material, Section, SHEAR_FACTOR_CIRCLE, SHEAR_FACTOR_RECTANGLE};
 pub use statics::{solve_static, StaticOptions, StaticSolution};

@@ -2,6 +2,7 @@
 
 use crate::error::BeamError;
 use crate::model::BeamModel;
+use crate::planar::PlanarBeam;
 use faer::{Mat, Side};
 use hht::{Model, NewtonWeights, Triplets};
 
@@ -39,8 +40,24 @@ pub struct Mode {
 pub fn natural_modes(model: &BeamModel, count: usize) -> Result<Vec<Mode>, BeamError> {
     let mut model = model.clone();
     model.clear_loads();
-    let n = model.ndof();
     let q = model.reference_state();
+    linear_modes(&model, &q, count)
+}
+
+/// The lowest `count` natural modes of the planar beam (with its point masses and springs)
+/// about its straight, unstressed configuration, as [`natural_modes`] solves them.
+///
+/// # Errors
+/// As [`natural_modes`].
+pub fn planar_modes(beam: &PlanarBeam, count: usize) -> Result<Vec<Mode>, BeamError> {
+    linear_modes(beam, &beam.reference_state(), count)
+}
+
+/// [`natural_modes`] of any model about the configuration `q`, from its tangent's stiffness
+/// and mass parts.
+fn linear_modes<M: Model>(model: &M, q: &M::Config, count: usize) -> Result<Vec<Mode>, BeamError> {
+    let n = model.ndof();
+    let q = q.clone();
     let zero = faer::Col::<f64>::zeros(n);
     let mut t = Triplets::new();
     model.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), NewtonWeights::stiffness(), &mut t);

@@ -155,6 +155,10 @@ pub struct PlanarBeam {
     /// max(EA, GA, EI / shortest element) (N): the size of the terms that cancel in the
     /// internal force, hence its round-off floor.
     force_scale: f64,
+    /// Point masses (node, kg) on x and z: sensors, tip masses.
+    point_masses: Vec<(usize, f64)>,
+    /// Elastic supports (node, N/m along z, N m/rad about the width axis).
+    springs: Vec<(usize, f64, f64)>,
 }
 
 /// Configuration of a [`PlanarBeam`]: node positions (m) and section rotations (rad).
@@ -225,6 +229,8 @@ impl PlanarBeam {
             mass_next: None,
             dense_nodes: None,
             force_scale: 0.0,
+            point_masses: Vec::new(),
+            springs: Vec::new(),
         };
         let shortest = nodes.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
         beam.force_scale = beam.ea.max(beam.ga).max(beam.ei / shortest);
@@ -249,6 +255,11 @@ impl PlanarBeam {
                 if let (Some(i), Some(jj)) = (dofs[axis], dofs[axis + 3]) {
                     self.mass_couplings.push((i, jj, m));
                 }
+            }
+        }
+        for &(node, m) in &self.point_masses {
+            for i in self.dofs[node][..2].iter().flatten() {
+                self.mass_diagonal[*i] += m;
             }
         }
         self.mass_next = self.mass_couplings.iter().all(|&(i, j, _)| j == i + 3).then(|| {
@@ -279,24 +290,91 @@ impl PlanarBeam {
     /// # Errors
     /// [`BeamError::Mesh`] for a node index out of range.
     pub fn support(mut self, node: usize, support: Support) -> Result<Self, BeamError> {
+        self.check_node(node)?;
+        let mut supports = self.supports();
+        supports[node] = support;
+        self.number(&supports);
+        Ok(self)
+    }
+
+    /// Adds a point mass of `mass` (kg) at `node`: it moves with the node in x and z (its
+    /// rotary inertia about the beam's axis does not act in the plane).
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for a node out of range; [`BeamError::InvalidParameter`] for a
+    /// mass that is negative or not finite.
+    pub fn attach_mass(mut self, node: usize, mass: f64) -> Result<Self, BeamError> {
+        self.check_node(node)?;
+        if !(mass.is_finite() && mass >= 0.0) {
+            return Err(BeamError::InvalidParameter {
+                name: "mass",
+                value: mass,
+                allowed: "a finite number >= 0 (kg)",
+            });
+        }
+        self.point_masses.push((node, mass));
+        let supports = self.supports();
+        self.number(&supports);
+        Ok(self)
+    }
+
+    /// Adds an elastic support at `node`: `stiffness` (N/m) against its z displacement and
+    /// `rotational_stiffness` (N m/rad) against its section's rotation.
+    ///
+    /// # Errors
+    /// As [`PlanarBeam::attach_mass`], for stiffnesses that are negative or not finite.
+    pub fn attach_spring(
+        mut self,
+        node: usize,
+        stiffness: f64,
+        rotational_stiffness: f64,
+    ) -> Result<Self, BeamError> {
+        self.check_node(node)?;
+        for (name, value) in
+            [("stiffness", stiffness), ("rotational_stiffness", rotational_stiffness)]
+        {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(BeamError::InvalidParameter {
+                    name,
+                    value,
+                    allowed: "a finite number >= 0 (N/m, N m/rad)",
+                });
+            }
+        }
+        self.springs.push((node, stiffness, rotational_stiffness));
+        Ok(self)
+    }
+
+    fn check_node(&self, node: usize) -> Result<(), BeamError> {
         if node >= self.nodes.len() {
             return Err(BeamError::Mesh(format!(
                 "node {node} is not in a mesh of {} nodes",
                 self.nodes.len()
             )));
         }
-        let mut supports: Vec<Support> = self
-            .dofs
+        Ok(())
+    }
+
+    /// Each node's support, read back from its unknowns.
+    fn supports(&self) -> Vec<Support> {
+        self.dofs
             .iter()
             .map(|d| match d {
                 [None, None, None] => Support::Clamped,
                 [None, None, Some(_)] => Support::Pinned,
                 _ => Support::Free,
             })
-            .collect();
-        supports[node] = support;
-        self.number(&supports);
-        Ok(self)
+            .collect()
+    }
+
+    /// The springs' stored energy (J): `k w^2 / 2 + k_theta theta^2 / 2` each.
+    pub fn spring_energy(&self, q: &PlanarState) -> f64 {
+        self.springs
+            .iter()
+            .map(|&(node, k, kt)| {
+                0.5 * (k * q.z[node] * q.z[node] + kt * q.theta[node] * q.theta[node])
+            })
+            .sum()
     }
 
     /// Reference x of the nodes (m).
@@ -437,15 +515,16 @@ impl PlanarBeam {
         [a[0], a[1], a[2], b[0], b[1], b[2]]
     }
 
-    /// Strain energy (J).
+    /// Strain energy (J), the springs' included.
     pub fn strain_energy(&self, q: &PlanarState) -> f64 {
-        let mut energy = 0.0;
+        let mut energy = self.spring_energy(q);
         self.for_each_strain(q, |e, st| energy += self.element_energy(e, st));
         energy
     }
 
-    /// Strain energy (J) of a configuration whose section strains
-    /// ([`PlanarBeam::all_section_strains`]) are `strains`.
+    /// Strain energy (J) of the elements of a configuration whose section strains
+    /// ([`PlanarBeam::all_section_strains`]) are `strains` (the springs' is
+    /// [`PlanarBeam::spring_energy`]).
     pub fn strain_energy_of(&self, strains: &[(f64, f64, f64)]) -> f64 {
         // Four partial sums: one chain of additions would wait on each.
         let mut sums = [0.0; 4];
@@ -474,6 +553,14 @@ impl PlanarBeam {
     /// the fe method's innermost loop).
     pub fn internal_force(&self, q: &PlanarState, out: &mut [f64]) {
         hht::fast::run(InternalForce { beam: self, q, out });
+        for &(node, k, kt) in &self.springs {
+            if let Some(i) = self.dofs[node][1] {
+                out[i] += k * q.z[node];
+            }
+            if let Some(i) = self.dofs[node][2] {
+                out[i] += kt * q.theta[node];
+            }
+        }
     }
 
     #[inline(always)]
@@ -766,6 +853,18 @@ impl Model for PlanarBeam {
                     if let Some(jj) = dc {
                         out.push(i, jj, *value);
                     }
+                }
+            }
+        }
+        for &(node, m) in &self.point_masses {
+            for i in self.dofs[node][..2].iter().flatten() {
+                out.push(*i, *i, inertia * m);
+            }
+        }
+        for &(node, k, kt) in &self.springs {
+            for (d, value) in self.dofs[node][1..].iter().zip([k, kt]) {
+                if let Some(i) = d {
+                    out.push(*i, *i, stiffness * value);
                 }
             }
         }

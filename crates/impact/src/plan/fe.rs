@@ -68,6 +68,51 @@ pub struct FePlan {
     pub(crate) approach_scale: f64,
     /// The relative error to refine the uniform mesh to, if asked (`solver.tolerance`).
     pub(crate) tolerance: Option<f64>,
+    /// Point masses and elastic supports, each at a node of the mesh.
+    pub(crate) attachments: Vec<Attachment>,
+}
+
+/// A point mass and an elastic support at one place of the fe beam (either may be 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Attachment {
+    /// Where (m from x = 0): a node of every mesh.
+    pub(crate) at: f64,
+    /// Mass (kg).
+    pub(crate) mass: f64,
+    /// Stiffness along the impact direction (N/m) and against the bending rotation (N m/rad).
+    pub(crate) stiffness: f64,
+    pub(crate) rotational_stiffness: f64,
+}
+
+/// Two positions closer than this fraction of the beam's length are one node.
+const SAME_NODE: f64 = 1e-9;
+
+/// `nodes` with a node at every attachment (an existing node within [`SAME_NODE`] of the
+/// beam's length moved onto it, else a node added).
+pub(crate) fn with_nodes_at(mut nodes: Vec<f64>, attachments: &[Attachment]) -> Vec<f64> {
+    let length = nodes.last().copied().unwrap_or(0.0);
+    for a in attachments {
+        let k = nodes.partition_point(|x| *x < a.at);
+        let near = [k.checked_sub(1), Some(k)]
+            .into_iter()
+            .flatten()
+            .filter(|&i| i < nodes.len())
+            .find(|&i| (nodes[i] - a.at).abs() <= SAME_NODE * length);
+        match near {
+            Some(i) => nodes[i] = a.at,
+            None => nodes.insert(k, a.at),
+        }
+    }
+    nodes
+}
+
+/// The node of `nodes` at `at` (m), as [`with_nodes_at`] placed it.
+pub(crate) fn node_at(nodes: &[f64], at: f64) -> usize {
+    let k = nodes.partition_point(|x| *x < at).min(nodes.len() - 1);
+    match k.checked_sub(1) {
+        Some(j) if (nodes[j] - at).abs() < (nodes[k] - at).abs() => j,
+        _ => k,
+    }
 }
 
 impl FePlan {
@@ -85,16 +130,24 @@ impl FePlan {
     pub fn alpha(&self) -> f64 {
         self.alpha
     }
+
+    /// The same plan on `elements` equal elements (and a node at each attachment).
+    pub(crate) fn remeshed(&self, elements: usize) -> FePlan {
+        let nodes = with_nodes_at(uniform(self.analytic.length(), elements), &self.attachments);
+        FePlan { nodes, ..self.clone() }
+    }
 }
 
 /// The finite-element model of `beam` (whose analytic Timoshenko twin is `analytic`) struck at
 /// `position` (m): the mesh asked for or graded from the impact point, alpha and the steps.
+#[allow(clippy::too_many_arguments)] // the scene's parts a plan is made of, each checked before
 pub(super) fn plan(
     beam: &BeamSpec,
     s: &SolverSpec,
     analytic: modal::Beam,
     position: f64,
     damping: f64,
+    attachments: Vec<Attachment>,
     pulse: &Pulse,
     (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
 ) -> Result<FePlan, ImpactError> {
@@ -120,7 +173,24 @@ pub(super) fn plan(
         None => FE_FREE_STEP_RATIO * contact_step,
     };
     reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero".into());
-    let nodes = mesh(s, &analytic, position, estimated_duration, reasons)?;
+    let nodes =
+        with_nodes_at(mesh(s, &analytic, position, estimated_duration, reasons)?, &attachments);
+    if !attachments.is_empty() {
+        let places: Vec<String> = attachments
+            .iter()
+            .map(|a| {
+                let mut what = Vec::new();
+                if a.mass > 0.0 {
+                    what.push(format!("{} kg", a.mass));
+                }
+                if a.stiffness > 0.0 || a.rotational_stiffness > 0.0 {
+                    what.push(format!("{} N/m, {} N m/rad", a.stiffness, a.rotational_stiffness));
+                }
+                format!("{} at x = {} m", what.join(" and "), a.at)
+            })
+            .collect();
+        reasons.push(format!("a node at each point mass and spring ({}): a mass moves with its node in x and z, a spring holds its node's z and section rotation", places.join("; ")));
+    }
     let ends = ends(beam.support);
     resolution(s, &analytic, (&nodes, ends, position), estimated_duration, (reasons, warnings))?;
     if free_time_step > contact_step * (1.0 + 1e-9) {
@@ -145,6 +215,7 @@ pub(super) fn plan(
         samples_per_pulse: samples,
         approach_scale: pulse.max_approach,
         tolerance: s.tolerance,
+        attachments,
     })
 }
 

@@ -13,7 +13,7 @@ mod fe;
 mod modal;
 mod theory;
 
-pub(crate) use fe::uniform;
+pub(crate) use fe::{node_at, Attachment};
 pub use fe::{
     FePlan, FE_ALPHA, FE_ELEMENTS_PER_WAVELENGTH, FE_FREE_STEP_RATIO, FE_GROWTH, FE_LADDER_END,
     FE_LADDER_START, FE_SAMPLES_PER_PULSE,
@@ -379,6 +379,7 @@ fn beam_method(
     }
     free_end(beam, position, scene.ball.radius, pulse, warnings);
     let offset = offset(beam, scene.impact.offset, scene.ball.radius, pulse, warnings)?;
+    let attachments = attachments(beam, position, scene.ball.radius, pulse, (reasons, warnings))?;
     let torsion = if offset == 0.0 { None } else { Some(theory::torsion(beam)?) };
     let damping = beam.modal_damping.unwrap_or(0.0);
     if !(damping.is_finite() && (0.0..1.0).contains(&damping)) {
@@ -391,7 +392,21 @@ fn beam_method(
     let flexibility = m.static_flexibility(position).unwrap_or(0.0) + offset * offset * twist;
     let deflection = (pulse.ball_mass * pulse.speed * pulse.speed * flexibility).sqrt();
     let large = deflection > LARGE_DEFLECTION * length;
+    if !attachments.is_empty() && offset != 0.0 {
+        return Err(ImpactError::Inconsistent(format!(
+            "impact.offset = {offset} m with [[beam.mass]] or [[beam.spring]]: the fe method takes the masses and springs but its beam is planar (no twist), the modal method twists but its modes are a uniform beam's; give one or the other for now"
+        )));
+    }
     let use_fe = match s.method {
+        MethodName::Modal if !attachments.is_empty() => {
+            return Err(ImpactError::Inconsistent(
+                "[[beam.mass]] and [[beam.spring]] need solver.method = \"fe\": the modal method's modes are the uniform beam's (Goldsmith's method on a beam that carries masses and springs is not built yet)".into(),
+            ));
+        }
+        MethodName::Auto if !attachments.is_empty() => {
+            reasons.push("method fe (auto): the beam carries point masses or springs, and the modal method's modes are the uniform beam's".into());
+            true
+        }
         MethodName::Fe => {
             reasons
                 .push("method fe, as asked: geometrically exact Simo beam with HHT-alpha".into());
@@ -438,7 +453,7 @@ fn beam_method(
         )));
     }
     if use_fe {
-        let fe = fe::plan(beam, s, m, position, damping, pulse, (reasons, warnings))?;
+        let fe = fe::plan(beam, s, m, position, damping, attachments, pulse, (reasons, warnings))?;
         Ok(Method::Fe(fe))
     } else {
         let (chosen, twin) = theory::choose(s.beam_theory, beam, both, pulse, reasons);
@@ -482,6 +497,67 @@ fn free_end(
             "impact.position is {distance:.3e} m from a free end of the beam, within the contact radius (about {patch:.3e} m): the contact patch runs over the beam's end, where the contact law (a half-space) does not hold, and the beam models load one point where the response changes fast with it (on the paper's tip, struck 0.1 mm further in, the ball leaves the first contact 3 % slower and the second contact starts 9 % later; validation/REFERENCES.md 1.6): strike at least the contact radius inside the end for a result the models vouch for"
         ));
     }
+}
+
+/// The beam's `[[beam.mass]]` and `[[beam.spring]]`, checked (on the beam, not negative),
+/// in order along it. Warns of a mass where the ball strikes (it has no face in the model) and
+/// says that a mass's rotary inertia (about the axis) acts on twist only.
+fn attachments(
+    beam: &BeamSpec,
+    position: f64,
+    radius: f64,
+    pulse: &Pulse,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) -> Result<Vec<Attachment>, ImpactError> {
+    let length = beam.length;
+    let place = |key: String, at: f64| -> Result<f64, ImpactError> {
+        if at.is_finite() && (0.0..=length).contains(&at) {
+            Ok(at)
+        } else {
+            Err(invalid(
+                &key,
+                at,
+                &format!("must be on the beam, 0 <= at <= beam.length = {length} (m)"),
+            ))
+        }
+    };
+    let not_negative = |key: String, value: f64, unit: &str| -> Result<f64, ImpactError> {
+        if value.is_finite() && value >= 0.0 {
+            Ok(value)
+        } else {
+            Err(invalid(&key, value, &format!("must be a finite number >= 0 ({unit})")))
+        }
+    };
+    let mut out = Vec::new();
+    let patch = (radius * pulse.max_approach).sqrt();
+    for (k, m) in beam.masses.iter().enumerate() {
+        let at = place(format!("beam.mass[{k}].at"), m.at)?;
+        let mass = not_negative(format!("beam.mass[{k}].mass"), m.mass, "kg")?;
+        let rotary = not_negative(
+            format!("beam.mass[{k}].rotary_inertia"),
+            m.rotary_inertia.unwrap_or(0.0),
+            "kg m^2",
+        )?;
+        if rotary > 0.0 {
+            reasons.push(format!("beam.mass[{k}].rotary_inertia = {rotary} kg m^2 resists twist only: a centred strike does not twist the beam, so it does not act here"));
+        }
+        if (at - position).abs() <= patch {
+            warnings.push(format!("beam.mass[{k}] at x = {at} m sits where the ball strikes (within the contact radius {patch:.3e} m): the mass has no face in the model, the ball meets the beam's face and the mass only adds its inertia at that node"));
+        }
+        out.push(Attachment { at, mass, stiffness: 0.0, rotational_stiffness: 0.0 });
+    }
+    for (k, sp) in beam.springs.iter().enumerate() {
+        let at = place(format!("beam.spring[{k}].at"), sp.at)?;
+        let stiffness = not_negative(format!("beam.spring[{k}].stiffness"), sp.stiffness, "N/m")?;
+        let rotational_stiffness = not_negative(
+            format!("beam.spring[{k}].rotational_stiffness"),
+            sp.rotational_stiffness.unwrap_or(0.0),
+            "N m/rad",
+        )?;
+        out.push(Attachment { at, mass: 0.0, stiffness, rotational_stiffness });
+    }
+    out.sort_by(|a, b| a.at.total_cmp(&b.at));
+    Ok(out)
 }
 
 /// `impact.offset` (m), checked: on the face (at most half the width from the centreline).

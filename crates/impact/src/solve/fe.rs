@@ -20,7 +20,7 @@ use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
 use crate::law::WithLaw;
 use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample};
-use crate::plan::{FePlan, Plan};
+use crate::plan::{node_at, FePlan, Plan};
 use faer::Col;
 use hertz::ContactLaw;
 use hht::{Integrator, Model, NewtonOptions, Scheme, State};
@@ -49,7 +49,48 @@ fn build_beam(target: &FePlan) -> Result<PlanarBeam, ImpactError> {
     let section = Section::rectangle(&target.material, target.width, target.thickness)?;
     let last = target.nodes.len() - 1;
     let (first, end) = target.ends;
-    Ok(PlanarBeam::new(&target.nodes, &section)?.support(0, first)?.support(last, end)?)
+    let mut beam =
+        PlanarBeam::new(&target.nodes, &section)?.support(0, first)?.support(last, end)?;
+    for a in &target.attachments {
+        let node = node_at(&target.nodes, a.at);
+        if a.mass > 0.0 {
+            beam = beam.attach_mass(node, a.mass)?;
+        }
+        if a.stiffness > 0.0 || a.rotational_stiffness > 0.0 {
+            beam = beam.attach_spring(node, a.stiffness, a.rotational_stiffness)?;
+        }
+    }
+    Ok(beam)
+}
+
+/// The static flexibility (m/N) of the fe beam at x = `position` along z: `K u = f` at the
+/// straight configuration for a unit force there (shared between the two nodes of its element
+/// in proportion, the displacement read back the same way), by a dense LU (a static solve
+/// once a run). `None` if the beam is not held (a singular or indefinite `K`).
+fn static_flexibility(beam: &PlanarBeam, position: f64) -> Option<f64> {
+    let n = beam.ndof();
+    let q = beam.reference_state();
+    let zero = faer::Col::<f64>::zeros(n);
+    let mut t = hht::Triplets::new();
+    beam.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), hht::NewtonWeights::stiffness(), &mut t);
+    let mut k = faer::Mat::<f64>::zeros(n, n);
+    for (r, c, v) in t.iter() {
+        k[(r, c)] += v;
+    }
+    let nodes = beam.nodes();
+    let e = nodes.partition_point(|x| *x <= position).saturating_sub(1).min(nodes.len() - 2);
+    let xi = ((position - nodes[e]) / (nodes[e + 1] - nodes[e])).clamp(0.0, 1.0);
+    let shares = [(e, 1.0 - xi), (e + 1, xi)];
+    let mut f = faer::Mat::<f64>::zeros(n, 1);
+    for (node, w) in shares {
+        if let Some(i) = beam.dof(node, 1) {
+            f[(i, 0)] += w;
+        }
+    }
+    let u = faer::linalg::solvers::Solve::solve(&k.partial_piv_lu(), &f);
+    let w: f64 =
+        shares.iter().filter_map(|(node, s)| beam.dof(*node, 1).map(|i| s * u[(i, 0)])).sum();
+    (w.is_finite() && w > 0.0).then_some(w)
 }
 
 /// Runs an FE plan to its end time, with whichever law it holds. Fails with `Integrator` when
@@ -475,6 +516,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let ball_potential = -m * self.plan.gravity * self.ball_position();
         let beam_model = self.model.beam();
         let beam = beam_model.strain_energy_of(&self.strains)
+            + beam_model.spring_energy(&q.beam)
             + beam_model.kinetic_energy(v.subrows(0, n - 2));
         let contact_stored = law.stored_energy(&self.model.law_state, delta);
         let dissipated = law.dissipated_energy(&self.model.law_state);
@@ -493,10 +535,19 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let plan = self.plan;
         let energy = self.energy();
         let mut warnings = plan.warnings.clone();
-        let static_stiffness = static_stiffness(
-            self.target.analytic.static_flexibility(self.target.position),
-            &mut warnings,
-        );
+        // A uniform beam's static flexibility is the analytic Timoshenko beam's (exact); one
+        // that carries springs needs its own static solve (masses do not change it).
+        let flexibility = if self
+            .target
+            .attachments
+            .iter()
+            .any(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0)
+        {
+            static_flexibility(self.model.beam(), self.target.position)
+        } else {
+            self.target.analytic.static_flexibility(self.target.position)
+        };
+        let static_stiffness = static_stiffness(flexibility, &mut warnings);
         let mut summary = plan.summary.clone();
         summary.reasons.push(format!(
             "{} HHT steps ({} Newton iterations, {} Newton matrices factorised, {} step halvings, {} contact steps rejected by the error control), {} events located by re-stepping",

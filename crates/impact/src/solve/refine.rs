@@ -31,7 +31,9 @@ use super::modal::ModalRun;
 use super::Progress;
 use crate::error::ImpactError;
 use crate::outcome::{Outcome, Report};
-use crate::plan::{uniform, FePlan, Method, ModalPlan, Plan, FE_LADDER_END, MODAL_LADDER_END};
+use crate::plan::{
+    FePlan, Method, ModalPlan, Plan, FE_LADDER_END, FE_LADDER_START, MODAL_LADDER_END,
+};
 
 /// Runs `target` on doubling uniform meshes until the estimated relative error of the finer
 /// is within `tolerance` (or the mesh reaches [`FE_LADDER_END`] elements, with a warning),
@@ -43,10 +45,9 @@ pub(super) fn run_fe(
     tolerance: f64,
     progress: Progress<'_>,
 ) -> Result<Outcome, ImpactError> {
-    let length = target.analytic.length();
     let ladder =
-        Ladder { start: target.elements(), end: FE_LADDER_END, unit: "elements", share: 1.0 / 3.0 };
-    let uniform_mesh = |elements| FePlan { nodes: uniform(length, elements), ..target.clone() };
+        Ladder { start: FE_LADDER_START, end: FE_LADDER_END, unit: "elements", share: 1.0 / 3.0 };
+    let uniform_mesh = |elements| target.remeshed(elements);
     let (space, elements) = ladder.climb(tolerance, |elements| {
         plan.law.with(FeRun { plan, target: &uniform_mesh(elements), progress })
     })?;

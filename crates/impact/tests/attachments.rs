@@ -1,0 +1,193 @@
+//! Point masses and elastic supports on a struck beam (`[[beam.mass]]`, `[[beam.spring]]`, the
+//! fe method): a stiff spring is a support, a mass on a held node changes nothing, the ledger
+//! closes, the static stiffness is the beam's and the spring's, and bad input is refused by
+//! name (validation/REFERENCES.md 1.10).
+#![allow(clippy::unwrap_used)] // a test stops on a bad fixture
+
+use impact::{simulate, Plan, Scene};
+
+/// The paper's cantilever and ball (0.2 m, gravity off) struck at 0.8 m, with `extra` lines
+/// under `[beam]` (its masses and springs) and the `[solver]` lines `solver`.
+fn scene(support: &str, extra: &str, solver: &str) -> Result<Scene, impact::ImpactError> {
+    struck(0.8, support, extra, solver)
+}
+
+/// [`scene`] struck at `position` (m).
+fn struck(
+    position: f64,
+    support: &str,
+    extra: &str,
+    solver: &str,
+) -> Result<Scene, impact::ImpactError> {
+    Scene::from_toml(&format!(
+        r#"
+name = "carried"
+[beam]
+length = 1.15
+width = 0.025
+thickness = 0.005
+support = "{support}"
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+{extra}
+[ball]
+radius = 0.005
+mass = 0.009
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+[impact]
+position = {position}
+drop_height = 0.2
+gravity = false
+[solver]
+end_time = 0.0004
+{solver}
+"#
+    ))
+}
+
+/// A short, thick pinned-pinned steel beam (90 x 20 x 15 mm) struck at mid-span by a 22 mm
+/// ball at 1 m/s (tests/beam_theory.rs): its supports shape the 70 us contact. `ends` and
+/// `extra` say how it is held.
+fn stubby(ends: &str, extra: &str) -> Scene {
+    Scene::from_toml(&format!(
+        r#"
+name = "stubby"
+[beam]
+length = 0.09
+width = 0.02
+thickness = 0.015
+support = "{ends}"
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+{extra}
+[ball]
+radius = 0.011
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+[impact]
+position = 0.045
+speed = 1.0
+gravity = false
+[solver]
+method = "fe"
+elements = 64
+end_time = 0.0003
+"#
+    ))
+    .unwrap()
+}
+
+#[test]
+fn stiff_springs_at_the_ends_are_pins_there() {
+    // A free-free beam held at both ends by springs of 1e12 N/m against the same beam pinned:
+    // the springs let the ends move F/k (~1e-9 m under the support's share of 1.7 kN, 1e-5 of
+    // the beam's deflection) and leave them free along x (a pin also holds x: second order in
+    // the deflection), so the contacts agree to about that order.
+    let springs =
+        "[[beam.spring]]\nat = 0.0\nstiffness = 1e12\n[[beam.spring]]\nat = 0.09\nstiffness = 1e12";
+    let sprung = simulate(&stubby("free-free", springs)).unwrap().report;
+    let pinned = simulate(&stubby("pinned-pinned", "")).unwrap().report;
+    let free = simulate(&stubby("free-free", "")).unwrap().report;
+    assert!(sprung.plan.reasons.iter().any(|r| r.contains("a node at each point mass and spring")));
+    let rel = |x: f64, y: f64| (x / y - 1.0).abs();
+    let (a, b, c) = (&sprung.contacts[0], &pinned.contacts[0], &free.contacts[0]);
+    // Measured: 6.6e-6 in peak force and 6.3e-7 in duration, where the same beam left free
+    // differs by 8.3e-3 and 4.4e-2 (the supports shape this contact).
+    assert!(rel(c.duration, b.duration) > 1e-2, "{} vs {}", c.duration, b.duration);
+    assert!(rel(a.peak_force, b.peak_force) < 1e-4, "{} vs {}", a.peak_force, b.peak_force);
+    assert!(rel(a.duration, b.duration) < 1e-4, "{} vs {}", a.duration, b.duration);
+    // The ledger (the springs' energy in the beam's) closes as a bare beam's does: the
+    // trapezoidal rule's error on the contact, some 3e-5 of the impact energy (tests/fe.rs).
+    let e = &sprung.energy;
+    assert!((e.balance_error / e.initial).abs() < 1e-4, "{e:?}");
+    // The static stiffness: the sprung beam's own static solve against the pinned beam's
+    // analytic Timoshenko value (the fe beam's mesh error and the springs' 1/k): 1.9e-4.
+    let (ks, kp) = (sprung.static_stiffness.unwrap(), pinned.static_stiffness.unwrap());
+    assert!(rel(ks, kp) < 1e-3, "{ks} vs {kp}");
+}
+
+#[test]
+fn the_static_stiffness_is_the_beam_and_the_spring_in_parallel() {
+    // A spring k at the impact point (x = 0.8 m) of the cantilever: the point's static stiffness
+    // is the beam's (c^3/(3 EI) + c/(k G A), Timoshenko) plus k, to the mesh's error (the
+    // one-point element's 1/(4 n^2) on the bending part, 1.5e-5 at 128 elements; measured
+    // 1.2e-5).
+    let k = 500.0;
+    let spring = format!("[[beam.spring]]\nat = 0.8\nstiffness = {k}");
+    let report =
+        simulate(&scene("clamped-free", &spring, "method = \"fe\"\nelements = 128").unwrap())
+            .unwrap()
+            .report;
+    let (e, g) = (2.1e11, 2.1e11 / 2.6);
+    let (area, inertia) = (0.025 * 0.005, 0.025 * 0.005f64.powi(3) / 12.0);
+    let c: f64 = 0.8;
+    let beam = 1.0 / (c.powi(3) / (3.0 * e * inertia) + c / (5.0 / 6.0 * g * area));
+    let got = report.static_stiffness.unwrap();
+    assert!((got / (beam + k) - 1.0).abs() < 1e-4, "{got} vs {}", beam + k);
+    let eq = report.equivalent_static_force.unwrap();
+    assert!((eq / (got * report.max_displacement) - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_mass_on_a_held_node_changes_nothing_and_a_sensor_closes_the_ledger() {
+    let solver = "method = \"fe\"\nelements = 64";
+    let bare = simulate(&scene("clamped-free", "", solver).unwrap()).unwrap().report;
+    let on_clamp = "[[beam.mass]]\nat = 0.0\nmass = 0.5\nrotary_inertia = 1e-4";
+    let held = simulate(&scene("clamped-free", on_clamp, solver).unwrap()).unwrap().report;
+    assert_eq!(bare.contacts.len(), held.contacts.len());
+    for (a, b) in bare.contacts.iter().zip(&held.contacts) {
+        assert!((a.peak_force - b.peak_force).abs() <= 1e-12 * a.peak_force, "{a:?} vs {b:?}");
+    }
+    assert!(held.plan.reasons.iter().any(|r| r.contains("resists twist only")));
+    // The paper's accelerometer: 20 g at the tip. It slows the beam's swing (larger inertia at
+    // the tip), so the largest displacement over the window changes; the ledger still closes.
+    let sensor = "[[beam.mass]]\nat = 1.15\nmass = 0.02";
+    let carried = simulate(&scene("clamped-free", sensor, solver).unwrap()).unwrap().report;
+    let e = &carried.energy;
+    assert!((e.balance_error / e.initial).abs() < 1e-4, "{e:?}");
+    assert!(carried.contacts[0].peak_force.is_finite());
+    // The modal method is asked explicitly: refused, naming the way out; auto takes fe.
+    let err = Plan::new(&scene("clamped-free", sensor, "method = \"modal\"").unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("solver.method = \"fe\""), "{err}");
+    let auto = Plan::new(&scene("clamped-free", sensor, "").unwrap()).unwrap();
+    assert!(auto.summary().reasons.iter().any(|r| r.contains("method fe (auto)")), "{auto:?}");
+}
+
+#[test]
+fn masses_and_springs_off_the_beam_or_negative_are_refused_by_name() {
+    for (extra, key) in [
+        ("[[beam.mass]]\nat = 1.2\nmass = 0.1", "beam.mass[0].at"),
+        ("[[beam.mass]]\nat = 0.5\nmass = -0.1", "beam.mass[0].mass"),
+        ("[[beam.mass]]\nat = 0.5\nmass = 0.1\nrotary_inertia = nan", "beam.mass[0].rotary_inertia"),
+        ("[[beam.spring]]\nat = 0.5\nstiffness = 1.0\n[[beam.spring]]\nat = -0.1\nstiffness = 1.0", "beam.spring[1].at"),
+        ("[[beam.spring]]\nat = 0.5\nstiffness = -3.0", "beam.spring[0].stiffness"),
+    ] {
+        let err = Plan::new(&scene("clamped-free", extra, "").unwrap()).unwrap_err().to_string();
+        assert!(err.contains(key), "{key}: {err}");
+    }
+    // An unknown key in a mass, and a mass with an off-centre strike.
+    let err =
+        scene("clamped-free", "[[beam.mass]]\nat = 0.5\nmas = 0.1", "").unwrap_err().to_string();
+    assert!(err.contains("mas"), "{err}");
+    let both = scene("clamped-free", "[[beam.mass]]\nat = 0.5\nmass = 0.1", "").unwrap();
+    let mut both = both;
+    both.impact.offset = Some(0.005);
+    let err = Plan::new(&both).unwrap_err().to_string();
+    assert!(err.contains("impact.offset") && err.contains("[[beam.mass]]"), "{err}");
+    // A mass where the ball strikes is warned of.
+    let plan =
+        Plan::new(&scene("clamped-free", "[[beam.mass]]\nat = 0.8\nmass = 0.01", "").unwrap())
+            .unwrap();
+    assert!(
+        plan.warnings().iter().any(|w| w.contains("no face in the model")),
+        "{:?}",
+        plan.warnings()
+    );
+}

@@ -1,0 +1,118 @@
+//! Point masses and elastic supports on the planar beam (validation/REFERENCES.md 1.10):
+//! frequencies against the characteristic equations of a cantilever with a tip mass and with a
+//! tip spring, and the force's derivative against finite differences.
+#![allow(clippy::unwrap_used)] // a test stops on a bad fixture
+
+use faer::Col;
+use hht::{Model, NewtonWeights, Triplets};
+use simo_beam::{planar_modes, Material, PlanarBeam, Section, Support};
+
+/// A thin steel strip, 25 x 1 mm, 1 m long (shear shifts its lowest modes by < 1e-5).
+const E: f64 = 2.1e11;
+const RHO: f64 = 7850.0;
+const WIDTH: f64 = 0.025;
+const THICKNESS: f64 = 0.001;
+
+fn section() -> Section {
+    Section::rectangle(&Material::new(E, 0.3, RHO).unwrap(), WIDTH, THICKNESS).unwrap()
+}
+
+fn ei() -> f64 {
+    E * WIDTH * THICKNESS.powi(3) / 12.0
+}
+
+/// The cantilever (clamped at x = 0) on `n` equal elements.
+fn cantilever(n: usize) -> PlanarBeam {
+    let nodes: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+    PlanarBeam::new(&nodes, &section()).unwrap().support(0, Support::Clamped).unwrap()
+}
+
+/// The lowest three lambda^2 = omega L^2 sqrt(rho A / EI) of `beam`.
+fn lambda2(beam: &PlanarBeam) -> Vec<f64> {
+    let scale = (RHO * WIDTH * THICKNESS / ei()).sqrt();
+    planar_modes(beam, 3).unwrap().iter().map(|m| m.omega * scale).collect()
+}
+
+#[test]
+fn a_tip_mass_and_a_tip_spring_give_their_characteristic_roots() {
+    // Tip mass M = rho A L (mu = 1): 1 + cos l cosh l + mu l (cos l sinh l - sin l cosh l) = 0,
+    // lambda^2 = 1.557298, 16.25009, 50.89584 (Blevins, Formulas for Natural Frequency and
+    // Mode Shape, table 8-8; roots recomputed by brentq). Tip spring k = 100 EI/L^3: the
+    // spring takes the mass's -M omega^2 in the shear condition, so
+    // 1 + cos l cosh l - (K / l^3)(cos l sinh l - sin l cosh l) = 0, lambda^2 = 13.253544,
+    // 31.539412, 65.352462 (derived here, roots by brentq; K -> infinity gives the
+    // clamped-pinned 15.418). The element converges at second order: the error must fall
+    // about fourfold from 128 to 256 elements and be within 1e-4 at 256.
+    let mass: [f64; 3] = [1.5572979, 16.2500852, 50.8958428];
+    let spring: [f64; 3] = [13.2535440, 31.5394120, 65.3524617];
+    let tip_mass = |n: usize| cantilever(n).attach_mass(n, RHO * WIDTH * THICKNESS).unwrap();
+    let tip_spring = |n: usize| cantilever(n).attach_spring(n, 100.0 * ei(), 0.0).unwrap();
+    for (name, exact, coarse, fine) in [
+        ("mass", mass, lambda2(&tip_mass(128)), lambda2(&tip_mass(256))),
+        ("spring", spring, lambda2(&tip_spring(128)), lambda2(&tip_spring(256))),
+    ] {
+        for k in 0..3 {
+            let (ec, ef) = ((coarse[k] / exact[k] - 1.0).abs(), (fine[k] / exact[k] - 1.0).abs());
+            assert!(ef < 1e-4, "{name} mode {k}: {} vs {}", fine[k], exact[k]);
+            if k > 0 {
+                assert!((3.0..5.0).contains(&(ec / ef)), "{name} mode {k}: {ec:e} -> {ef:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_springs_force_is_the_derivative_of_their_energy_and_the_tangent_its_own() {
+    // A bent state of the strip with a spring (k, k_theta) at its middle and a mass at its
+    // tip: the net force's z and theta entries at the spring are the energy's derivatives
+    // (central differences of strain_energy), and the tangent's stiffness part is the force's
+    // derivative there.
+    let beam = cantilever(8).attach_spring(4, 3e3, 40.0).unwrap().attach_mass(8, 0.1).unwrap();
+    let mut q = beam.reference_state();
+    for k in 0..=8 {
+        q.z[k] = 1e-3 * (k as f64).powi(2);
+        q.theta[k] = 2e-3 * k as f64;
+    }
+    let n = beam.ndof();
+    let zero = Col::<f64>::zeros(n);
+    let mut force = Col::<f64>::zeros(n);
+    beam.net_force(0.0, &q, zero.as_ref(), force.as_mut());
+    let mut tangent = Triplets::new();
+    beam.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), NewtonWeights::stiffness(), &mut tangent);
+    for unknown in [1, 2] {
+        let i = beam.dof(4, unknown).unwrap();
+        let h = 1e-7;
+        let at = |d: f64| {
+            let mut p = q.clone();
+            let mut dq = Col::<f64>::zeros(n);
+            dq[i] = d;
+            beam.update(&mut p, dq.as_ref());
+            p
+        };
+        let (up, down) = (at(h), at(-h));
+        let energy = (beam.strain_energy(&up) - beam.strain_energy(&down)) / (2.0 * h);
+        assert!(
+            (energy - force[i]).abs() < 1e-6 * force[i].abs().max(1.0),
+            "{energy} vs {}",
+            force[i]
+        );
+        let (mut fu, mut fd) = (Col::<f64>::zeros(n), Col::<f64>::zeros(n));
+        beam.net_force(0.0, &up, zero.as_ref(), fu.as_mut());
+        beam.net_force(0.0, &down, zero.as_ref(), fd.as_mut());
+        let column: f64 = tangent.iter().filter(|(r, c, _)| *r == i && *c == i).map(|e| e.2).sum();
+        let fd_ii = (fu[i] - fd[i]) / (2.0 * h);
+        assert!((column - fd_ii).abs() < 1e-5 * column.abs(), "{column} vs {fd_ii}");
+    }
+    // The tip mass adds to the kinetic energy of a tip moving at 1 m/s along z: 0.1 / 2 J more.
+    let mut v = Col::<f64>::zeros(n);
+    v[beam.dof(8, 1).unwrap()] = 1.0;
+    let bare = cantilever(8).attach_spring(4, 3e3, 40.0).unwrap();
+    assert!(
+        (beam.kinetic_energy(v.as_ref()) - bare.kinetic_energy(v.as_ref()) - 0.05).abs() < 1e-15
+    );
+    // Bad values are refused by name.
+    let err = cantilever(4).attach_mass(2, -1.0).unwrap_err().to_string();
+    assert!(err.contains("mass = -1"), "{err}");
+    let err = cantilever(4).attach_spring(9, 1.0, 0.0).unwrap_err().to_string();
+    assert!(err.contains("node 9"), "{err}");
+}
