@@ -13,7 +13,7 @@ mod fe;
 mod modal;
 mod theory;
 
-pub(crate) use fe::{node_at, Attachment};
+pub(crate) use fe::Attachment;
 pub use fe::{
     FePlan, FE_ALPHA, FE_ELEMENTS_PER_WAVELENGTH, FE_FREE_STEP_RATIO, FE_GROWTH, FE_LADDER_END,
     FE_LADDER_START, FE_SAMPLES_PER_PULSE,
@@ -658,7 +658,7 @@ fn contact_step(
 fn first_period(method: &Method) -> Option<f64> {
     let beam = match method {
         Method::Modal(m) => &m.beam,
-        Method::Fe(fe) => &fe.analytic,
+        Method::Fe(fe) => return fe.first_period(),
         Method::HalfSpace => return None,
     };
     let omega = beam.modes(3).ok()?.into_iter().map(|m| m.omega).find(|w| *w > 0.0)?;

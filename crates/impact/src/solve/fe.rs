@@ -20,12 +20,12 @@ use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
 use crate::law::WithLaw;
 use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample};
-use crate::plan::{node_at, FePlan, Plan};
+use crate::plan::{FePlan, Plan};
 use faer::Col;
 use hertz::ContactLaw;
 use hht::{Integrator, Model, NewtonOptions, Scheme, State};
 use nalgebra::Vector2;
-use simo_beam::{PlanarBeam, Section};
+use simo_beam::PlanarBeam;
 
 /// Local position error of the ball allowed per contact step, as a fraction of the largest
 /// approach on a rigid support. A Hertzian pulse then keeps about the plan's contact step;
@@ -43,25 +43,6 @@ pub(crate) const CONTACT_ERROR: f64 = 1e-7;
 /// (numerical dissipation 18 % -> 12 %, balance error 5.6e-4 -> 4e-5) at five times the cost
 /// (0.38 -> 1.9 s); 1e-5 costs 2.5x more again for another third less dissipation.
 pub(crate) const FREE_ERROR: f64 = 1e-4;
-
-/// The beam of an FE plan: a straight planar beam along x, thickness along z.
-fn build_beam(target: &FePlan) -> Result<PlanarBeam, ImpactError> {
-    let section = Section::rectangle(&target.material, target.width, target.thickness)?;
-    let last = target.nodes.len() - 1;
-    let (first, end) = target.ends;
-    let mut beam =
-        PlanarBeam::new(&target.nodes, &section)?.support(0, first)?.support(last, end)?;
-    for a in &target.attachments {
-        let node = node_at(&target.nodes, a.at);
-        if a.mass > 0.0 {
-            beam = beam.attach_mass(node, a.mass)?;
-        }
-        if a.stiffness > 0.0 || a.rotational_stiffness > 0.0 {
-            beam = beam.attach_spring(node, a.stiffness, a.rotational_stiffness)?;
-        }
-    }
-    Ok(beam)
-}
 
 /// The static flexibility (m/N) of the fe beam at x = `position` along z: `K u = f` at the
 /// straight configuration for a unit force there (shared between the two nodes of its element
@@ -149,7 +130,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         law: &'a L,
         progress: Progress<'a>,
     ) -> Result<Self, ImpactError> {
-        let beam = build_beam(target)?;
+        let beam = target.beam()?;
         let mut stress =
             FeStress::new(&beam, target.ends, target.material.youngs_modulus, target.thickness);
         if plan.field {
