@@ -64,10 +64,13 @@ pub use outcome::{
 };
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
-    BallSpec, BeamSpec, ContactSpec, HalfSpaceSpec, ImpactSpec, LawName, MethodName, Scene,
-    SolverSpec, SupportName, TheoryName,
+    BallSpec, BeamSpec, ContactSpec, FeModelName, HalfSpaceSpec, ImpactSpec, LawName, MassSpec,
+    MethodName, Scene, SolverSpec, SpringSpec, SupportName, TheoryName,
 };
-pub use solve::{run, run_with_progress, BallOnBeam, BallOnBeamConfig, Progress};
+pub use solve::{
+    run, run_with_progress, BallOnBeam, BallOnBeam3d, BallOnBeam3dConfig, BallOnBeamConfig,
+    Progress,
+};
 
 /// Plans and runs a scene.
 ///

@@ -278,6 +278,24 @@ pub enum MethodName {
     Fe,
 }
 
+/// The fe method's beam model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", try_from = "toml::Value")]
+pub enum FeModelName {
+    /// The rod in the x-z plane: what a centred strike moves.
+    Planar,
+    /// The 3D rod: bending both ways, extension, shear and twist.
+    #[serde(rename = "3d")]
+    ThreeD,
+}
+
+impl TryFrom<toml::Value> for FeModelName {
+    type Error = String;
+    fn try_from(value: toml::Value) -> Result<Self, String> {
+        named(value, &[("planar", Self::Planar), ("3d", Self::ThreeD)])
+    }
+}
+
 /// Beam theories of the modal method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", try_from = "toml::Value")]
@@ -331,6 +349,10 @@ pub struct SolverSpec {
     pub element_size: Option<f64>,
     /// HHT alpha in [-1/3, 0] (fe method); default -0.05.
     pub alpha: Option<f64>,
+    /// The fe method's beam: `planar` (x-z, 3 unknowns a node) or `3d` (Simo's rod, 6 a node:
+    /// twist); default planar for a centred strike, 3d off the centreline.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fe_model: Option<FeModelName>,
     /// Largest time step (s) (fe method); default the contact step (every step of the same
     /// length: converged in time, validation/REFERENCES.md 1.7); a longer one lets the steps out
     /// of contact, and in a long contact, grow up to it.

@@ -144,13 +144,27 @@ fn the_struck_face_is_as_stiff_as_bending_and_twist_in_series() {
 }
 
 #[test]
-fn an_offset_off_the_face_or_on_the_planar_beam_is_refused() {
+fn an_offset_off_the_face_or_on_a_planar_beam_is_refused() {
     for bad in ["0.0126", "-0.013", "nan"] {
         let err = Plan::new(&tip(bad, "").unwrap()).unwrap_err().to_string();
         assert!(err.contains("impact.offset") && err.contains("beam.width/2"), "{bad}: {err}");
     }
-    let err = Plan::new(&tip("0.01", "method = \"fe\"").unwrap()).unwrap_err().to_string();
-    assert!(err.contains("impact.offset") && err.contains("solver.method = \"modal\""), "{err}");
+    let planar = "method = \"fe\"\nfe_model = \"planar\"";
+    let err = Plan::new(&tip("0.01", planar).unwrap()).unwrap_err().to_string();
+    assert!(err.contains("impact.offset") && err.contains("fe_model = \"3d\""), "{err}");
+    let err = Plan::new(&tip("0.01", "method = \"modal\"\nfe_model = \"3d\"").unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("fe_model belong"), "{err}");
+    let mass = tip("0.0", "method = \"fe\"\nfe_model = \"3d\"").unwrap();
+    let mut mass = mass;
+    mass.beam.as_mut().unwrap().masses.push(impact::MassSpec {
+        at: 0.5,
+        mass: 0.01,
+        rotary_inertia: None,
+    });
+    let err = Plan::new(&mass).unwrap_err().to_string();
+    assert!(err.contains("no masses or springs yet"), "{err}");
     let half_space = std::fs::read_to_string(format!(
         "{}/../../validation/scenes/half-space-r10.toml",
         env!("CARGO_MANIFEST_DIR")
@@ -241,4 +255,55 @@ fn every_support_takes_an_off_centre_strike_with_its_ledger_closed() {
         assert!(twist.is_finite() && twist > 0.0, "{support}: {twist}");
         assert!(report.contacts[0].peak_force.is_finite(), "{support}");
     }
+}
+
+#[test]
+fn a_centred_strike_on_the_3d_beam_is_the_planar_one() {
+    // The paper's tip (gravity off) on the same graded mesh (1 mm at the tip), forced into 3D:
+    // nothing leaves the plane, so the 3D rod (6 unknowns a node, automatic derivatives,
+    // quaternions) must give the planar rod's contacts. Measured at 256 uniform elements over
+    // 1 ms: all 9 contacts within 1.1e-5 (peak, start, duration); here over 0.4 ms, within 1e-4.
+    let solver = |model: &str| {
+        format!("end_time = 0.0004\nmethod = \"fe\"\nelement_size = 1e-3\nfe_model = \"{model}\"")
+    };
+    let planar = simulate(&struck(1.15, "0.0", &solver("planar")).unwrap()).unwrap().report;
+    let solid = simulate(&struck(1.15, "0.0", &solver("3d")).unwrap()).unwrap().report;
+    assert!(solid.plan.reasons.iter().any(|r| r.contains("3D geometrically exact beam")));
+    let d = solid.differences_from(&planar);
+    assert!(d.same_contacts && d.worst() < 1e-4, "{d:?}");
+    assert!(solid.max_twist.unwrap() < 1e-12, "{:?}", solid.max_twist);
+    let e = &solid.energy;
+    assert!((e.balance_error / e.initial).abs() < 1e-4, "{e:?}");
+}
+
+#[test]
+fn an_off_centre_strike_on_the_3d_beam_meets_the_reference() {
+    // The tip struck 10 mm off the centreline by the fe method (3D by default off the
+    // centreline), graded mesh of 1 mm at the tip, over the pulse's peak (12.4 us): the peak
+    // force against the independent bending + torsion reference (491.921 N; Euler-Bernoulli,
+    // Saint-Venant): measured 493.22 N (+0.26 %, as the centred strike's 783.02 against
+    // 781.67: shear and the mesh); the bound is 2 %. At 256 uniform elements (4.5 mm)
+    // it is 481.27 N (-2.2 %), at 512 490.68 N (-0.25 %): the torsion needs the finer mesh.
+    let solver = "end_time = 0.00003\nmethod = \"fe\"\nelement_size = 1e-3";
+    let report = simulate(&struck(1.15, "0.01", solver).unwrap()).unwrap().report;
+    assert!(report.plan.reasons.iter().any(|r| r.contains("the contact force twists the beam")));
+    let (peak, _, _) = reference("tip-offset10");
+    let got = report.contacts[0].peak_force;
+    assert!((got / peak - 1.0).abs() < 0.005, "{got} vs {peak}");
+    // The twist, at the accepted steps, against the modal method's (searched between
+    // instants) over the same window: the same torsion, to the mesh's error.
+    let modal = simulate(
+        &struck(
+            1.15,
+            "0.01",
+            "end_time = 0.00003\nmethod = \"modal\"\nresidual_flexibility = true",
+        )
+        .unwrap(),
+    )
+    .unwrap()
+    .report;
+    let (fe_twist, modal_twist) = (report.max_twist.unwrap(), modal.max_twist.unwrap());
+    assert!((fe_twist / modal_twist - 1.0).abs() < 0.02, "{fe_twist} vs {modal_twist}");
+    let e = &report.energy;
+    assert!((e.balance_error / e.initial).abs() < 1e-4, "{e:?}");
 }

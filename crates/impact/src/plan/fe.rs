@@ -3,7 +3,7 @@
 use super::modal::MODE_CUTOFF;
 use super::Pulse;
 use crate::error::{invalid, positive, ImpactError};
-use crate::scene::{BeamSpec, SolverSpec, SupportName};
+use crate::scene::{BeamSpec, FeModelName, SolverSpec, SupportName};
 use simo_beam::Support;
 use std::f64::consts::PI;
 
@@ -70,6 +70,12 @@ pub struct FePlan {
     pub(crate) tolerance: Option<f64>,
     /// Point masses and elastic supports, each at a node of the mesh.
     pub(crate) attachments: Vec<Attachment>,
+    /// Whether the beam is the 3D one (`solver.fe_model`, or an off-centre strike).
+    pub(crate) three_d: bool,
+    /// The strike's offset across the width (m), and the beam in torsion when it is not 0 (its
+    /// static twist enters the equivalent static force).
+    pub(crate) offset: f64,
+    pub(crate) torsion: Option<modal::Torsion>,
 }
 
 /// A point mass and an elastic support at one place of the fe beam (either may be 0).
@@ -153,6 +159,36 @@ impl FePlan {
             }
         }
         Ok(beam)
+    }
+
+    /// The 3D beam of the plan: straight along x, width along y, thickness along z, its ends
+    /// held (no masses or springs: the plan refuses them in 3D).
+    ///
+    /// # Errors
+    /// From `simo_beam` for a section or mesh it refuses (checked before, not expected).
+    pub(crate) fn beam3d(&self) -> Result<simo_beam::BeamModel, ImpactError> {
+        use nalgebra::Vector3;
+        let section = simo_beam::Section::rectangle(&self.material, self.width, self.thickness)?;
+        let points: Vec<Vector3<f64>> =
+            self.nodes.iter().map(|x| Vector3::new(*x, 0.0, 0.0)).collect();
+        // Section axes E1 = x, E2 = y (the width), E3 = z (the thickness): the identity.
+        let frames = vec![nalgebra::UnitQuaternion::identity(); points.len()];
+        let mesh = simo_beam::Mesh::from_nodes(points, frames, section);
+        let last = self.nodes.len() - 1;
+        let (first, end) = self.ends;
+        Ok(simo_beam::BeamModel::new(mesh)?.support(0, first)?.support(last, end)?)
+    }
+
+    /// The struck face's static flexibility at the impact point (m/N): the analytic
+    /// Timoshenko beam's, plus offset^2 times the static twist per torque off the centre.
+    pub(crate) fn static_flexibility(&self) -> Option<f64> {
+        let bending = self.analytic.static_flexibility(self.position)?;
+        match &self.torsion {
+            Some(t) => {
+                Some(bending + self.offset * self.offset * t.static_flexibility(self.position)?)
+            }
+            None => Some(bending),
+        }
     }
 
     /// The first elastic mode's period (s): the analytic beam's, or where masses and springs
@@ -256,6 +292,9 @@ pub(super) fn plan(
         approach_scale: pulse.max_approach,
         tolerance: s.tolerance,
         attachments,
+        three_d: false,
+        offset: 0.0,
+        torsion: None,
     })
 }
 
@@ -268,6 +307,45 @@ fn ends(support: SupportName) -> (Support, Support) {
         SupportName::ClampedPinned => (Support::Clamped, Support::Pinned),
         SupportName::FreeFree => (Support::Free, Support::Free),
     }
+}
+
+/// The beam model of an fe plan: planar unless asked (`solver.fe_model`) or the strike is off
+/// the centreline (a planar beam cannot twist), with the reason.
+pub(super) fn model(
+    fe: &mut FePlan,
+    asked: Option<FeModelName>,
+    offset: f64,
+    torsion: Option<modal::Torsion>,
+    reasons: &mut Vec<String>,
+) -> Result<(), ImpactError> {
+    let three_d = match asked {
+        Some(FeModelName::Planar) if offset != 0.0 => {
+            return Err(ImpactError::Inconsistent(format!(
+                "solver.fe_model = \"planar\" with impact.offset = {offset} m: a planar beam cannot twist; use fe_model = \"3d\" (the default off the centreline)"
+            )));
+        }
+        Some(FeModelName::ThreeD) => true,
+        Some(FeModelName::Planar) => false,
+        None => offset != 0.0,
+    };
+    if three_d && !fe.attachments.is_empty() {
+        return Err(ImpactError::Inconsistent(
+            "solver.fe_model = \"3d\" with [[beam.mass]] or [[beam.spring]]: the 3D beam takes no masses or springs yet; use the planar one (a centred strike)".into(),
+        ));
+    }
+    if three_d {
+        // The planar model's reason gives way to the 3D one's.
+        reasons.retain(|r| !r.starts_with("planar geometrically exact beam"));
+        reasons.push(match asked {
+            Some(_) => "3D geometrically exact beam (Simo's rod, 6 unknowns a node: extension, both shears and bendings, twist), as asked (solver.fe_model)".into(),
+            None => format!("3D geometrically exact beam (Simo's rod, 6 unknowns a node): struck {offset} m off the centreline, the contact force twists the beam, which a planar beam cannot"),
+        });
+        reasons.push("3D: the stresses are the planar ones (the bending about the width axis and the extension, at each element's midpoint and every step); the struck section's twist is read at every accepted step".into());
+    }
+    fe.three_d = three_d;
+    fe.offset = offset;
+    fe.torsion = torsion;
+    Ok(())
 }
 
 /// The node positions (m): `solver.elements` equal elements, or a mesh graded from the impact

@@ -312,14 +312,18 @@ fn checked_tolerance(tolerance: f64) -> Result<f64, ImpactError> {
 
 /// Whether the scene sets a key of the fe method only (`tolerance` is both methods').
 fn fe_keys(s: &SolverSpec) -> bool {
-    s.elements.is_some() || s.element_size.is_some() || s.alpha.is_some() || s.time_step.is_some()
+    s.elements.is_some()
+        || s.element_size.is_some()
+        || s.alpha.is_some()
+        || s.time_step.is_some()
+        || s.fe_model.is_some()
 }
 
 /// Keys of one method given with the other.
 fn check_method_keys(s: &SolverSpec) -> Result<(), ImpactError> {
     if fe_keys(s) && s.method == MethodName::Modal {
         return Err(ImpactError::Inconsistent(
-            "solver.elements, element_size, alpha and time_step belong to method = \"fe\"; the modal method takes solver.modes (or solver.tolerance)".into(),
+            "solver.elements, element_size, alpha, time_step and fe_model belong to method = \"fe\"; the modal method takes solver.modes (or solver.tolerance)".into(),
         ));
     }
     if s.method == MethodName::Fe && s.modes.is_some() {
@@ -394,7 +398,7 @@ fn beam_method(
     let large = deflection > LARGE_DEFLECTION * length;
     if !attachments.is_empty() && offset != 0.0 {
         return Err(ImpactError::Inconsistent(format!(
-            "impact.offset = {offset} m with [[beam.mass]] or [[beam.spring]]: the fe method takes the masses and springs but its beam is planar (no twist), the modal method twists but its modes are a uniform beam's; give one or the other for now"
+            "impact.offset = {offset} m with [[beam.mass]] or [[beam.spring]]: the fe method takes the masses and springs on its planar beam only (not yet on the 3D one that twists), the modal method twists but its modes are a uniform beam's; give one or the other for now"
         )));
     }
     let use_fe = match s.method {
@@ -447,13 +451,10 @@ fn beam_method(
             "solver.beam_theory belongs to the modal method; the fe beam always has shear and rotary inertia".into(),
         ));
     }
-    if use_fe && offset != 0.0 {
-        return Err(ImpactError::Inconsistent(format!(
-            "impact.offset = {offset} m needs a beam that twists, and the fe method's beam is planar (its 3D beam is not coupled to the ball yet): use solver.method = \"modal\" (bending and Saint-Venant torsion modes), or impact.offset = 0"
-        )));
-    }
     if use_fe {
-        let fe = fe::plan(beam, s, m, position, damping, attachments, pulse, (reasons, warnings))?;
+        let mut fe =
+            fe::plan(beam, s, m, position, damping, attachments, pulse, (reasons, warnings))?;
+        fe::model(&mut fe, s.fe_model, offset, torsion, reasons)?;
         Ok(Method::Fe(fe))
     } else {
         let (chosen, twin) = theory::choose(s.beam_theory, beam, both, pulse, reasons);

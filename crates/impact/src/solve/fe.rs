@@ -12,9 +12,11 @@
 //! `plan::FE_FREE_STEP_RATIO`). Steps are powers of two of the contact step, so a kept Newton
 //! matrix serves the next steps of the same size.
 
-use super::ball_on_beam::{BallOnBeam, BallOnBeamConfig, Order};
+use super::ball_on_beam::{BallOnBeam, BallOnBeamConfig};
+use super::ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig};
 use super::fe_stress::FeStress;
 use super::observe::{BeamView, Instant, Recorders};
+use super::struck::Struck;
 use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
@@ -24,8 +26,8 @@ use crate::plan::{FePlan, Plan};
 use faer::Col;
 use hertz::ContactLaw;
 use hht::{Integrator, Model, NewtonOptions, Scheme, State};
-use nalgebra::Vector2;
-use simo_beam::PlanarBeam;
+use nalgebra::{Vector2, Vector3};
+use simo_beam::{PlanarBeam, PlanarState};
 
 /// Local position error of the ball allowed per contact step, as a fraction of the largest
 /// approach on a rigid support. A Hertzian pulse then keeps about the plan's contact step;
@@ -86,18 +88,46 @@ impl WithLaw for FeRun<'_> {
     type Output = Result<Outcome, ImpactError>;
 
     fn apply<L: ContactLaw>(self, law: &L) -> Self::Output {
-        Run::new(self.plan, self.target, law, self.progress)?.run()
+        let (plan, target) = (self.plan, self.target);
+        let (half, radius) = (0.5 * target.thickness, plan.ball_radius);
+        if target.three_d {
+            let model = BallOnBeam3d::new(
+                target.beam3d()?,
+                (plan.ball_mass, plan.gravity, radius),
+                target.offset,
+                half,
+                law,
+            );
+            let q = BallOnBeam3dConfig {
+                beam: model.beam().reference_state(),
+                ball: Vector3::new(target.position, target.offset, half + radius),
+            };
+            Run::new(plan, target, model, q, self.progress)?.run()
+        } else {
+            let model =
+                BallOnBeam::new(target.beam()?, plan.ball_mass, plan.gravity, radius, half, law);
+            let q = BallOnBeamConfig {
+                beam: model.beam().reference_state(),
+                ball: Vector2::new(target.position, half + radius),
+            };
+            Run::new(plan, target, model, q, self.progress)?.run()
+        }
     }
 }
 
-struct Run<'a, L: ContactLaw> {
+struct Run<'a, L: ContactLaw, M: Struck<L>> {
     plan: &'a Plan,
     target: &'a FePlan,
-    model: BallOnBeam<'a, L>,
+    model: M,
+    law: std::marker::PhantomData<L>,
     integrator: Integrator,
-    state: State<BallOnBeamConfig>,
-    /// Ball centre (x, z) at first touch (m).
-    ball_start: Vector2<f64>,
+    state: State<M::Config>,
+    /// Ball centre's z at first touch (m).
+    ball_start: f64,
+    /// The beam in the x-z plane for the recorders (the 3D model's projection).
+    view: PlanarState,
+    /// The struck section's largest twist magnitude (rad) and when (s), at the accepted steps.
+    max_twist: (f64, f64),
     /// The impact point's element and local coordinate (material point, fixed).
     impact_element: (usize, f64),
     /// The history, the progress and the beam's stress and field: fed at every recorded
@@ -123,30 +153,26 @@ struct Run<'a, L: ContactLaw> {
     numerical_dissipation: f64,
 }
 
-impl<'a, L: ContactLaw> Run<'a, L> {
+impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
     fn new(
         plan: &'a Plan,
         target: &'a FePlan,
-        law: &'a L,
+        model: M,
+        q: M::Config,
         progress: Progress<'a>,
     ) -> Result<Self, ImpactError> {
-        let beam = target.beam()?;
-        let mut stress =
-            FeStress::new(&beam, target.ends, target.material.youngs_modulus, target.thickness);
-        if plan.field {
-            stress = stress.with_field(beam.nodes(), target.width);
-        }
-        let mut strains = vec![(0.0, 0.0, 0.0); beam.elements()];
-        beam.all_section_strains(&beam.reference_state(), &mut strains);
-        stress.observe_strains(0.0, &strains);
-        let model = BallOnBeam::new(
-            beam,
-            plan.ball_mass,
-            plan.gravity,
-            plan.ball_radius,
-            0.5 * target.thickness,
-            law,
+        let mut stress = FeStress::new(
+            &target.nodes,
+            target.ends,
+            target.material.youngs_modulus,
+            target.thickness,
         );
+        if plan.field {
+            stress = stress.with_field(&target.nodes, target.width);
+        }
+        let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
+        model.section_strains(&q, &mut strains);
+        stress.observe_strains(0.0, &strains);
         let scheme = Scheme::hht(target.alpha)
             .map_err(|source| ImpactError::Integrator { t: 0.0, source })?;
         // The beam's tangent changes little from step to step (small rotations): a Newton
@@ -160,8 +186,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let options =
             NewtonOptions { reuse_factorisation: true, rtol: 1e-6, ..NewtonOptions::default() };
         let mut integrator = Integrator::new(scheme, options);
-        let ball_start = Vector2::new(target.position, 0.5 * target.thickness + plan.ball_radius);
-        let q = BallOnBeamConfig { beam: model.beam().reference_state(), ball: ball_start };
+        let ball_start = model.ball_height(&q);
         let n = model.ndof();
         let mut v = Col::<f64>::zeros(n);
         v[n - 1] = -plan.speed;
@@ -173,9 +198,12 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             plan,
             target,
             model,
+            law: std::marker::PhantomData,
             integrator,
             state,
             ball_start,
+            view: PlanarState { x: Vec::new(), z: Vec::new(), theta: Vec::new() },
+            max_twist: (0.0, 0.0),
             impact_element: (i, xi),
             recorders: Recorders::new(
                 History::default(),
@@ -199,23 +227,20 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         })
     }
 
-    /// Beam displacement at the impact point (material point), along the impact direction -z.
+    /// The struck face's displacement at the impact point (material point), along the impact
+    /// direction -z.
     fn beam_displacement(&self) -> f64 {
-        let (i, xi) = self.impact_element;
-        let z = &self.state.q.beam.z;
-        -((1.0 - xi) * z[i] + xi * z[i + 1])
+        -self.model.face_height(&self.state.q, self.impact_element)
     }
 
     /// Its velocity (m/s), along -z.
     fn beam_velocity(&self) -> f64 {
-        let (i, xi) = self.impact_element;
-        let beam = self.model.beam();
-        let v = |node: usize| beam.dof(node, 1).map_or(0.0, |d| self.state.v[d]);
-        -((1.0 - xi) * v(i) + xi * v(i + 1))
+        let rows = self.model.face_rows(self.impact_element);
+        -rows.iter().map(|(d, w)| w * self.state.v[*d]).sum::<f64>()
     }
 
     fn ball_position(&self) -> f64 {
-        self.ball_start.y - self.state.q.ball.y
+        self.ball_start - self.model.ball_height(&self.state.q)
     }
 
     fn ball_velocity(&self) -> f64 {
@@ -223,30 +248,31 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     }
 
     fn record(&mut self) {
-        let p = self.model.contact_point(&self.state.q, Order::Value);
-        let (nodes, e) = (&self.target.nodes, p.element);
-        let contact_point = nodes[e] + p.xi * (nodes[e + 1] - nodes[e]);
+        let (e, xi) = self.model.contact_element(&self.state.q);
+        let nodes = &self.target.nodes;
+        let contact_point = nodes[e] + xi * (nodes[e + 1] - nodes[e]);
         let sample = Sample::with_energy(
             self.state.t,
             self.force,
-            p.delta,
+            self.model.approach(&self.state.q),
             self.ball_position(),
             self.ball_velocity(),
             self.beam_displacement(),
             contact_point,
             &self.energy(),
         );
+        let state = self.model.planar_view(&self.state.q, &mut self.view);
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: Some(sample),
-            beam: BeamView::Fe { state: &self.state.q.beam, strains: &self.strains },
+            beam: BeamView::Fe { state, strains: &self.strains },
             last: self.state.t >= self.plan.end_time,
         });
     }
 
     /// One integrator step of `h` from the current state, committing nothing (the current
     /// state stays as it is, uncopied).
-    fn trial(&mut self, h: f64) -> Result<State<BallOnBeamConfig>, ImpactError> {
+    fn trial(&mut self, h: f64) -> Result<State<M::Config>, ImpactError> {
         let (s, report) = self
             .integrator
             .advance(&self.model, &self.state, h)
@@ -260,32 +286,36 @@ impl<'a, L: ContactLaw> Run<'a, L> {
     /// Accepts a state reached by one step: commits the law, updates the force, counters.
     /// The state must come from the last trial (every caller accepts the trial it just made,
     /// or the last one of the event location), whose numerical dissipation is then counted.
-    fn accept(&mut self, s: State<BallOnBeamConfig>) -> Result<(), ImpactError> {
+    fn accept(&mut self, s: State<M::Config>) -> Result<(), ImpactError> {
         self.numerical_dissipation += self.trial_dissipation;
         // The rate (a gradient of the contact geometry) only in contact: out of it the law's
         // force is zero at any rate, and its history does not move.
         let delta = self.model.approach(&s.q);
-        let (delta, rate, force) = if delta > self.model.law.release_approach(&self.model.law_state)
-        {
-            let (delta, rate, cf) = self.model.contact(&s.q, s.v.as_ref());
-            (delta, Some(rate), cf.force)
-        } else {
-            (delta, None, 0.0)
-        };
+        let (delta, rate, force) =
+            if delta > self.model.law().release_approach(self.model.law_state()) {
+                let (delta, rate, cf) = self.model.contact(&s.q, s.v.as_ref());
+                (delta, Some(rate), cf.force)
+            } else {
+                (delta, None, 0.0)
+            };
         if !(delta.is_finite() && force.is_finite()) {
             return Err(ImpactError::SolverFailed {
                 t: s.t,
                 reason: "the contact approach or force is not finite".into(),
             });
         }
-        self.model.law.commit(&mut self.model.law_state, delta, rate.unwrap_or(0.0));
+        self.model.commit_law(delta, rate.unwrap_or(0.0));
         self.model.commit_contact_element(&s.q);
         (self.approach, self.approach_rate, self.force) = (delta, rate, force);
         let before = (self.state.t, self.beam_displacement(), self.beam_velocity());
         let old = std::mem::replace(&mut self.state, s);
         self.integrator.recycle(old);
-        self.model.beam().all_section_strains(&self.state.q.beam, &mut self.strains);
+        self.model.section_strains(&self.state.q, &mut self.strains);
         self.steps += 1;
+        let twist = self.model.twist(&self.state.q, self.impact_element).abs();
+        if twist > self.max_twist.0 {
+            self.max_twist = (twist, self.state.t);
+        }
         let after = (self.state.t, self.beam_displacement(), self.beam_velocity());
         // The largest displacement between the steps too: a free-flight step may be as long as
         // `solver.time_step` (a contact step by default), and the step's ends alone miss a
@@ -296,10 +326,11 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 self.max_displacement = (w, t);
             }
         }
+        let state = self.model.planar_view(&self.state.q, &mut self.view);
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: None,
-            beam: BeamView::Fe { state: &self.state.q.beam, strains: &self.strains },
+            beam: BeamView::Fe { state, strains: &self.strains },
             last: false,
         });
         Ok(())
@@ -312,8 +343,8 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         &mut self,
         h: f64,
         release: f64,
-        end: State<BallOnBeamConfig>,
-    ) -> Result<State<BallOnBeamConfig>, ImpactError> {
+        end: State<M::Config>,
+    ) -> Result<State<M::Config>, ImpactError> {
         self.located += 1;
         let mut bracket = Illinois::new(
             0.0,
@@ -353,11 +384,12 @@ impl<'a, L: ContactLaw> Run<'a, L> {
 
     /// Local error of the ball's position over a step from `from` to `to` (m): the
     /// Zienkiewicz-Xie estimate `h^2 |beta - 1/6| |a_1 - a_0|` on the ball's two unknowns.
-    fn ball_step_error(&self, from: &State<BallOnBeamConfig>, to: &State<BallOnBeamConfig>) -> f64 {
+    fn ball_step_error(&self, from: &State<M::Config>, to: &State<M::Config>) -> f64 {
         let n = from.a.nrows();
         let h = to.t - from.t;
         let beta = self.integrator.scheme().beta;
-        let jump = (0..2).map(|k| (to.a[n - 2 + k] - from.a[n - 2 + k]).powi(2)).sum::<f64>();
+        let ball = self.model.ball_unknowns();
+        let jump = (n - ball..n).map(|k| (to.a[k] - from.a[k]).powi(2)).sum::<f64>();
         h * h * (beta - 1.0 / 6.0).abs() * jump.sqrt()
     }
 
@@ -384,7 +416,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         while self.state.t < end * (1.0 - 1e-12) {
             let tau = h.min(end - self.state.t);
             let trial = self.trial(tau)?;
-            let release = self.model.law.release_approach(&self.model.law_state);
+            let release = self.model.law().release_approach(self.model.law_state());
             let separated = self.model.approach(&trial.q) <= release && contact.steps() > 0;
             // Third-order local error: the step that meets the tolerance, with a safety
             // factor, at most doubling and at least a fifth of the last.
@@ -411,7 +443,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
             h = quantised((tau * factor).clamp(h_min, h_max), h_min);
         }
         self.record();
-        let print_radius = self.model.law.print_radius(&self.model.law_state);
+        let print_radius = self.model.law().print_radius(self.model.law_state());
         let (t, velocity) = (self.state.t, self.ball_velocity());
         self.contacts.extend(contact.finish(t, complete, velocity, print_radius));
         Ok(())
@@ -428,7 +460,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         // swings smoothly, shorter where it rings after an impact.
         let mut h = h_free;
         while self.state.t < end * (1.0 - 1e-12) {
-            let release = self.model.law.release_approach(&self.model.law_state);
+            let release = self.model.law().release_approach(self.model.law_state());
             let delta = self.approach;
             // A step longer than a contact step does not go past a touch predicted from the
             // gap and the closing speed (plus the ball's gravity); at least one contact step.
@@ -470,37 +502,30 @@ impl<'a, L: ContactLaw> Run<'a, L> {
 
     /// Local error of the beam's displacement at the impact point over a step (m): the
     /// Zienkiewicz-Xie estimate `h^2 |beta - 1/6| |a_1 - a_0|` on its interpolated z.
-    fn impact_point_step_error(
-        &self,
-        from: &State<BallOnBeamConfig>,
-        to: &State<BallOnBeamConfig>,
-    ) -> f64 {
-        let (i, xi) = self.impact_element;
-        let beam = self.model.beam();
-        let jump = |node: usize| beam.dof(node, 1).map_or(0.0, |d| to.a[d] - from.a[d]);
+    fn impact_point_step_error(&self, from: &State<M::Config>, to: &State<M::Config>) -> f64 {
+        let rows = self.model.face_rows(self.impact_element);
+        let jump: f64 = rows.iter().map(|(d, w)| w * (to.a[*d] - from.a[*d])).sum();
         let h = to.t - from.t;
         let beta = self.integrator.scheme().beta;
-        h * h * (beta - 1.0 / 6.0).abs() * ((1.0 - xi) * jump(i) + xi * jump(i + 1)).abs()
+        h * h * (beta - 1.0 / 6.0).abs() * jump.abs()
     }
 
     /// The energy ledger at the current state.
     fn energy(&self) -> Energy {
         let m = self.plan.ball_mass;
-        let law = self.model.law;
+        let law = self.model.law();
         let q = &self.state.q;
         let delta = self.model.approach(q);
         let initial = 0.5 * m * self.plan.speed * self.plan.speed;
         let v = self.state.v.as_ref();
         let n = v.nrows();
-        let ball_speed2 = (0..2).map(|k| v[n - 2 + k] * v[n - 2 + k]).sum::<f64>();
+        let ball = self.model.ball_unknowns();
+        let ball_speed2 = (n - ball..n).map(|k| v[k] * v[k]).sum::<f64>();
         let ball_kinetic = 0.5 * m * ball_speed2;
         let ball_potential = -m * self.plan.gravity * self.ball_position();
-        let beam_model = self.model.beam();
-        let beam = beam_model.strain_energy_of(&self.strains)
-            + beam_model.spring_energy(&q.beam)
-            + beam_model.kinetic_energy(v.subrows(0, n - 2));
-        let contact_stored = law.stored_energy(&self.model.law_state, delta);
-        let dissipated = law.dissipated_energy(&self.model.law_state);
+        let beam = self.model.beam_energy(q, v, &self.strains);
+        let contact_stored = law.stored_energy(self.model.law_state(), delta);
+        let dissipated = law.dissipated_energy(self.model.law_state());
         Energy::new(
             initial,
             ball_kinetic,
@@ -518,15 +543,14 @@ impl<'a, L: ContactLaw> Run<'a, L> {
         let mut warnings = plan.warnings.clone();
         // A uniform beam's static flexibility is the analytic Timoshenko beam's (exact); one
         // that carries springs needs its own static solve (masses do not change it).
-        let flexibility = if self
+        let sprung = self
             .target
             .attachments
             .iter()
-            .any(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0)
-        {
-            static_flexibility(self.model.beam(), self.target.position)
-        } else {
-            self.target.analytic.static_flexibility(self.target.position)
+            .any(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0);
+        let flexibility = match self.model.planar() {
+            Some(beam) if sprung => static_flexibility(beam, self.target.position),
+            _ => self.target.static_flexibility(),
         };
         let static_stiffness = static_stiffness(flexibility, &mut warnings);
         let mut summary = plan.summary.clone();
@@ -549,7 +573,7 @@ impl<'a, L: ContactLaw> Run<'a, L> {
                 energy,
                 wall_time,
                 bending_stress,
-                twist: None,
+                twist: self.target.three_d.then_some(self.max_twist),
                 last_time,
             },
         );

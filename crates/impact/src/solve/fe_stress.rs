@@ -11,7 +11,7 @@
 
 use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
-use simo_beam::{PlanarBeam, PlanarState, Support};
+use simo_beam::{PlanarState, Support};
 
 /// The fe beam seen as a stress field.
 pub(crate) struct FeStress {
@@ -34,15 +34,14 @@ pub(crate) struct FeStress {
 }
 
 impl FeStress {
-    /// The stress field of `beam` (reference nodes) held at its ends by `ends`.
+    /// The stress field of a beam on `nodes` (reference x, m) held at its ends by `ends`.
     pub(crate) fn new(
-        beam: &PlanarBeam,
+        nodes: &[f64],
         ends: (Support, Support),
         youngs_modulus: f64,
         thickness: f64,
     ) -> Self {
-        let nodes = beam.nodes();
-        let elements = beam.elements();
+        let elements = nodes.len() - 1;
         let mid: Vec<f64> = nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
         let mut points = mid.clone();
         let mut supports = Vec::new();

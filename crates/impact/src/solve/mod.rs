@@ -8,6 +8,7 @@
 //! A new method is one module here and one arm in [`run`].
 
 mod ball_on_beam;
+mod ball_on_beam3d;
 mod fe;
 mod fe_stress;
 mod modal;
@@ -15,8 +16,10 @@ mod modal_peak;
 mod modal_stress;
 mod observe;
 mod refine;
+mod struck;
 
 pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};
+pub use ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig};
 
 use crate::error::ImpactError;
 use crate::outcome::Outcome;

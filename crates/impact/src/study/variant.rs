@@ -20,6 +20,7 @@ pub fn variant(scene: &Scene, method: MethodName, resolution: Option<usize>) -> 
             solver.elements = None;
             solver.element_size = None;
             solver.alpha = None;
+            solver.fe_model = None;
             solver.time_step = None;
             if resolution.is_some() {
                 solver.modes = resolution;

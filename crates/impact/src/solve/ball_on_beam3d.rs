@@ -1,0 +1,492 @@
+//! The ball on the 3D geometrically exact beam as one [`hht::Model`]: Simo's rod (six unknowns a
+//! node: displacement and material rotation increment), the ball centre's three, and the
+//! contact force between them. What an off-centre strike needs: the contact force's moment
+//! about the beam's axis twists the beam, and the twist moves the struck face under the ball.
+//!
+//! **Model.** The beam lies along x from the first support, its width along y (E2) and its
+//! thickness along z (E3); the ball, a rigid sphere of mass m, starts at first touch above the
+//! top face at (impact point, offset, h/2 + R) and moves along -z. Gravity acts on the ball only.
+//!
+//! **Contact.** Frictionless, as the planar model ([`super::ball_on_beam`]): the contact
+//! element is the one whose chord passes nearest to the ball centre c, the projection on it is
+//! `xi = (c - x_a).t / t.t`, the face normal the interpolated section axis
+//! `n = normalise((1 - xi) Lambda_a E3 + xi Lambda_b E3)`, and the approach
+//!
+//! `delta = R + h/2 - |(c - x).n|`, `x = x_a + xi t`.
+//!
+//! The face is a plane through the centre line's point offset by h/2 along n: the ball's
+//! offset across the width enters through c, so a twist theta about the axis tilts the face
+//! under the ball and moves it by offset x theta (to first order), which is the coupling of the
+//! modal method's torsion modes. Past an end of the beam the ball meets the end's edge, the
+//! line through `x_end +- (h/2) Lambda E3` along `Lambda E2`, and `delta = R - dist(c, line)`.
+//! The face's side edges are not modelled (the plan warns where the patch reaches them).
+//!
+//! The generalised force is `F grad(delta)` over the 15 unknowns it touches (ball, and the
+//! displacement and rotation increment of both nodes), its Newton matrix
+//! `k grad grad^T + F Hess(delta)` (+ the damping term), by second-order forward
+//! differentiation (num-dual) of the formula above with each node's rotation
+//! `Lambda exp(theta^)` expanded to second order, `Lambda (I + theta^ + theta^2/2)`: the
+//! derivatives at theta = 0, which are all Newton needs, are exact.
+
+use faer::{ColMut, ColRef};
+use hertz::ContactLaw;
+use hht::{Band, Model, NewtonWeights, Triplets};
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use num_dual::{Dual2SVec64, DualSVec64};
+use simo_beam::{BeamModel, BeamState};
+
+use super::ball_on_beam::{Order, STICKY_REACH};
+
+/// Configuration of the coupled model: the beam's and the ball centre's (m).
+#[derive(Debug, Clone)]
+pub struct BallOnBeam3dConfig {
+    /// The beam.
+    pub beam: BeamState,
+    /// Ball centre (x, y, z) (m).
+    pub ball: Vector3<f64>,
+}
+
+/// Unknowns of one contact element: ball (3), node a (6), node b (6).
+const LOCAL: usize = 15;
+
+/// The contact kinematics at a configuration (see the planar model's).
+#[derive(Debug, Clone)]
+pub(crate) struct ContactPoint3d {
+    pub(crate) element: usize,
+    pub(crate) xi: f64,
+    pub(crate) delta: f64,
+    gradient: SVector<f64, LOCAL>,
+    hessian: SMatrix<f64, LOCAL, LOCAL>,
+}
+
+/// The coupled ball-beam-contact model in 3D for [`hht`].
+pub struct BallOnBeam3d<'a, L: ContactLaw> {
+    beam: BeamModel,
+    nb: usize,
+    mass: f64,
+    gravity: f64,
+    radius: f64,
+    half_thickness: f64,
+    /// The strike's offset across the width (m): where the face's motion is read.
+    offset: f64,
+    pub(crate) law: &'a L,
+    /// The law's history, committed after every accepted step.
+    pub law_state: L::State,
+    /// Global equation numbers of each element's 15 local unknowns.
+    local_dofs: Vec<[Option<usize>; LOCAL]>,
+    /// The contact element of the last accepted step (as the planar model's).
+    sticky_element: Option<usize>,
+}
+
+/// The node's position and rotation matrix.
+type Node = (Vector3<f64>, Matrix3<f64>);
+
+/// The skew matrix of `v`: `skew(v) w = v x w`.
+fn skew<T: nalgebra::RealField + Copy>(v: &Vector3<T>) -> Matrix3<T> {
+    Matrix3::new(T::zero(), -v.z, v.y, v.z, T::zero(), -v.x, -v.y, v.x, T::zero())
+}
+
+/// The approach for local unknowns `u` added to the configuration (`c0` the ball, `a` and `b`
+/// the element's nodes); `ends` says whether the element's nodes are the beam's first and last.
+fn approach_of<T: nalgebra::RealField + Copy>(
+    u: &SVector<T, LOCAL>,
+    c0: &Vector3<f64>,
+    a: &Node,
+    b: &Node,
+    (radius, half): (f64, f64),
+    ends: (bool, bool),
+) -> T {
+    let lift = nalgebra::convert::<f64, T>;
+    let part = |k: usize| Vector3::new(u[k], u[k + 1], u[k + 2]);
+    let c = c0.map(lift) + part(0);
+    let xa = a.0.map(lift) + part(3);
+    let xb = b.0.map(lift) + part(9);
+    let turned = |r: &Matrix3<f64>, theta: Vector3<T>| {
+        let s = skew(&theta);
+        r.map(lift) * (Matrix3::identity() + s + s * s * lift(0.5))
+    };
+    let (ra, rb) = (turned(&a.1, part(6)), turned(&b.1, part(12)));
+    let (radius, half) = (lift(radius), lift(half));
+    let t = xb - xa;
+    let xi = (c - xa).dot(&t) / t.dot(&t);
+    let edge = |x: Vector3<T>, r: &Matrix3<T>| {
+        let n: Vector3<T> = r.column(2).into_owned();
+        let along: Vector3<T> = r.column(1).into_owned();
+        let side = if (c - x).dot(&n) < T::zero() { -half } else { half };
+        let v = c - (x + n * side);
+        let across = v - along * v.dot(&along);
+        radius - across.norm()
+    };
+    if ends.0 && xi < T::zero() {
+        return edge(xa, &ra);
+    }
+    if ends.1 && xi > T::one() {
+        return edge(xb, &rb);
+    }
+    let x = xa + t * xi;
+    let na: Vector3<T> = ra.column(2).into_owned();
+    let nb: Vector3<T> = rb.column(2).into_owned();
+    let d = na * (T::one() - xi) + nb * xi;
+    let n = d / d.norm();
+    radius + half - (c - x).dot(&n).abs()
+}
+
+impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
+    /// The coupled model: `beam` (straight along x, thickness along z), a ball of `mass` (kg)
+    /// and `radius` (m) under `gravity` (m/s^2, along -z) striking `offset` (m) off the
+    /// centreline, a struck face `half_thickness` (m) above the centre line, and `law`.
+    pub fn new(
+        beam: BeamModel,
+        (mass, gravity, radius): (f64, f64, f64),
+        offset: f64,
+        half_thickness: f64,
+        law: &'a L,
+    ) -> Self {
+        let nb = hht::Model::ndof(&beam);
+        let local_dofs = beam
+            .mesh()
+            .elements
+            .iter()
+            .map(|e| {
+                let mut d = [None; LOCAL];
+                for (k, slot) in d[..3].iter_mut().enumerate() {
+                    *slot = Some(nb + k);
+                }
+                for (end, node) in e.nodes.into_iter().enumerate() {
+                    for k in 0..6 {
+                        d[3 + 6 * end + k] = beam.dof(node, k);
+                    }
+                }
+                d
+            })
+            .collect();
+        Self {
+            beam,
+            nb,
+            mass,
+            gravity,
+            radius,
+            half_thickness,
+            offset,
+            law,
+            law_state: L::State::default(),
+            local_dofs,
+            sticky_element: None,
+        }
+    }
+
+    /// The beam model.
+    pub fn beam(&self) -> &BeamModel {
+        &self.beam
+    }
+
+    /// The strike's offset across the width (m).
+    pub fn offset(&self) -> f64 {
+        self.offset
+    }
+
+    /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
+    pub fn commit_contact_element(&mut self, q: &BallOnBeam3dConfig) {
+        self.sticky_element = Some(self.nearest_element(q).0);
+    }
+
+    fn elements(&self) -> usize {
+        self.beam.mesh().elements.len()
+    }
+
+    /// Chord of element `e`: its first node and the vector to its second (m).
+    fn chord(&self, q: &BeamState, e: usize) -> (Vector3<f64>, Vector3<f64>) {
+        let [a, b] = self.beam.mesh().elements[e].nodes;
+        (q.positions[a], q.positions[b] - q.positions[a])
+    }
+
+    /// The contact element and the clamped projection on it (as the planar model's).
+    fn nearest_element(&self, q: &BallOnBeam3dConfig) -> (usize, f64) {
+        if let Some(i) = self.sticky_element {
+            let (xa, t) = self.chord(&q.beam, i);
+            let xi = (q.ball - xa).dot(&t) / t.dot(&t);
+            if (-STICKY_REACH..=1.0 + STICKY_REACH).contains(&xi) {
+                return (i, xi.clamp(0.0, 1.0));
+            }
+        }
+        let mut best = (0, 0.0, f64::INFINITY);
+        for i in 0..self.elements() {
+            let (xa, t) = self.chord(&q.beam, i);
+            let xi = ((q.ball - xa).dot(&t) / t.dot(&t)).clamp(0.0, 1.0);
+            // The distance across the width counts as along the thickness: the chord lies on
+            // the centre line, and an offset ball is as near its element as a centred one.
+            let distance = (q.ball - (xa + t * xi)).norm();
+            if distance < best.2 {
+                best = (i, xi, distance);
+            }
+        }
+        (best.0, best.1)
+    }
+
+    /// Approach only (no derivatives).
+    pub(crate) fn approach(&self, q: &BallOnBeam3dConfig) -> f64 {
+        self.contact_point(q, Order::Value).delta
+    }
+
+    /// The contact point with derivatives up to `order` (the others left zero).
+    pub(crate) fn contact_point(&self, q: &BallOnBeam3dConfig, order: Order) -> ContactPoint3d {
+        let (element, xi) = self.nearest_element(q);
+        let [na, nb] = self.beam.mesh().elements[element].nodes;
+        let node = |i: usize| -> Node {
+            (q.beam.positions[i], q.beam.rotations[i].to_rotation_matrix().into_inner())
+        };
+        let (a, b) = (node(na), node(nb));
+        let surface = (self.radius, self.half_thickness);
+        let ends = (element == 0, element + 1 == self.elements());
+        let c = &q.ball;
+        let zero = SVector::<f64, LOCAL>::zeros();
+        let (delta, gradient, hessian) = match order {
+            Order::Value => {
+                (approach_of(&zero, c, &a, &b, surface, ends), SVector::zeros(), SMatrix::zeros())
+            }
+            Order::Gradient => {
+                let (d, g) = num_dual::gradient(
+                    |u: SVector<DualSVec64<LOCAL>, LOCAL>| {
+                        approach_of(&u, c, &a, &b, surface, ends)
+                    },
+                    &zero,
+                );
+                (d, g, SMatrix::zeros())
+            }
+            Order::Hessian => num_dual::hessian(
+                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, &a, &b, surface, ends),
+                &zero,
+            ),
+        };
+        ContactPoint3d { element, xi, delta, gradient, hessian }
+    }
+
+    /// The contact point with its derivatives if the ball touches (`None` otherwise).
+    fn touching(&self, q: &BallOnBeam3dConfig, order: Order) -> Option<ContactPoint3d> {
+        let p = self.contact_point(q, Order::Value);
+        (p.delta > self.law.release_approach(&self.law_state)).then(|| self.contact_point(q, order))
+    }
+
+    /// delta-dot = grad(delta) . local velocities.
+    fn rate(&self, p: &ContactPoint3d, v: ColRef<'_, f64>) -> f64 {
+        self.local_dofs[p.element]
+            .iter()
+            .zip(p.gradient.iter())
+            .map(|(d, g)| d.map_or(0.0, |i| g * v[i]))
+            .sum()
+    }
+
+    /// Contact approach, its rate and the law's force at a state.
+    pub(crate) fn contact(
+        &self,
+        q: &BallOnBeam3dConfig,
+        v: ColRef<'_, f64>,
+    ) -> (f64, f64, hertz::ContactForce) {
+        let p = self.contact_point(q, Order::Gradient);
+        let rate = self.rate(&p, v);
+        (p.delta, rate, self.law.force(&self.law_state, p.delta, rate))
+    }
+
+    fn ball(&self, x: ColRef<'_, f64>) -> Vector3<f64> {
+        Vector3::new(x[self.nb], x[self.nb + 1], x[self.nb + 2])
+    }
+}
+
+impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
+    type Config = BallOnBeam3dConfig;
+
+    fn ndof(&self) -> usize {
+        self.nb + 3
+    }
+
+    fn update(&self, q: &mut BallOnBeam3dConfig, dq: ColRef<'_, f64>) {
+        self.beam.update(&mut q.beam, dq.subrows(0, self.nb));
+        q.ball += self.ball(dq);
+    }
+
+    fn inertial_force(
+        &self,
+        q: &BallOnBeam3dConfig,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        mut out: ColMut<'_, f64>,
+    ) {
+        let nb = self.nb;
+        self.beam.inertial_force(
+            &q.beam,
+            v.subrows(0, nb),
+            a.subrows(0, nb),
+            out.as_mut().subrows_mut(0, nb),
+        );
+        for k in 0..3 {
+            out[nb + k] = self.mass * a[nb + k];
+        }
+    }
+
+    fn net_force(
+        &self,
+        t: f64,
+        q: &BallOnBeam3dConfig,
+        v: ColRef<'_, f64>,
+        mut out: ColMut<'_, f64>,
+    ) {
+        let nb = self.nb;
+        self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
+        // Gravity pulls the ball along -z: net force = -(external) = +m g e_z.
+        out[nb] = 0.0;
+        out[nb + 1] = 0.0;
+        out[nb + 2] = self.mass * self.gravity;
+        let Some(p) = self.touching(q, Order::Gradient) else {
+            return;
+        };
+        let f = self.law.force(&self.law_state, p.delta, self.rate(&p, v)).force;
+        for (d, g) in self.local_dofs[p.element].iter().zip(p.gradient.iter()) {
+            if let Some(i) = d {
+                out[*i] += f * g;
+            }
+        }
+    }
+
+    fn tangent(
+        &self,
+        t: f64,
+        q: &BallOnBeam3dConfig,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        w: NewtonWeights,
+        out: &mut Triplets,
+    ) {
+        let nb = self.nb;
+        self.beam.tangent(t, &q.beam, v.subrows(0, nb), a.subrows(0, nb), w, out);
+        for k in 0..3 {
+            out.push(nb + k, nb + k, w.inertia * w.da * self.mass);
+        }
+        let Some(p) = self.touching(q, Order::Hessian) else {
+            return;
+        };
+        let rate = self.rate(&p, v);
+        let cf = self.law.force(&self.law_state, p.delta, rate);
+        let gg = p.gradient * p.gradient.transpose();
+        let block = (gg * cf.stiffness + p.hessian * cf.force) * (w.force * w.dq)
+            + gg * (cf.damping * w.force * w.dv);
+        let dofs = &self.local_dofs[p.element];
+        for (r, dr) in dofs.iter().enumerate() {
+            let Some(i) = dr else { continue };
+            for (c, dc) in dofs.iter().enumerate() {
+                if let Some(j) = dc {
+                    out.push(*i, *j, block[(r, c)]);
+                }
+            }
+        }
+    }
+
+    fn force_scale(&self, q: &BallOnBeam3dConfig) -> f64 {
+        self.beam.force_scale(&q.beam)
+    }
+
+    fn configuration_scale(&self, q: &BallOnBeam3dConfig) -> f64 {
+        self.beam.configuration_scale(&q.beam).max(q.ball.amax())
+    }
+
+    /// Node-major unknowns, six a node, elements between neighbours: banded with half-bandwidth
+    /// 11, the ball's three unknowns the dense border.
+    fn band(&self) -> Option<Band> {
+        Some(Band { half_bandwidth: 11, border: 3 })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use nalgebra::UnitQuaternion;
+
+    /// A flat last element from x = 0 to 1 (m), 5 mm thick, a 5 mm ball at `c`; node b turned
+    /// by `twist` about the axis.
+    fn approach(c: Vector3<f64>, twist: f64, u: &SVector<f64, LOCAL>) -> f64 {
+        let a = (Vector3::zeros(), Matrix3::identity());
+        let r = UnitQuaternion::from_scaled_axis(Vector3::new(twist, 0.0, 0.0));
+        let b = (Vector3::new(1.0, 0.0, 0.0), r.to_rotation_matrix().into_inner());
+        approach_of(u, &c, &a, &b, (0.005, 0.0025), (false, true))
+    }
+
+    #[test]
+    fn a_twist_moves_the_face_under_an_offset_ball_by_offset_times_twist() {
+        // The ball 10 mm off the centreline above the twisted end (theta = 1e-3): the face under
+        // it is lower by e sin(theta) (tilted plane: (c - x).n = -e sin + z cos).
+        let zero = SVector::<f64, LOCAL>::zeros();
+        let c = Vector3::new(1.0, 0.01, 0.0075);
+        let flat = approach(c, 0.0, &zero);
+        let twisted = approach(c, 1e-3, &zero);
+        let expected = 0.0075 - (-0.01 * 1e-3f64.sin() + 0.0075 * 1e-3f64.cos());
+        assert!(flat.abs() < 1e-15, "{flat:e}");
+        assert!((twisted - flat - expected).abs() < 1e-15, "{twisted:e} vs {expected:e}");
+    }
+
+    #[test]
+    fn the_gradient_and_hessian_are_the_approach_s_derivatives() {
+        // Central differences of the approach along each local unknown (the rotation
+        // increments through the exact exponential, which agrees with the second-order
+        // expansion to second order at theta = 0), at a bent and twisted configuration.
+        let c = Vector3::new(0.7, 0.008, 0.0074);
+        let a = (
+            Vector3::new(0.0, 0.0, 1e-4),
+            UnitQuaternion::from_scaled_axis(Vector3::new(2e-3, -1e-3, 5e-4))
+                .to_rotation_matrix()
+                .into_inner(),
+        );
+        let b = (
+            Vector3::new(1.0, 1e-5, -2e-4),
+            UnitQuaternion::from_scaled_axis(Vector3::new(-1e-3, 3e-3, 0.0))
+                .to_rotation_matrix()
+                .into_inner(),
+        );
+        let exact = |u: &SVector<f64, LOCAL>| {
+            // Rotations by the exact exponential, then the approach with zero increments.
+            let turn = |n: &Node, k: usize| {
+                let th = Vector3::new(u[k], u[k + 1], u[k + 2]);
+                n.1 * UnitQuaternion::from_scaled_axis(th).to_rotation_matrix().into_inner()
+            };
+            let mut v = *u;
+            for k in [6, 7, 8, 12, 13, 14] {
+                v[k] = 0.0;
+            }
+            let (ta, tb) = ((a.0, turn(&a, 6)), (b.0, turn(&b, 12)));
+            approach_of(&v, &c, &ta, &tb, (0.005, 0.0025), (false, true))
+        };
+        let zero = SVector::<f64, LOCAL>::zeros();
+        let (_, g) = num_dual::gradient(
+            |u: SVector<DualSVec64<LOCAL>, LOCAL>| {
+                approach_of(&u, &c, &a, &b, (0.005, 0.0025), (false, true))
+            },
+            &zero,
+        );
+        let (_, _, hess) = num_dual::hessian(
+            |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| {
+                approach_of(&u, &c, &a, &b, (0.005, 0.0025), (false, true))
+            },
+            &zero,
+        );
+        let h = 1e-5;
+        for i in 0..LOCAL {
+            let mut up = zero;
+            up[i] = h;
+            let fd = (exact(&up) - exact(&-up)) / (2.0 * h);
+            assert!((fd - g[i]).abs() < 1e-8, "gradient {i}: {fd} vs {}", g[i]);
+            for j in 0..LOCAL {
+                let mut uj = zero;
+                uj[j] = h;
+                let fd2 = (exact(&(up + uj)) - exact(&(up - uj)) - exact(&(uj - up))
+                    + exact(&(-up - uj)))
+                    / (4.0 * h * h);
+                // A rotation's second derivative through exp is symmetrised (the Hessian of a
+                // map on the group at the identity): compare the symmetric parts.
+                let sym = 0.5 * (hess[(i, j)] + hess[(j, i)]);
+                assert!(
+                    (fd2 - sym).abs() < 1e-4 * (1.0 + sym.abs()),
+                    "hessian {i},{j}: {fd2} vs {sym}"
+                );
+            }
+        }
+    }
+}

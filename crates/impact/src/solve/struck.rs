@@ -1,0 +1,222 @@
+//! What the fe run needs of a ball-on-beam model, the planar one ([`BallOnBeam`]) or the 3D one
+//! ([`BallOnBeam3d`]): the contact, the ball, the struck face at the impact point, the section
+//! strains and the energy, and a planar view for the recorders. The run (`solve/fe.rs`) is
+//! written once against it.
+
+use super::ball_on_beam::{BallOnBeam, BallOnBeamConfig, Order};
+use super::ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig};
+use faer::ColRef;
+use hertz::{ContactForce, ContactLaw};
+use hht::Model;
+use nalgebra::Vector3;
+use simo_beam::{PlanarBeam, PlanarState};
+
+/// A ball on a beam, as the fe run steps it.
+pub(crate) trait Struck<L: ContactLaw>: Model {
+    /// The contact law and its history.
+    fn law(&self) -> &L;
+    fn law_state(&self) -> &L::State;
+    /// Commits the law's history at an accepted state's approach and rate.
+    fn commit_law(&mut self, delta: f64, rate: f64);
+    /// Approach (m), positive in compression.
+    fn approach(&self, q: &Self::Config) -> f64;
+    /// Approach, its rate and the law's force.
+    fn contact(&self, q: &Self::Config, v: ColRef<'_, f64>) -> (f64, f64, ContactForce);
+    /// Keeps the contact element of an accepted state.
+    fn commit_contact_element(&mut self, q: &Self::Config);
+    /// The contact element and the ball's projection on it.
+    fn contact_element(&self, q: &Self::Config) -> (usize, f64);
+    /// How many of the last unknowns are the ball's; the last is its z.
+    fn ball_unknowns(&self) -> usize;
+    /// The ball centre's z (m).
+    fn ball_height(&self, q: &Self::Config) -> f64;
+    /// The struck face's z at the impact point (element, local coordinate) (m), and the
+    /// unknowns and weights whose sum gives its rate and acceleration.
+    fn face_height(&self, q: &Self::Config, impact: (usize, f64)) -> f64;
+    fn face_rows(&self, impact: (usize, f64)) -> Vec<(usize, f64)>;
+    /// The struck section's rotation about the beam's axis (rad; 0 in the plane).
+    fn twist(&self, q: &Self::Config, impact: (usize, f64)) -> f64;
+    /// Each element's (extension, shear, curvature) in the beam's plane (x-z), the planar
+    /// beam's sign convention.
+    fn section_strains(&self, q: &Self::Config, out: &mut [(f64, f64, f64)]);
+    /// The beam's strain (and springs') plus kinetic energy (J), given `strains` of `q`.
+    fn beam_energy(&self, q: &Self::Config, v: ColRef<'_, f64>, strains: &[(f64, f64, f64)])
+        -> f64;
+    /// The beam in the x-z plane, for the recorders (the 3D model's projection is written
+    /// into `scratch`).
+    fn planar_view<'s>(
+        &'s self,
+        q: &'s Self::Config,
+        scratch: &'s mut PlanarState,
+    ) -> &'s PlanarState;
+    /// The planar beam, where the model is one (its static solve).
+    fn planar(&self) -> Option<&PlanarBeam>;
+}
+
+/// Linear interpolation at `xi` between two nodes' values.
+fn between(values: (f64, f64), xi: f64) -> f64 {
+    (1.0 - xi) * values.0 + xi * values.1
+}
+
+impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
+    fn law(&self) -> &L {
+        self.law
+    }
+    fn law_state(&self) -> &L::State {
+        &self.law_state
+    }
+    fn commit_law(&mut self, delta: f64, rate: f64) {
+        self.law.commit(&mut self.law_state, delta, rate);
+    }
+    fn approach(&self, q: &BallOnBeamConfig) -> f64 {
+        BallOnBeam::approach(self, q)
+    }
+    fn contact(&self, q: &BallOnBeamConfig, v: ColRef<'_, f64>) -> (f64, f64, ContactForce) {
+        BallOnBeam::contact(self, q, v)
+    }
+    fn commit_contact_element(&mut self, q: &BallOnBeamConfig) {
+        BallOnBeam::commit_contact_element(self, q);
+    }
+    fn contact_element(&self, q: &BallOnBeamConfig) -> (usize, f64) {
+        let p = self.contact_point(q, Order::Value);
+        (p.element, p.xi)
+    }
+    fn ball_unknowns(&self) -> usize {
+        2
+    }
+    fn ball_height(&self, q: &BallOnBeamConfig) -> f64 {
+        q.ball.y
+    }
+    fn face_height(&self, q: &BallOnBeamConfig, (i, xi): (usize, f64)) -> f64 {
+        between((q.beam.z[i], q.beam.z[i + 1]), xi)
+    }
+    fn face_rows(&self, (i, xi): (usize, f64)) -> Vec<(usize, f64)> {
+        [(i, 1.0 - xi), (i + 1, xi)]
+            .into_iter()
+            .filter_map(|(node, w)| self.beam().dof(node, 1).map(|d| (d, w)))
+            .collect()
+    }
+    fn twist(&self, _q: &BallOnBeamConfig, _impact: (usize, f64)) -> f64 {
+        0.0
+    }
+    fn section_strains(&self, q: &BallOnBeamConfig, out: &mut [(f64, f64, f64)]) {
+        self.beam().all_section_strains(&q.beam, out);
+    }
+    fn beam_energy(
+        &self,
+        q: &BallOnBeamConfig,
+        v: ColRef<'_, f64>,
+        strains: &[(f64, f64, f64)],
+    ) -> f64 {
+        let beam = self.beam();
+        beam.strain_energy_of(strains)
+            + beam.spring_energy(&q.beam)
+            + beam.kinetic_energy(v.subrows(0, beam.ndof()))
+    }
+    fn planar_view<'s>(
+        &'s self,
+        q: &'s BallOnBeamConfig,
+        _scratch: &'s mut PlanarState,
+    ) -> &'s PlanarState {
+        &q.beam
+    }
+    fn planar(&self) -> Option<&PlanarBeam> {
+        Some(self.beam())
+    }
+}
+
+impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
+    fn law(&self) -> &L {
+        self.law
+    }
+    fn law_state(&self) -> &L::State {
+        &self.law_state
+    }
+    fn commit_law(&mut self, delta: f64, rate: f64) {
+        self.law.commit(&mut self.law_state, delta, rate);
+    }
+    fn approach(&self, q: &BallOnBeam3dConfig) -> f64 {
+        BallOnBeam3d::approach(self, q)
+    }
+    fn contact(&self, q: &BallOnBeam3dConfig, v: ColRef<'_, f64>) -> (f64, f64, ContactForce) {
+        BallOnBeam3d::contact(self, q, v)
+    }
+    fn commit_contact_element(&mut self, q: &BallOnBeam3dConfig) {
+        BallOnBeam3d::commit_contact_element(self, q);
+    }
+    fn contact_element(&self, q: &BallOnBeam3dConfig) -> (usize, f64) {
+        let p = self.contact_point(q, Order::Value);
+        (p.element, p.xi)
+    }
+    fn ball_unknowns(&self) -> usize {
+        3
+    }
+    fn ball_height(&self, q: &BallOnBeam3dConfig) -> f64 {
+        q.ball.z
+    }
+    /// The face's point under the ball's offset: the centre line's z plus offset x twist
+    /// (small rotation, as the modal method reads it).
+    fn face_height(&self, q: &BallOnBeam3dConfig, (i, xi): (usize, f64)) -> f64 {
+        let z = between((q.beam.positions[i].z, q.beam.positions[i + 1].z), xi);
+        z + self.offset() * self.twist(q, (i, xi))
+    }
+    /// The z rows of the two nodes and their rotation about the axis (times the offset): the
+    /// angular velocities are material, about E1 = x to first order.
+    fn face_rows(&self, (i, xi): (usize, f64)) -> Vec<(usize, f64)> {
+        let e = self.offset();
+        [(i, 1.0 - xi), (i + 1, xi)]
+            .into_iter()
+            .flat_map(|(node, w)| [(node, 2, w), (node, 3, e * w)])
+            .filter_map(|(node, k, w)| self.beam().dof(node, k).map(|d| (d, w)))
+            .collect()
+    }
+    /// The rotation about x of the two nodes' sections, interpolated: the angle that turns E2
+    /// toward E3 (atan2 of E2's z and y components).
+    fn twist(&self, q: &BallOnBeam3dConfig, (i, xi): (usize, f64)) -> f64 {
+        let angle = |node: usize| {
+            let e2 = q.beam.rotations[node] * Vector3::y();
+            e2.z.atan2(e2.y)
+        };
+        between((angle(i), angle(i + 1)), xi)
+    }
+    /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
+    /// curvature about the width axis, signed as the planar beam's (its rotation turns x
+    /// toward z, a rotation about +y turns z toward x).
+    fn section_strains(&self, q: &BallOnBeam3dConfig, out: &mut [(f64, f64, f64)]) {
+        for (e, o) in self.beam().mesh().elements.iter().zip(out.iter_mut()) {
+            let [a, b] = e.nodes;
+            let s = e.strains(
+                [&q.beam.positions[a], &q.beam.positions[b]],
+                [&q.beam.rotations[a], &q.beam.rotations[b]],
+            );
+            *o = (s.gamma[0], s.gamma[2], -s.kappa[1]);
+        }
+    }
+    fn beam_energy(
+        &self,
+        q: &BallOnBeam3dConfig,
+        v: ColRef<'_, f64>,
+        _strains: &[(f64, f64, f64)],
+    ) -> f64 {
+        let beam = self.beam();
+        beam.strain_energy(&q.beam) + beam.kinetic_energy(v.subrows(0, beam.ndof()))
+    }
+    fn planar_view<'s>(
+        &'s self,
+        q: &'s BallOnBeam3dConfig,
+        scratch: &'s mut PlanarState,
+    ) -> &'s PlanarState {
+        let n = q.beam.positions.len();
+        for v in [&mut scratch.x, &mut scratch.z, &mut scratch.theta] {
+            v.resize(n, 0.0);
+        }
+        for (k, (x, r)) in q.beam.positions.iter().zip(&q.beam.rotations).enumerate() {
+            let e1 = r * Vector3::x();
+            (scratch.x[k], scratch.z[k], scratch.theta[k]) = (x.x, x.z, e1.z.atan2(e1.x));
+        }
+        scratch
+    }
+    fn planar(&self) -> Option<&PlanarBeam> {
+        None
+    }
+}
