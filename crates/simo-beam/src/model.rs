@@ -127,6 +127,11 @@ pub struct BeamModel {
     /// Largest section stiffness term, max(EA, GA, GJ/l0, EI/l0) (N): the size of the terms
     /// that cancel in the internal force, hence its round-off floor.
     force_scale: f64,
+    /// Point masses (node, kg) on the translations.
+    point_masses: Vec<(usize, f64)>,
+    /// Translational springs (node, stiffness along x, y, z (N/m)) against the displacement
+    /// from the reference position.
+    springs: Vec<(usize, Vector3<f64>)>,
 }
 
 impl BeamModel {
@@ -164,6 +169,8 @@ impl BeamModel {
             load_factor: 1.0,
             time_dependent: true,
             force_scale,
+            point_masses: Vec::new(),
+            springs: Vec::new(),
         };
         model.number(&vec![Support::Free; nodes]);
         Ok(model)
@@ -191,6 +198,68 @@ impl BeamModel {
         supports[node] = support;
         self.number(&supports);
         Ok(self)
+    }
+
+    /// Adds a point mass of `mass` (kg) at `node`, with `rotary_inertia` (kg m^2) about the
+    /// section's axis E1 (a sensor's, a tip mass's resistance to twist).
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for a node out of range; [`BeamError::InvalidParameter`] for a
+    /// value that is negative or not finite.
+    pub fn attach_mass(
+        mut self,
+        node: usize,
+        mass: f64,
+        rotary_inertia: f64,
+    ) -> Result<Self, BeamError> {
+        self.check_node(node)?;
+        for (name, value) in [("mass", mass), ("rotary_inertia", rotary_inertia)] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(BeamError::InvalidParameter {
+                    name,
+                    value,
+                    allowed: "a finite number >= 0 (kg, kg m^2)",
+                });
+            }
+        }
+        self.point_masses.push((node, mass));
+        self.node_inertia[node][(0, 0)] += rotary_inertia;
+        Ok(self)
+    }
+
+    /// Adds a translational spring at `node`: `stiffness` (N/m) along x, y and z against the
+    /// node's displacement from its reference position.
+    ///
+    /// # Errors
+    /// As [`BeamModel::attach_mass`].
+    pub fn attach_spring(
+        mut self,
+        node: usize,
+        stiffness: Vector3<f64>,
+    ) -> Result<Self, BeamError> {
+        self.check_node(node)?;
+        for value in stiffness.iter() {
+            if !(value.is_finite() && *value >= 0.0) {
+                return Err(BeamError::InvalidParameter {
+                    name: "stiffness",
+                    value: *value,
+                    allowed: "finite components >= 0 (N/m)",
+                });
+            }
+        }
+        self.springs.push((node, stiffness));
+        Ok(self)
+    }
+
+    /// The springs' stored energy (J).
+    fn spring_energy(&self, q: &BeamState) -> f64 {
+        self.springs
+            .iter()
+            .map(|(node, k)| {
+                let u = q.positions[*node] - self.mesh.positions[*node];
+                0.5 * k.component_mul(&u).dot(&u)
+            })
+            .sum()
     }
 
     fn check_node(&self, node: usize) -> Result<(), BeamError> {
@@ -337,7 +406,8 @@ impl BeamModel {
                 let [a, b] = e.nodes;
                 e.energy([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]])
             })
-            .sum()
+            .sum::<f64>()
+            + self.spring_energy(q)
     }
 
     /// Kinetic energy (J) for velocity `v` (consistent translational mass, lumped rotary).
@@ -352,6 +422,9 @@ impl BeamModel {
         for (node, j) in self.node_inertia.iter().enumerate() {
             let w = self.node_vector(v, node, 3);
             energy += 0.5 * w.dot(&(j * w));
+        }
+        for (node, m) in &self.point_masses {
+            energy += 0.5 * m * self.node_vector(v, *node, 0).norm_squared();
         }
         energy
     }
@@ -428,6 +501,10 @@ impl hht::Model for BeamModel {
             self.add_node_vector(&mut out, na, 0, &((2.0 * aa + ab) * m));
             self.add_node_vector(&mut out, nb, 0, &((aa + 2.0 * ab) * m));
         }
+        for (node, m) in &self.point_masses {
+            let a = self.node_vector(a, *node, 0);
+            self.add_node_vector(&mut out, *node, 0, &(a * *m));
+        }
         for (node, j) in self.node_inertia.iter().enumerate() {
             // Euler's equation in the body frame: J dW/dt + W x J W.
             let w = self.node_vector(v, node, 3);
@@ -439,6 +516,10 @@ impl hht::Model for BeamModel {
     fn net_force(&self, t: f64, q: &BeamState, _v: ColRef<'_, f64>, mut out: ColMut<'_, f64>) {
         out.fill(0.0);
         self.add_internal(q, &mut out);
+        for (node, k) in &self.springs {
+            let u = q.positions[*node] - self.mesh.positions[*node];
+            self.add_node_vector(&mut out, *node, 0, &k.component_mul(&u));
+        }
         for load in &self.loads {
             let (f, m) = self.external(t, q, load);
             self.add_node_vector(&mut out, load.node, 0, &(-f));
@@ -501,6 +582,12 @@ impl hht::Model for BeamModel {
         for node in 0..self.node_inertia.len() {
             self.push_block(out, node, 3, node, 3, &node_blocks[node]);
             self.push_block(out, node, 0, node, 3, &node_force_blocks[node]);
+        }
+        for (node, m) in &self.point_masses {
+            self.push_block(out, *node, 0, *node, 0, &(Matrix3::identity() * (m * mass)));
+        }
+        for (node, k) in &self.springs {
+            self.push_block(out, *node, 0, *node, 0, &(Matrix3::from_diagonal(k) * stiffness));
         }
     }
 

@@ -83,8 +83,9 @@ pub struct FePlan {
 pub(crate) struct Attachment {
     /// Where (m from x = 0): a node of every mesh.
     pub(crate) at: f64,
-    /// Mass (kg).
+    /// Mass (kg) and its rotary inertia about the beam's axis (kg m^2; the 3D beam's only).
     pub(crate) mass: f64,
+    pub(crate) rotary_inertia: f64,
     /// Stiffness along the impact direction (N/m) and against the bending rotation (N m/rad).
     pub(crate) stiffness: f64,
     pub(crate) rotational_stiffness: f64,
@@ -162,7 +163,8 @@ impl FePlan {
     }
 
     /// The 3D beam of the plan: straight along x, width along y, thickness along z, its ends
-    /// held (no masses or springs: the plan refuses them in 3D).
+    /// held, its masses (with their rotary inertia about the axis) and springs (along z)
+    /// attached.
     ///
     /// # Errors
     /// From `simo_beam` for a section or mesh it refuses (checked before, not expected).
@@ -176,7 +178,17 @@ impl FePlan {
         let mesh = simo_beam::Mesh::from_nodes(points, frames, section);
         let last = self.nodes.len() - 1;
         let (first, end) = self.ends;
-        Ok(simo_beam::BeamModel::new(mesh)?.support(0, first)?.support(last, end)?)
+        let mut beam = simo_beam::BeamModel::new(mesh)?.support(0, first)?.support(last, end)?;
+        for a in &self.attachments {
+            let node = node_at(&self.nodes, a.at);
+            if a.mass > 0.0 || a.rotary_inertia > 0.0 {
+                beam = beam.attach_mass(node, a.mass, a.rotary_inertia)?;
+            }
+            if a.stiffness > 0.0 {
+                beam = beam.attach_spring(node, Vector3::new(0.0, 0.0, a.stiffness))?;
+            }
+        }
+        Ok(beam)
     }
 
     /// The struck face's static flexibility at the impact point (m/N): the analytic
@@ -328,9 +340,9 @@ pub(super) fn model(
         Some(FeModelName::Planar) => false,
         None => offset != 0.0,
     };
-    if three_d && !fe.attachments.is_empty() {
+    if three_d && fe.attachments.iter().any(|a| a.rotational_stiffness > 0.0) {
         return Err(ImpactError::Inconsistent(
-            "solver.fe_model = \"3d\" with [[beam.mass]] or [[beam.spring]]: the 3D beam takes no masses or springs yet; use the planar one (a centred strike)".into(),
+            "beam.spring's rotational_stiffness on the 3D beam (an off-centre strike, or solver.fe_model = \"3d\"): not built yet (the 3D beam takes masses, their rotary inertia and springs along the strike); leave it out, or strike on the centreline".into(),
         ));
     }
     if three_d {

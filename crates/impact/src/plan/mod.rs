@@ -396,11 +396,6 @@ fn beam_method(
     let flexibility = m.static_flexibility(position).unwrap_or(0.0) + offset * offset * twist;
     let deflection = (pulse.ball_mass * pulse.speed * pulse.speed * flexibility).sqrt();
     let large = deflection > LARGE_DEFLECTION * length;
-    if !attachments.is_empty() && offset != 0.0 {
-        return Err(ImpactError::Inconsistent(format!(
-            "impact.offset = {offset} m with [[beam.mass]] or [[beam.spring]]: the fe method takes the masses and springs on its planar beam only (not yet on the 3D one that twists), the modal method twists but its modes are a uniform beam's; give one or the other for now"
-        )));
-    }
     let use_fe = match s.method {
         MethodName::Modal if !attachments.is_empty() => {
             return Err(ImpactError::Inconsistent(
@@ -540,12 +535,18 @@ fn attachments(
             "kg m^2",
         )?;
         if rotary > 0.0 {
-            reasons.push(format!("beam.mass[{k}].rotary_inertia = {rotary} kg m^2 resists twist only: a centred strike does not twist the beam, so it does not act here"));
+            reasons.push(format!("beam.mass[{k}].rotary_inertia = {rotary} kg m^2 resists twist only: it acts on the 3D beam (an off-centre strike), not on a planar one"));
         }
         if (at - position).abs() <= patch {
             warnings.push(format!("beam.mass[{k}] at x = {at} m sits where the ball strikes (within the contact radius {patch:.3e} m): the mass has no face in the model, the ball meets the beam's face and the mass only adds its inertia at that node"));
         }
-        out.push(Attachment { at, mass, stiffness: 0.0, rotational_stiffness: 0.0 });
+        out.push(Attachment {
+            at,
+            mass,
+            rotary_inertia: rotary,
+            stiffness: 0.0,
+            rotational_stiffness: 0.0,
+        });
     }
     for (k, sp) in beam.springs.iter().enumerate() {
         let at = place(format!("beam.spring[{k}].at"), sp.at)?;
@@ -555,7 +556,13 @@ fn attachments(
             sp.rotational_stiffness.unwrap_or(0.0),
             "N m/rad",
         )?;
-        out.push(Attachment { at, mass: 0.0, stiffness, rotational_stiffness });
+        out.push(Attachment {
+            at,
+            mass: 0.0,
+            rotary_inertia: 0.0,
+            stiffness,
+            rotational_stiffness,
+        });
     }
     out.sort_by(|a, b| a.at.total_cmp(&b.at));
     Ok(out)

@@ -25,9 +25,9 @@ use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome
 use crate::plan::{FePlan, Plan};
 use faer::Col;
 use hertz::ContactLaw;
-use hht::{Integrator, Model, NewtonOptions, Scheme, State};
+use hht::{Integrator, NewtonOptions, Scheme, State};
 use nalgebra::{Vector2, Vector3};
-use simo_beam::{PlanarBeam, PlanarState};
+use simo_beam::PlanarState;
 
 /// Local position error of the ball allowed per contact step, as a fraction of the largest
 /// approach on a rigid support. A Hertzian pulse then keeps about the plan's contact step;
@@ -45,36 +45,6 @@ pub(crate) const CONTACT_ERROR: f64 = 1e-7;
 /// (numerical dissipation 18 % -> 12 %, balance error 5.6e-4 -> 4e-5) at five times the cost
 /// (0.38 -> 1.9 s); 1e-5 costs 2.5x more again for another third less dissipation.
 pub(crate) const FREE_ERROR: f64 = 1e-4;
-
-/// The static flexibility (m/N) of the fe beam at x = `position` along z: `K u = f` at the
-/// straight configuration for a unit force there (shared between the two nodes of its element
-/// in proportion, the displacement read back the same way), by a dense LU (a static solve
-/// once a run). `None` if the beam is not held (a singular or indefinite `K`).
-fn static_flexibility(beam: &PlanarBeam, position: f64) -> Option<f64> {
-    let n = beam.ndof();
-    let q = beam.reference_state();
-    let zero = faer::Col::<f64>::zeros(n);
-    let mut t = hht::Triplets::new();
-    beam.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), hht::NewtonWeights::stiffness(), &mut t);
-    let mut k = faer::Mat::<f64>::zeros(n, n);
-    for (r, c, v) in t.iter() {
-        k[(r, c)] += v;
-    }
-    let nodes = beam.nodes();
-    let e = nodes.partition_point(|x| *x <= position).saturating_sub(1).min(nodes.len() - 2);
-    let xi = ((position - nodes[e]) / (nodes[e + 1] - nodes[e])).clamp(0.0, 1.0);
-    let shares = [(e, 1.0 - xi), (e + 1, xi)];
-    let mut f = faer::Mat::<f64>::zeros(n, 1);
-    for (node, w) in shares {
-        if let Some(i) = beam.dof(node, 1) {
-            f[(i, 0)] += w;
-        }
-    }
-    let u = faer::linalg::solvers::Solve::solve(&k.partial_piv_lu(), &f);
-    let w: f64 =
-        shares.iter().filter_map(|(node, s)| beam.dof(*node, 1).map(|i| s * u[(i, 0)])).sum();
-    (w.is_finite() && w > 0.0).then_some(w)
-}
 
 /// Runs an FE plan to its end time, with whichever law it holds. Fails with `Integrator` when
 /// Newton fails even after step halving, with the time reached.
@@ -548,9 +518,10 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             .attachments
             .iter()
             .any(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0);
-        let flexibility = match self.model.planar() {
-            Some(beam) if sprung => static_flexibility(beam, self.target.position),
-            _ => self.target.static_flexibility(),
+        let flexibility = if sprung {
+            self.model.static_flexibility(self.impact_element)
+        } else {
+            self.target.static_flexibility()
         };
         let static_stiffness = static_stiffness(flexibility, &mut warnings);
         let mut summary = plan.summary.clone();

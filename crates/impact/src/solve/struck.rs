@@ -49,8 +49,31 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
         q: &'s Self::Config,
         scratch: &'s mut PlanarState,
     ) -> &'s PlanarState;
-    /// The planar beam, where the model is one (its static solve).
-    fn planar(&self) -> Option<&PlanarBeam>;
+    /// The struck face's static flexibility at the impact point (m/N): a static solve of the
+    /// beam alone (its springs included) under a unit force there.
+    fn static_flexibility(&self, impact: (usize, f64)) -> Option<f64>;
+}
+
+/// The static flexibility (m/N) of `model` at the rows `rows` (unknown, weight): `K u = f` at
+/// the configuration `q` for the force `f = rows` (a unit force shared between the unknowns
+/// as the rows weigh them), read back as `rows . u`, by the sparse LU the integrator uses (one
+/// static solve a run). `None` if the model is not held (a singular `K`) or the flexibility
+/// is not positive.
+fn static_flexibility_of<M: Model>(model: &M, q: &M::Config, rows: &[(usize, f64)]) -> Option<f64> {
+    let n = model.ndof();
+    let zero = faer::Col::<f64>::zeros(n);
+    let mut k = hht::Triplets::new();
+    let w = hht::NewtonWeights::stiffness();
+    model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), w, &mut k);
+    let mut lu = hht::SparseLu::new();
+    lu.factor(n, &k, 0.0).ok()?;
+    let mut f = faer::Col::<f64>::zeros(n);
+    for (i, w) in rows {
+        f[*i] += w;
+    }
+    let u = lu.solve(&f, 0.0).ok()?;
+    let flexibility: f64 = rows.iter().map(|(i, w)| w * u[*i]).sum();
+    (flexibility.is_finite() && flexibility > 0.0).then_some(flexibility)
 }
 
 /// Linear interpolation at `xi` between two nodes' values.
@@ -120,8 +143,9 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
     ) -> &'s PlanarState {
         &q.beam
     }
-    fn planar(&self) -> Option<&PlanarBeam> {
-        Some(self.beam())
+    fn static_flexibility(&self, impact: (usize, f64)) -> Option<f64> {
+        let beam: &PlanarBeam = self.beam();
+        static_flexibility_of(beam, &beam.reference_state(), &self.face_rows(impact))
     }
 }
 
@@ -216,7 +240,8 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         }
         scratch
     }
-    fn planar(&self) -> Option<&PlanarBeam> {
-        None
+    fn static_flexibility(&self, impact: (usize, f64)) -> Option<f64> {
+        let beam = self.beam();
+        static_flexibility_of(beam, &beam.reference_state(), &self.face_rows(impact))
     }
 }
