@@ -161,6 +161,17 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
             say!("  at the support x = {} m: {:.4e} Pa, t = {:.4e} s", s.position, s.max, s.time)?;
         }
     }
+    if let (Some(twist), Some(t)) = (r.max_twist, r.max_twist_time) {
+        say!("largest twist of the struck section {twist:.4e} rad at t = {t:.4e} s")?;
+    }
+    if let Some(w) = &r.largest_twist {
+        say!(
+            "largest twist anywhere {:.4e} rad at s = {:.4} m (arc length), t = {:.4e} s",
+            w.max,
+            w.position,
+            w.time
+        )?;
+    }
     if let Some(f) = r.equivalent_static_force {
         say!(
             "equivalent static force {f:.4} N (static stiffness {:.4e} N/m)",

@@ -60,12 +60,12 @@ pub use error::ImpactError;
 pub use law::Law;
 pub use outcome::{
     BendingStress, Contact, Differences, Energy, Field, History, Outcome, Report, Sample,
-    SupportStress, PULSE_FRACTION, SIGNIFICANT_PEAK,
+    SupportStress, Twist, PULSE_FRACTION, SIGNIFICANT_PEAK,
 };
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, FeModelName, HalfSpaceSpec, ImpactSpec, LawName, MassSpec,
-    MethodName, Scene, SolverSpec, SpringSpec, SupportName, TheoryName,
+    MethodName, Scene, SolverSpec, SpringSpec, StructureSpec, SupportName, TheoryName,
 };
 pub use solve::{
     run, run_with_progress, BallOnBeam, BallOnBeam3d, BallOnBeam3dConfig, BallOnBeamConfig,

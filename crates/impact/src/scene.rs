@@ -11,8 +11,13 @@ pub struct Scene {
     pub name: String,
     /// The struck beam; exactly one of `beam` and `half_space`.
     pub beam: Option<BeamSpec>,
-    /// A massive elastic block (no beam); exactly one of `beam` and `half_space`.
+    /// A massive elastic block (no beam); exactly one of `beam`, `half_space` and `structure`.
     pub half_space: Option<HalfSpaceSpec>,
+    /// A structure of beams (segments, straight or arcs, meeting at rigid joints; supports at
+    /// arc lengths): the fe method's 3D beam; exactly one of `beam`, `half_space` and
+    /// `structure`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub structure: Option<StructureSpec>,
     /// The striking ball.
     pub ball: BallSpec,
     /// Where and how fast it strikes.
@@ -140,6 +145,24 @@ pub struct BeamSpec {
     pub springs: Vec<SpringSpec>,
 }
 
+/// A structure of beams (`[structure]`), described as a beam scene describes its beam (one
+/// parser, `simo_beam::scene::structure`): a rectangular `section` of a material, a chain of
+/// `segment`s, `support`s at arc lengths.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StructureSpec {
+    /// The section (`youngs_modulus`, `poisson_ratio`, `density`, `width`, `thickness`).
+    pub section: simo_beam::scene::SectionSpec,
+    /// The members, in order along the chain.
+    #[serde(rename = "segment")]
+    pub segments: Vec<simo_beam::scene::SegmentSpec>,
+    /// Supports (`at` = arc length (m), `kind` = clamped | pinned).
+    #[serde(rename = "support", default)]
+    pub supports: Vec<simo_beam::scene::SupportSpec>,
+    /// Yield stress (Pa); needed by plastic contact laws.
+    pub yield_stress: Option<f64>,
+}
+
 /// A point mass on a beam (`[[beam.mass]]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -202,6 +225,13 @@ pub struct BallSpec {
 pub struct ImpactSpec {
     /// Impact point (m) from x = 0 (the first support); required with a beam.
     pub position: Option<f64>,
+    /// Impact point on a `[structure]`: arc length along its chain of segments (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<f64>,
+    /// The ball's velocity direction on a `[structure]` (any length): normal to the struck
+    /// face (the section's thickness faces).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<[f64; 3]>,
     /// The strike's distance from the beam's centreline across its width (m; default 0, a
     /// centred strike): the contact force twists the beam by offset x force. At most half
     /// the width (the face's edge).

@@ -582,6 +582,62 @@ impl SegmentSpec {
 /// The mesh's own arc length sums the element chords, which falls short on an arc.
 struct Stations(Vec<f64>);
 
+/// The beam of a `section`, a chain of `segments` and its `supports`: what a beam scene and an
+/// impact scene's `[structure]` share (one parser, one validation), as the model and each
+/// node's arc length from the start of the first segment (m). Errors name the keys as a beam
+/// scene writes them (`segment[1].end`, `section.width`, `support[0].at`).
+///
+/// # Errors
+/// `InvalidField` or `Inconsistent` naming the key at fault.
+pub fn structure(
+    section: &SectionSpec,
+    segments: &[SegmentSpec],
+    supports: &[SupportSpec],
+) -> Result<(BeamModel, Vec<f64>), SceneError> {
+    let section = section.build()?;
+    if segments.is_empty() {
+        return Err(SceneError::Inconsistent("the beam needs at least one [[segment]]".into()));
+    }
+    let mut mesh: Option<Mesh> = None;
+    let mut stations = vec![0.0];
+    for (i, seg) in segments.iter().enumerate() {
+        let previous_end = mesh.as_ref().and_then(|m| m.positions.last().copied());
+        let (piece, length) = seg.build(i, previous_end, section)?;
+        let s0 = stations.last().copied().unwrap_or(0.0);
+        // Nodes are equally spaced along each piece (in length or in angle).
+        stations.extend((1..=seg.elements).map(|k| s0 + length * k as f64 / seg.elements as f64));
+        mesh = Some(match mesh {
+            None => piece,
+            Some(m) => m.join(piece)?,
+        });
+    }
+    let mesh = mesh.ok_or_else(|| SceneError::Inconsistent("no segment".into()))?;
+    let at = Stations(stations);
+    let mut nodes: Vec<usize> = Vec::new();
+    for (i, s) in supports.iter().enumerate() {
+        let node = at.node(format!("support[{i}].at"), s.at)?;
+        if let Some(j) = nodes.iter().position(|n| *n == node) {
+            return Err(invalid(
+                format!("support[{i}].at"),
+                s.at,
+                &format!(
+                    "a node without a support: support[{j}] holds the same node; give one support per node (clamped holds what pinned holds and more)"
+                ),
+            ));
+        }
+        nodes.push(node);
+    }
+    let mut model = BeamModel::new(mesh)?;
+    for (node, s) in nodes.into_iter().zip(supports) {
+        let kind = match s.kind {
+            SupportKind::Clamped => Support::Clamped,
+            SupportKind::Pinned => Support::Pinned,
+        };
+        model = model.support(node, kind)?;
+    }
+    Ok((model, at.0))
+}
+
 impl Stations {
     fn total(&self) -> f64 {
         self.0.last().copied().unwrap_or(0.0)
@@ -644,40 +700,9 @@ impl BeamScene {
     }
 
     fn build(&self) -> Result<(BeamModel, Stations), SceneError> {
-        let section = self.section.build()?;
-        if self.segments.is_empty() {
-            return Err(SceneError::Inconsistent("the beam needs at least one [[segment]]".into()));
-        }
-        let mut mesh: Option<Mesh> = None;
-        let mut stations = vec![0.0];
-        for (i, seg) in self.segments.iter().enumerate() {
-            let previous_end = mesh.as_ref().and_then(|m| m.positions.last().copied());
-            let (piece, length) = seg.build(i, previous_end, section)?;
-            let s0 = stations.last().copied().unwrap_or(0.0);
-            // Nodes are equally spaced along each piece (in length or in angle).
-            stations
-                .extend((1..=seg.elements).map(|k| s0 + length * k as f64 / seg.elements as f64));
-            mesh = Some(match mesh {
-                None => piece,
-                Some(m) => m.join(piece)?,
-            });
-        }
-        let mesh = mesh.ok_or_else(|| SceneError::Inconsistent("no segment".into()))?;
+        let (model, stations) = structure(&self.section, &self.segments, &self.supports)?;
+        let mesh = model.mesh().clone();
         let stations = Stations(stations);
-        let mut nodes: Vec<usize> = Vec::new();
-        for (i, s) in self.supports.iter().enumerate() {
-            let node = stations.node(format!("support[{i}].at"), s.at)?;
-            if let Some(j) = nodes.iter().position(|n| *n == node) {
-                return Err(invalid(
-                    format!("support[{i}].at"),
-                    s.at,
-                    &format!(
-                        "a node without a support: support[{j}] holds the same node; give one support per node (clamped holds what pinned holds and more)"
-                    ),
-                ));
-            }
-            nodes.push(node);
-        }
         let mut loads = Vec::new();
         for (i, l) in self.loads.iter().enumerate() {
             let field = |name: &str| format!("load[{i}].{name}");
@@ -713,14 +738,7 @@ impl BeamScene {
             };
             loads.push((at, load));
         }
-        let mut model = BeamModel::new(mesh)?;
-        for (node, s) in nodes.into_iter().zip(&self.supports) {
-            let kind = match s.kind {
-                SupportKind::Clamped => Support::Clamped,
-                SupportKind::Pinned => Support::Pinned,
-            };
-            model = model.support(node, kind)?;
-        }
+        let mut model = model;
         for (at, load) in loads {
             model = model.load_at(at, load)?;
         }

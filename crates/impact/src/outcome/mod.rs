@@ -172,6 +172,11 @@ pub struct Report {
     /// When it happened (s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_twist_time: Option<f64>,
+    /// The largest section rotation about its own axis anywhere on the beam or structure,
+    /// where and when (the fe method's 3D beam: at its nodes and accepted steps); null
+    /// otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub largest_twist: Option<Twist>,
     /// Static stiffness of the beam at the impact point (N/m); null for a half-space or a
     /// free-free beam.
     pub static_stiffness: Option<f64>,
@@ -193,6 +198,17 @@ pub struct Report {
     pub wall_time: f64,
 }
 
+/// A largest twist: magnitude (rad), where (arc length from the first node, m) and when (s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Twist {
+    /// Magnitude (rad).
+    pub max: f64,
+    /// Arc length from the first node (m).
+    pub position: f64,
+    /// When (s).
+    pub time: f64,
+}
+
 /// What a solver knows at the end of a run, before the derived fields are filled in.
 pub(crate) struct Ending {
     pub(crate) plan: PlanSummary,
@@ -207,6 +223,8 @@ pub(crate) struct Ending {
     pub(crate) bending_stress: Option<BendingStress>,
     /// The struck section's largest twist (rad) and when (s), for an off-centre strike.
     pub(crate) twist: Option<(f64, f64)>,
+    /// The largest twist anywhere, where and when (3D fe).
+    pub(crate) largest_twist: Option<Twist>,
     /// The last instant the solver observed (s): a maximum there is not yet one.
     pub(crate) last_time: f64,
 }
@@ -248,6 +266,7 @@ impl Report {
             bending_stress: end.bending_stress,
             max_twist: end.twist.map(|t| t.0),
             max_twist_time: end.twist.map(|t| t.1),
+            largest_twist: end.largest_twist,
         }
     }
 }

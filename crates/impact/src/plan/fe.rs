@@ -45,7 +45,7 @@ pub struct FePlan {
     /// The same beam as a uniform Timoshenko beam (shear and rotary inertia, as the fe beam
     /// has): its static stiffness defines the equivalent static force (as in the modal
     /// method), its first mode the swing's period, its wavelengths the mesh.
-    pub(crate) analytic: modal::Beam,
+    pub(crate) analytic: Option<modal::Beam>,
     /// Beam material.
     pub(crate) material: simo_beam::Material,
     /// Section width (m), along y.
@@ -76,6 +76,9 @@ pub struct FePlan {
     /// static twist enters the equivalent static force).
     pub(crate) offset: f64,
     pub(crate) torsion: Option<modal::Torsion>,
+    /// A `[structure]`'s beam and strike (then `analytic` is `None` and `nodes` are the nodes'
+    /// arc lengths).
+    pub(crate) structure: Option<Box<super::structure::StructurePlan>>,
 }
 
 /// A point mass and an elastic support at one place of the fe beam (either may be 0).
@@ -170,6 +173,9 @@ impl FePlan {
     /// From `simo_beam` for a section or mesh it refuses (checked before, not expected).
     pub(crate) fn beam3d(&self) -> Result<simo_beam::BeamModel, ImpactError> {
         use nalgebra::Vector3;
+        if let Some(s) = &self.structure {
+            return Ok(s.model.clone());
+        }
         let section = simo_beam::Section::rectangle(&self.material, self.width, self.thickness)?;
         let points: Vec<Vector3<f64>> =
             self.nodes.iter().map(|x| Vector3::new(*x, 0.0, 0.0)).collect();
@@ -194,7 +200,7 @@ impl FePlan {
     /// The struck face's static flexibility at the impact point (m/N): the analytic
     /// Timoshenko beam's, plus offset^2 times the static twist per torque off the centre.
     pub(crate) fn static_flexibility(&self) -> Option<f64> {
-        let bending = self.analytic.static_flexibility(self.position)?;
+        let bending = self.analytic.as_ref()?.static_flexibility(self.position)?;
         match &self.torsion {
             Some(t) => {
                 Some(bending + self.offset * self.offset * t.static_flexibility(self.position)?)
@@ -208,7 +214,8 @@ impl FePlan {
     /// swing's period to about 1e-3, all a window's warning needs).
     pub(crate) fn first_period(&self) -> Option<f64> {
         let omega = if self.attachments.is_empty() {
-            self.analytic.modes(3).ok()?.into_iter().map(|m| m.omega).find(|w| *w > 0.0)?
+            let beam = self.analytic.as_ref()?;
+            beam.modes(3).ok()?.into_iter().map(|m| m.omega).find(|w| *w > 0.0)?
         } else {
             let beam = self.remeshed(32).beam().ok()?;
             let modes = simo_beam::planar_modes(&beam, 8).ok()?;
@@ -221,8 +228,62 @@ impl FePlan {
 
     /// The same plan on `elements` equal elements (and a node at each attachment).
     pub(crate) fn remeshed(&self, elements: usize) -> FePlan {
-        let nodes = with_nodes_at(uniform(self.analytic.length(), elements), &self.attachments);
+        let length = self.nodes.last().copied().unwrap_or(0.0);
+        let nodes = with_nodes_at(uniform(length, elements), &self.attachments);
         FePlan { nodes, ..self.clone() }
+    }
+}
+
+/// The fe method's time stepping, checked: HHT alpha, steps per contact, the steps' lengths.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Steps {
+    pub(super) alpha: f64,
+    pub(super) samples: usize,
+    pub(super) contact_step: f64,
+    pub(super) free_time_step: f64,
+}
+
+impl Steps {
+    /// From `solver.samples_per_pulse`, `alpha` and `time_step`, for the pulse's duration.
+    pub(super) fn new(s: &SolverSpec, pulse: &Pulse) -> Result<Self, ImpactError> {
+        let samples = s.samples_per_pulse.unwrap_or(FE_SAMPLES_PER_PULSE);
+        if samples < 10 {
+            return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
+        }
+        let alpha = s.alpha.unwrap_or(FE_ALPHA);
+        if !(alpha.is_finite() && (-1.0 / 3.0..=0.0).contains(&alpha)) {
+            return Err(invalid(
+                "solver.alpha",
+                alpha,
+                "must be in [-1/3, 0] (HHT, the paper's eq. 9)",
+            ));
+        }
+        let estimated_duration = pulse.duration;
+        let contact_step = estimated_duration / samples as f64;
+        let free_time_step = match s.time_step {
+            Some(h) => positive("solver.time_step", h, "s")?.max(contact_step),
+            None => FE_FREE_STEP_RATIO * contact_step,
+        };
+        Ok(Self { alpha, samples, contact_step, free_time_step })
+    }
+
+    /// The reasons for the steps and for how the maxima are sampled.
+    pub(super) fn reasons(
+        &self,
+        s: &SolverSpec,
+        estimated_duration: f64,
+        reasons: &mut Vec<String>,
+    ) {
+        let Steps { alpha, samples, contact_step, free_time_step } = *self;
+        if free_time_step > contact_step * (1.0 + 1e-9) {
+            reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact (solver.time_step): the waves the impacts leave in the beam are then integrated with HHT's dispersion at the longer steps, and the contacts after the first few are not converged in time (validation/REFERENCES.md 1.7)"));
+        } else {
+            reasons.push(format!("HHT alpha = {alpha}; every step {contact_step:.4e} s ({samples} per estimated contact duration {estimated_duration:.4e} s), in contact and out of it: the bending waves an impact sends along the beam decide when later contacts start and end, and longer steps out of contact move them (validation/REFERENCES.md 1.7)"));
+        }
+        reasons.push(format!("maxima: the bending stress at each element's midpoint (one-point integration: the element's only stress, so the beam-wide largest is the elements'), at every accepted step ({contact_step:.4e} s apart in contact, up to {free_time_step:.4e} s out of it; HHT defines no value between its steps); the largest displacement between steps too, by the cubic through each step's ends and rates; neither depends on solver.output_interval"));
+        if s.alpha.is_none() {
+            reasons.push(format!("alpha = {FE_ALPHA} by default: it damps the vibration the impacts put into frequencies the mesh does not resolve, and energy.numerical_dissipation says how much (at the default steps, on the paper's tip 3e-5 of the ball's energy over 1 ms; on the heavy ball 1.5-2 % over 0.4 s, and 0.2 % and 2.2 % with -0.01 and -0.1: its chattering keeps feeding the high frequencies; longer steps out of contact damp more, 7 % and 12 % at 8 contact steps); set alpha = 0 for an undamped energy study: it conserves energy to 1e-6 on the tip, moves the first three contacts by less than 1e-3 and the heavy ball's largest displacement by 0.6 %, but keeps that unresolved vibration"));
+        }
     }
 }
 
@@ -242,24 +303,9 @@ pub(super) fn plan(
     if damping > 0.0 {
         return Err(invalid("beam.modal_damping", damping, "must be 0 or absent with method = \"fe\" (the finite-element beam is undamped; HHT alpha adds numerical damping of high frequencies)"));
     }
-    let samples = s.samples_per_pulse.unwrap_or(FE_SAMPLES_PER_PULSE);
-    if samples < 10 {
-        return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
-    }
-    let alpha = s.alpha.unwrap_or(FE_ALPHA);
-    if !(alpha.is_finite() && (-1.0 / 3.0..=0.0).contains(&alpha)) {
-        return Err(invalid(
-            "solver.alpha",
-            alpha,
-            "must be in [-1/3, 0] (HHT, the paper's eq. 9)",
-        ));
-    }
+    let steps = Steps::new(s, pulse)?;
+    let Steps { alpha, samples, free_time_step, .. } = steps;
     let estimated_duration = pulse.duration;
-    let contact_step = estimated_duration / samples as f64;
-    let free_time_step = match s.time_step {
-        Some(h) => positive("solver.time_step", h, "s")?.max(contact_step),
-        None => FE_FREE_STEP_RATIO * contact_step,
-    };
     reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero".into());
     let nodes =
         with_nodes_at(mesh(s, &analytic, position, estimated_duration, reasons)?, &attachments);
@@ -281,18 +327,10 @@ pub(super) fn plan(
     }
     let ends = ends(beam.support);
     resolution(s, &analytic, (&nodes, ends, position), estimated_duration, (reasons, warnings))?;
-    if free_time_step > contact_step * (1.0 + 1e-9) {
-        reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact (solver.time_step): the waves the impacts leave in the beam are then integrated with HHT's dispersion at the longer steps, and the contacts after the first few are not converged in time (validation/REFERENCES.md 1.7)"));
-    } else {
-        reasons.push(format!("HHT alpha = {alpha}; every step {contact_step:.4e} s ({samples} per estimated contact duration {estimated_duration:.4e} s), in contact and out of it: the bending waves an impact sends along the beam decide when later contacts start and end, and longer steps out of contact move them (validation/REFERENCES.md 1.7)"));
-    }
-    reasons.push(format!("maxima: the bending stress at each element's midpoint (one-point integration: the element's only stress, so the beam-wide largest is the elements'), at every accepted step ({contact_step:.4e} s apart in contact, up to {free_time_step:.4e} s out of it; HHT defines no value between its steps); the largest displacement between steps too, by the cubic through each step's ends and rates; neither depends on solver.output_interval"));
-    if s.alpha.is_none() {
-        reasons.push(format!("alpha = {FE_ALPHA} by default: it damps the vibration the impacts put into frequencies the mesh does not resolve, and energy.numerical_dissipation says how much (at the default steps, on the paper's tip 3e-5 of the ball's energy over 1 ms; on the heavy ball 1.5-2 % over 0.4 s, and 0.2 % and 2.2 % with -0.01 and -0.1: its chattering keeps feeding the high frequencies; longer steps out of contact damp more, 7 % and 12 % at 8 contact steps); set alpha = 0 for an undamped energy study: it conserves energy to 1e-6 on the tip, moves the first three contacts by less than 1e-3 and the heavy ball's largest displacement by 0.6 %, but keeps that unresolved vibration"));
-    }
+    steps.reasons(s, pulse.duration, reasons);
     Ok(FePlan {
         material: simo_beam::Material::new(beam.youngs_modulus, beam.poisson_ratio, beam.density)?,
-        analytic,
+        analytic: Some(analytic),
         width: beam.width,
         thickness: beam.thickness,
         ends,
@@ -307,6 +345,7 @@ pub(super) fn plan(
         three_d: false,
         offset: 0.0,
         torsion: None,
+        structure: None,
     })
 }
 

@@ -11,6 +11,7 @@
 
 mod fe;
 mod modal;
+mod structure;
 mod theory;
 
 pub(crate) use fe::Attachment;
@@ -281,22 +282,37 @@ fn impact_speed(impact: &ImpactSpec) -> Result<f64, ImpactError> {
     }
 }
 
-/// The struck body's material, and the beam if it is one.
-fn struck_body(scene: &Scene) -> Result<(Material, Option<&BeamSpec>), ImpactError> {
-    match (&scene.beam, &scene.half_space) {
-        (Some(beam), None) => Ok((
+/// What the ball strikes.
+#[derive(Clone, Copy)]
+enum Struck<'s> {
+    HalfSpace,
+    Beam(&'s BeamSpec),
+    Structure(&'s crate::scene::StructureSpec),
+}
+
+/// The struck body's material and what it is: exactly one of `[beam]`, `[half_space]` and
+/// `[structure]`.
+fn struck_body(scene: &Scene) -> Result<(Material, Struck<'_>), ImpactError> {
+    match (&scene.beam, &scene.half_space, &scene.structure) {
+        (Some(beam), None, None) => Ok((
             material("beam", beam.youngs_modulus, beam.poisson_ratio, beam.yield_stress)?,
-            Some(beam),
+            Struck::Beam(beam),
         )),
-        (None, Some(hs)) => Ok((
+        (None, Some(hs), None) => Ok((
             material("half_space", hs.youngs_modulus, hs.poisson_ratio, hs.yield_stress)?,
-            None,
+            Struck::HalfSpace,
         )),
-        (Some(_), Some(_)) => {
-            Err(ImpactError::Inconsistent("give [beam] or [half_space], not both".into()))
+        (None, None, Some(st)) => {
+            let (Some(e), Some(nu)) = (st.section.youngs_modulus, st.section.poisson_ratio) else {
+                return Err(ImpactError::Inconsistent("structure.section: give youngs_modulus (Pa) and poisson_ratio (the ball's contact needs the material), with density, width and thickness".into()));
+            };
+            Ok((material("structure.section", e, nu, st.yield_stress)?, Struck::Structure(st)))
         }
-        (None, None) => Err(ImpactError::Inconsistent(
-            "the scene needs a [beam] or a [half_space] to strike".into(),
+        (None, None, None) => Err(ImpactError::Inconsistent(
+            "the scene needs a [beam], a [half_space] or a [structure] to strike".into(),
+        )),
+        _ => Err(ImpactError::Inconsistent(
+            "give one of [beam], [half_space] and [structure], not several".into(),
         )),
     }
 }
@@ -382,7 +398,10 @@ fn beam_method(
         ));
     }
     free_end(beam, position, scene.ball.radius, pulse, warnings);
-    let offset = offset(beam, scene.impact.offset, scene.ball.radius, pulse, warnings)?;
+    if scene.impact.at.is_some() || scene.impact.direction.is_some() {
+        return Err(ImpactError::Inconsistent("impact.at and impact.direction belong to a [structure]; a [beam] takes impact.position (m from x = 0) and is struck on its thickness face".into()));
+    }
+    let offset = offset(beam.width, scene.impact.offset, scene.ball.radius, pulse, warnings)?;
     let attachments = attachments(beam, position, scene.ball.radius, pulse, (reasons, warnings))?;
     let torsion = if offset == 0.0 { None } else { Some(theory::torsion(beam)?) };
     let damping = beam.modal_damping.unwrap_or(0.0);
@@ -572,21 +591,19 @@ fn attachments(
 /// Warns when the contact patch (radius sqrt(R delta) at the largest approach on a rigid
 /// support) reaches past the face's edge, where the contact law (a half-space) does not hold.
 fn offset(
-    beam: &BeamSpec,
+    width: f64,
     offset: Option<f64>,
     radius: f64,
     pulse: &Pulse,
     warnings: &mut Vec<String>,
 ) -> Result<f64, ImpactError> {
     let Some(e) = offset else { return Ok(0.0) };
-    let half = 0.5 * beam.width;
+    let half = 0.5 * width;
     if !(e.is_finite() && e.abs() <= half) {
         return Err(invalid(
             "impact.offset",
             e,
-            &format!(
-                "must be on the struck face: -beam.width/2 <= offset <= beam.width/2 = {half} (m)"
-            ),
+            &format!("must be on the struck face: -width/2 <= offset <= width/2 = {half} (m)"),
         ));
     }
     let patch = (radius * pulse.max_approach).sqrt();
@@ -758,7 +775,7 @@ impl Plan {
         let (ball_material, radius, ball_mass) = ball(&scene.ball, &mut warnings)?;
         let speed = impact_speed(&scene.impact)?;
         let gravity = if scene.impact.gravity { GRAVITY } else { 0.0 };
-        let (counterface, beam_spec) = struck_body(scene)?;
+        let (counterface, struck) = struck_body(scene)?;
         let hertz =
             Hertz::between(&ball_material, &counterface, hertz::geometry::sphere_on_flat(radius)?)?;
         let rigid = HalfSpaceImpact::elastic(&hertz, ball_mass, speed)?;
@@ -779,14 +796,24 @@ impl Plan {
             duration: estimated_duration,
             max_approach: rigid.max_approach,
         };
-        let method = match beam_spec {
-            None if scene.impact.offset.is_some() => {
+        let method = match struck {
+            Struck::HalfSpace
+                if scene.impact.offset.is_some()
+                    || scene.impact.at.is_some()
+                    || scene.impact.direction.is_some() =>
+            {
                 return Err(ImpactError::Inconsistent(
-                    "impact.offset belongs to a [beam] (the distance from its centreline); a [half_space] has none".into(),
+                    "impact.offset, at and direction belong to a [beam] or a [structure]; a [half_space] has none".into(),
                 ))
             }
-            None => half_space(s, &mut reasons)?,
-            Some(beam) => beam_method(scene, beam, &pulse, &mut reasons, &mut warnings)?,
+            Struck::HalfSpace => half_space(s, &mut reasons)?,
+            Struck::Beam(beam) => beam_method(scene, beam, &pulse, &mut reasons, &mut warnings)?,
+            Struck::Structure(st) => Method::Fe(structure::plan(
+                scene,
+                st,
+                &pulse,
+                (&mut reasons, &mut warnings),
+            )?),
         };
         let (time_step, energy_tolerance) =
             contact_step(&method, s, estimated_duration, &mut reasons)?;
@@ -848,10 +875,22 @@ impl Plan {
             energy_tolerance,
             output_interval,
             estimated_duration,
-            thickness: beam_spec.map(|b| b.thickness),
-            width: beam_spec.map(|b| b.width),
+            thickness: match struck {
+                Struck::Beam(b) => Some(b.thickness),
+                Struck::Structure(st) => st.section.thickness,
+                Struck::HalfSpace => None,
+            },
+            width: match struck {
+                Struck::Beam(b) => Some(b.width),
+                Struck::Structure(st) => st.section.width,
+                Struck::HalfSpace => None,
+            },
             poisson_ratios: [ball_material.poisson_ratio, counterface.poisson_ratio],
-            beam_yield_stress: beam_spec.and_then(|b| b.yield_stress),
+            beam_yield_stress: match struck {
+                Struck::Beam(b) => b.yield_stress,
+                Struck::Structure(st) => st.yield_stress,
+                Struck::HalfSpace => None,
+            },
             field: false,
             first_period,
             warnings,

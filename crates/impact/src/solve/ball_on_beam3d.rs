@@ -69,6 +69,9 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     half_thickness: f64,
     /// The strike's offset across the width (m): where the face's motion is read.
     offset: f64,
+    /// Against the ball's velocity (unit): the direction the struck face's height is read
+    /// along (+z on a `[beam]`).
+    up: Vector3<f64>,
     pub(crate) law: &'a L,
     /// The law's history, committed after every accepted step.
     pub law_state: L::State,
@@ -142,6 +145,18 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         half_thickness: f64,
         law: &'a L,
     ) -> Self {
+        Self::striking(beam, (mass, gravity, radius), (offset, Vector3::z()), half_thickness, law)
+    }
+
+    /// [`BallOnBeam3d::new`] for a ball moving along `-up` (unit), against a face whose normal
+    /// is the sections' E3 (a `[structure]`); gravity acts along the ball's velocity.
+    pub fn striking(
+        beam: BeamModel,
+        (mass, gravity, radius): (f64, f64, f64),
+        (offset, up): (f64, Vector3<f64>),
+        half_thickness: f64,
+        law: &'a L,
+    ) -> Self {
         let nb = hht::Model::ndof(&beam);
         let local_dofs = beam
             .mesh()
@@ -168,6 +183,7 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
             radius,
             half_thickness,
             offset,
+            up: up.normalize(),
             law,
             law_state: L::State::default(),
             local_dofs,
@@ -183,6 +199,31 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// The strike's offset across the width (m).
     pub fn offset(&self) -> f64 {
         self.offset
+    }
+
+    /// Against the ball's velocity (unit).
+    pub fn up(&self) -> Vector3<f64> {
+        self.up
+    }
+
+    /// +1 where the struck face's normal (E3 of element `e`'s first node at rest) points along
+    /// `up`, -1 where against it: the sign of the face's motion under a twist.
+    pub(crate) fn facing(&self, e: usize) -> f64 {
+        let node = self.beam.mesh().elements[e].nodes[0];
+        let e3 = self.beam.mesh().frames[node] * Vector3::z();
+        if e3.dot(&self.up) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        }
+    }
+
+    /// Node `node`'s section rotation about its axis from its reference frame (rad): the
+    /// angle that turns E2 toward E3, of the rotation from the reference.
+    pub(crate) fn node_twist(&self, q: &BallOnBeam3dConfig, node: usize) -> f64 {
+        let relative = self.beam.mesh().frames[node].inverse() * q.beam.rotations[node];
+        let e2 = relative * Vector3::y();
+        e2.z.atan2(e2.y)
     }
 
     /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
@@ -332,10 +373,10 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
     ) {
         let nb = self.nb;
         self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
-        // Gravity pulls the ball along -z: net force = -(external) = +m g e_z.
-        out[nb] = 0.0;
-        out[nb + 1] = 0.0;
-        out[nb + 2] = self.mass * self.gravity;
+        // Gravity pulls the ball along -up: net force = -(external) = +m g up.
+        for k in 0..3 {
+            out[nb + k] = self.mass * self.gravity * self.up[k];
+        }
         let Some(p) = self.touching(q, Order::Gradient) else {
             return;
         };

@@ -21,7 +21,9 @@ use super::Progress;
 use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
 use crate::law::WithLaw;
-use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample};
+use crate::outcome::{
+    static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample, Twist,
+};
 use crate::plan::{FePlan, Plan};
 use faer::Col;
 use hertz::ContactLaw;
@@ -60,7 +62,18 @@ impl WithLaw for FeRun<'_> {
     fn apply<L: ContactLaw>(self, law: &L) -> Self::Output {
         let (plan, target) = (self.plan, self.target);
         let (half, radius) = (0.5 * target.thickness, plan.ball_radius);
-        if target.three_d {
+        if let Some(st) = &target.structure {
+            let model = BallOnBeam3d::striking(
+                target.beam3d()?,
+                (plan.ball_mass, plan.gravity, radius),
+                (target.offset, st.up),
+                half,
+                law,
+            );
+            let q =
+                BallOnBeam3dConfig { beam: model.beam().reference_state(), ball: st.ball_start };
+            Run::new(plan, target, model, q, self.progress)?.run()
+        } else if target.three_d {
             let model = BallOnBeam3d::new(
                 target.beam3d()?,
                 (plan.ball_mass, plan.gravity, radius),
@@ -98,6 +111,8 @@ struct Run<'a, L: ContactLaw, M: Struck<L>> {
     view: PlanarState,
     /// The struck section's largest twist magnitude (rad) and when (s), at the accepted steps.
     max_twist: (f64, f64),
+    /// The largest twist anywhere (rad), at which node and when (s), at the accepted steps.
+    largest_twist: Option<(f64, usize, f64)>,
     /// The impact point's element and local coordinate (material point, fixed).
     impact_element: (usize, f64),
     /// The history, the progress and the beam's stress and field: fed at every recorded
@@ -159,7 +174,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let ball_start = model.ball_height(&q);
         let n = model.ndof();
         let mut v = Col::<f64>::zeros(n);
-        v[n - 1] = -plan.speed;
+        model.launch(plan.speed, &mut v);
         let state = integrator.initial_state(&model, 0.0, q, v).map_err(|e| fail(0.0, e))?;
         let approach = model.approach(&state.q);
         let i = target.nodes.windows(2).position(|w| target.position <= w[1]).unwrap_or(0);
@@ -174,6 +189,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             ball_start,
             view: PlanarState { x: Vec::new(), z: Vec::new(), theta: Vec::new() },
             max_twist: (0.0, 0.0),
+            largest_twist: None,
             impact_element: (i, xi),
             recorders: Recorders::new(
                 History::default(),
@@ -214,7 +230,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
     }
 
     fn ball_velocity(&self) -> f64 {
-        -self.state.v[self.state.v.nrows() - 1]
+        self.model.ball_speed(self.state.v.as_ref())
     }
 
     fn record(&mut self) {
@@ -285,6 +301,11 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let twist = self.model.twist(&self.state.q, self.impact_element).abs();
         if twist > self.max_twist.0 {
             self.max_twist = (twist, self.state.t);
+        }
+        if let Some((node, value)) = self.model.largest_twist(&self.state.q) {
+            if self.largest_twist.is_none_or(|l| value > l.0) {
+                self.largest_twist = Some((value, node, self.state.t));
+            }
         }
         let after = (self.state.t, self.beam_displacement(), self.beam_velocity());
         // The largest displacement between the steps too: a free-flight step may be as long as
@@ -518,7 +539,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             .attachments
             .iter()
             .any(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0);
-        let flexibility = if sprung {
+        let flexibility = if sprung || self.target.structure.is_some() {
             self.model.static_flexibility(self.impact_element)
         } else {
             self.target.static_flexibility()
@@ -545,6 +566,11 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
                 wall_time,
                 bending_stress,
                 twist: self.target.three_d.then_some(self.max_twist),
+                largest_twist: self.largest_twist.map(|(max, node, time)| Twist {
+                    max,
+                    position: self.target.nodes[node],
+                    time,
+                }),
                 last_time,
             },
         );

@@ -896,6 +896,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 wall_time: clock.elapsed().as_secs_f64(),
                 bending_stress: recovered.stress,
                 twist: recovered.twist,
+                largest_twist: None,
                 last_time,
             },
         );

@@ -26,16 +26,23 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     fn commit_contact_element(&mut self, q: &Self::Config);
     /// The contact element and the ball's projection on it.
     fn contact_element(&self, q: &Self::Config) -> (usize, f64);
-    /// How many of the last unknowns are the ball's; the last is its z.
+    /// How many of the last unknowns are the ball's.
     fn ball_unknowns(&self) -> usize;
-    /// The ball centre's z (m).
+    /// The ball centre's height above the struck face's plane, along the direction it comes
+    /// from (m), and its speed toward the face (m/s).
     fn ball_height(&self, q: &Self::Config) -> f64;
-    /// The struck face's z at the impact point (element, local coordinate) (m), and the
-    /// unknowns and weights whose sum gives its rate and acceleration.
+    fn ball_speed(&self, v: ColRef<'_, f64>) -> f64;
+    /// Sets the ball's velocity in `v` to `speed` (m/s) toward the face.
+    fn launch(&self, speed: f64, v: &mut faer::Col<f64>);
+    /// The struck face's height at the impact point (element, local coordinate) (m), along the
+    /// same direction, and the unknowns and weights whose sum gives its rate and acceleration.
     fn face_height(&self, q: &Self::Config, impact: (usize, f64)) -> f64;
     fn face_rows(&self, impact: (usize, f64)) -> Vec<(usize, f64)>;
     /// The struck section's rotation about the beam's axis (rad; 0 in the plane).
     fn twist(&self, q: &Self::Config, impact: (usize, f64)) -> f64;
+    /// The node whose section is turned most about its own axis, and by how much (rad);
+    /// `None` in the plane.
+    fn largest_twist(&self, q: &Self::Config) -> Option<(usize, f64)>;
     /// Each element's (extension, shear, curvature) in the beam's plane (x-z), the planar
     /// beam's sign convention.
     fn section_strains(&self, q: &Self::Config, out: &mut [(f64, f64, f64)]);
@@ -110,6 +117,13 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
     fn ball_height(&self, q: &BallOnBeamConfig) -> f64 {
         q.ball.y
     }
+    fn ball_speed(&self, v: ColRef<'_, f64>) -> f64 {
+        -v[v.nrows() - 1]
+    }
+    fn launch(&self, speed: f64, v: &mut faer::Col<f64>) {
+        let n = v.nrows();
+        v[n - 1] = -speed;
+    }
     fn face_height(&self, q: &BallOnBeamConfig, (i, xi): (usize, f64)) -> f64 {
         between((q.beam.z[i], q.beam.z[i + 1]), xi)
     }
@@ -121,6 +135,9 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
     }
     fn twist(&self, _q: &BallOnBeamConfig, _impact: (usize, f64)) -> f64 {
         0.0
+    }
+    fn largest_twist(&self, _q: &BallOnBeamConfig) -> Option<(usize, f64)> {
+        None
     }
     fn section_strains(&self, q: &BallOnBeamConfig, out: &mut [(f64, f64, f64)]) {
         self.beam().all_section_strains(&q.beam, out);
@@ -176,32 +193,46 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         3
     }
     fn ball_height(&self, q: &BallOnBeam3dConfig) -> f64 {
-        q.ball.z
+        self.up().dot(&q.ball)
     }
-    /// The face's point under the ball's offset: the centre line's z plus offset x twist
-    /// (small rotation, as the modal method reads it).
+    fn ball_speed(&self, v: ColRef<'_, f64>) -> f64 {
+        let n = v.nrows();
+        -(0..3).map(|k| self.up()[k] * v[n - 3 + k]).sum::<f64>()
+    }
+    fn launch(&self, speed: f64, v: &mut faer::Col<f64>) {
+        let n = v.nrows();
+        for k in 0..3 {
+            v[n - 3 + k] = -speed * self.up()[k];
+        }
+    }
+    /// The face's point under the ball's offset: the centre line's height plus offset x twist
+    /// along the face's normal (small rotation, as the modal method reads it).
     fn face_height(&self, q: &BallOnBeam3dConfig, (i, xi): (usize, f64)) -> f64 {
-        let z = between((q.beam.positions[i].z, q.beam.positions[i + 1].z), xi);
-        z + self.offset() * self.twist(q, (i, xi))
+        let at = |node: usize| self.up().dot(&q.beam.positions[node]);
+        between((at(i), at(i + 1)), xi) + self.offset() * self.facing(i) * self.twist(q, (i, xi))
     }
-    /// The z rows of the two nodes and their rotation about the axis (times the offset): the
-    /// angular velocities are material, about E1 = x to first order.
+    /// The translation rows of the two nodes along `up`, and their rotation about the section
+    /// axis times the offset (the angular velocities are material, about E1).
     fn face_rows(&self, (i, xi): (usize, f64)) -> Vec<(usize, f64)> {
-        let e = self.offset();
+        let (up, e) = (self.up(), self.offset() * self.facing(i));
         [(i, 1.0 - xi), (i + 1, xi)]
             .into_iter()
-            .flat_map(|(node, w)| [(node, 2, w), (node, 3, e * w)])
+            .flat_map(|(node, w)| {
+                [(node, 0, w * up.x), (node, 1, w * up.y), (node, 2, w * up.z), (node, 3, e * w)]
+            })
+            .filter(|(_, _, w)| *w != 0.0)
             .filter_map(|(node, k, w)| self.beam().dof(node, k).map(|d| (d, w)))
             .collect()
     }
-    /// The rotation about x of the two nodes' sections, interpolated: the angle that turns E2
-    /// toward E3 (atan2 of E2's z and y components).
+    /// The two nodes' sections' rotation about their axis from their reference frames,
+    /// interpolated: the angle that turns E2 toward E3.
     fn twist(&self, q: &BallOnBeam3dConfig, (i, xi): (usize, f64)) -> f64 {
-        let angle = |node: usize| {
-            let e2 = q.beam.rotations[node] * Vector3::y();
-            e2.z.atan2(e2.y)
-        };
-        between((angle(i), angle(i + 1)), xi)
+        between((self.node_twist(q, i), self.node_twist(q, i + 1)), xi)
+    }
+    fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
+        (0..q.beam.rotations.len())
+            .map(|n| (n, self.node_twist(q, n).abs()))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
     }
     /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x

@@ -1,0 +1,175 @@
+//! A `[structure]`: its beam from the segments (the parser and validation `xtask beam` uses,
+//! `simo_beam::scene::structure`), where the ball strikes it and from where, and the fe plan on
+//! the 3D beam.
+
+use super::fe::{FePlan, Steps};
+use super::{offset, Pulse};
+use crate::error::{invalid, ImpactError};
+use crate::scene::{FeModelName, MethodName, Scene, StructureSpec};
+use nalgebra::Vector3;
+use simo_beam::{BeamModel, Support};
+
+/// A face normal within this of the strike's direction (1 - |cos|) is the struck face.
+const NORMAL: f64 = 1e-6;
+
+/// The 3D beam of a structure and the strike on it.
+#[derive(Debug, Clone)]
+pub(crate) struct StructurePlan {
+    pub(crate) model: BeamModel,
+    /// The ball centre at first touch (m), and against its velocity (unit).
+    pub(crate) ball_start: Vector3<f64>,
+    pub(crate) up: Vector3<f64>,
+}
+
+impl PartialEq for StructurePlan {
+    fn eq(&self, other: &Self) -> bool {
+        let (a, b) = (self.model.mesh(), other.model.mesh());
+        self.ball_start == other.ball_start
+            && self.up == other.up
+            && a.positions == b.positions
+            && a.frames == b.frames
+            && (0..a.positions.len())
+                .all(|n| (0..6).all(|k| self.model.dof(n, k) == other.model.dof(n, k)))
+    }
+}
+
+/// A scene-file error of the structure's parts, its keys named as the impact scene writes them
+/// (`structure.segment[1].end`).
+fn prefixed(e: simo_beam::scene::SceneError) -> ImpactError {
+    use simo_beam::scene::SceneError;
+    match e {
+        SceneError::InvalidField { field, value, allowed } => {
+            ImpactError::InvalidField { field: format!("structure.{field}"), value, allowed }
+        }
+        SceneError::Inconsistent(message)
+            if ["section", "segment", "support"].iter().any(|k| message.starts_with(k)) =>
+        {
+            ImpactError::Inconsistent(format!("structure.{message}"))
+        }
+        other => ImpactError::Inconsistent(format!("structure: {other}")),
+    }
+}
+
+/// The fe plan of a ball striking `spec` as `scene.impact` says.
+pub(super) fn plan(
+    scene: &Scene,
+    spec: &StructureSpec,
+    pulse: &Pulse,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) -> Result<FePlan, ImpactError> {
+    let s = &scene.solver;
+    if s.method == MethodName::Modal
+        || s.modes.is_some()
+        || s.residual_flexibility.is_some()
+        || s.plain_stress_series.is_some()
+        || s.beam_theory.is_some()
+        || s.adaptive_step.is_some()
+        || s.energy_tolerance.is_some()
+    {
+        return Err(ImpactError::Inconsistent("a [structure] runs by the fe method on its 3D beam: the modal method's modes are a uniform beam's (Goldsmith's method on structures is not built yet); give solver.method = \"fe\" or \"auto\", without modes, residual_flexibility, plain_stress_series, beam_theory, adaptive_step or energy_tolerance".into()));
+    }
+    if s.tolerance.is_some() || s.elements.is_some() || s.element_size.is_some() {
+        return Err(ImpactError::Inconsistent("a [structure]'s mesh is its segments' `elements`: solver.elements, element_size and tolerance do not apply (refine by more elements per segment)".into()));
+    }
+    if s.fe_model == Some(FeModelName::Planar) {
+        return Err(ImpactError::Inconsistent(
+            "solver.fe_model = \"planar\" with a [structure]: a structure takes the 3D beam".into(),
+        ));
+    }
+    let impact = &scene.impact;
+    if impact.position.is_some() {
+        return Err(ImpactError::Inconsistent("impact.position belongs to a [beam]; a [structure] takes impact.at (the arc length along its segments, m) and impact.direction (the ball's velocity)".into()));
+    }
+    let (model, stations) =
+        simo_beam::scene::structure(&spec.section, &spec.segments, &spec.supports)
+            .map_err(prefixed)?;
+    let section = &spec.section;
+    let (Some(width), Some(thickness)) = (section.width, section.thickness) else {
+        return Err(ImpactError::Inconsistent("structure.section: give width and thickness (m), a rectangle of a material (youngs_modulus, poisson_ratio, density): the ball strikes one of its faces".into()));
+    };
+    let material = simo_beam::Material::new(
+        section.youngs_modulus.unwrap_or(f64::NAN),
+        section.poisson_ratio.unwrap_or(f64::NAN),
+        section.density.unwrap_or(f64::NAN),
+    )?;
+    let total = stations.last().copied().unwrap_or(0.0);
+    let at = impact.at.ok_or_else(|| {
+        ImpactError::Inconsistent("impact.at (m, the arc length along the [structure]'s segments) is required with a [structure]".into())
+    })?;
+    if !(at.is_finite() && (0.0..=total).contains(&at)) {
+        return Err(invalid(
+            "impact.at",
+            at,
+            &format!("must be on the structure, 0 <= at <= {total} m (its segments' length)"),
+        ));
+    }
+    let e = stations.partition_point(|x| *x <= at).saturating_sub(1).min(stations.len() - 2);
+    let xi = (at - stations[e]) / (stations[e + 1] - stations[e]);
+    let mesh = model.mesh();
+    let [a, b] = mesh.elements[e].nodes;
+    let axis = |k: Vector3<f64>| {
+        ((mesh.frames[a] * k) * (1.0 - xi) + (mesh.frames[b] * k) * xi).normalize()
+    };
+    let (e2, e3) = (axis(Vector3::y()), axis(Vector3::z()));
+    let d = impact.direction.ok_or_else(|| {
+        ImpactError::Inconsistent("impact.direction (the ball's velocity, a vector normal to the struck face) is required with a [structure]".into())
+    })?;
+    let d = Vector3::from(d);
+    if !(d.iter().all(|x| x.is_finite()) && d.norm() > 0.0) {
+        return Err(invalid(
+            "impact.direction",
+            format!("{:?}", [d.x, d.y, d.z]),
+            "a vector of three finite numbers, not all zero",
+        ));
+    }
+    let d = d.normalize();
+    let show = |v: Vector3<f64>| format!("[{:.6}, {:.6}, {:.6}]", v.x, v.y, v.z);
+    if 1.0 - d.dot(&e3).abs() > NORMAL {
+        return Err(invalid(
+            "impact.direction",
+            show(d),
+            &format!("must be normal to a face of the struck section at impact.at = {at} m: its thickness faces' normals are +-{} (the faces the ball strikes); its width faces' normals +-{} are not struck yet, and an oblique strike would need friction, which is not modelled", show(e3), show(e2)),
+        ));
+    }
+    let offset = offset(width, impact.offset, scene.ball.radius, pulse, warnings)?;
+    let up = -d;
+    let point = mesh.positions[a] * (1.0 - xi) + mesh.positions[b] * xi + e2 * offset;
+    let ball_start = point + up * (0.5 * thickness + scene.ball.radius);
+    let steps = Steps::new(s, pulse)?;
+    let supports: Vec<String> = spec
+        .supports
+        .iter()
+        .map(|sp| format!("{:?} at s = {} m", sp.kind, sp.at).to_lowercase())
+        .collect();
+    reasons.push(format!(
+        "structure of {} segment(s), {} elements, {} m of members, held {}: 3D geometrically exact beam (Simo's rod, 6 unknowns a node; rigid joints where segments meet), the ball striking the face at s = {at} m along {} (its thickness face){}",
+        spec.segments.len(),
+        mesh.elements.len(),
+        total,
+        if supports.is_empty() { "nowhere".to_string() } else { supports.join(", ") },
+        show(d),
+        if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
+    ));
+    reasons.push("structure: the stresses are each element's bending about its section's width axis (E2) and extension at its midpoint (arc length) and every accepted step; the twist is read at every node".into());
+    steps.reasons(s, pulse.duration, reasons);
+    let Steps { alpha, samples, free_time_step, .. } = steps;
+    Ok(FePlan {
+        material,
+        analytic: None,
+        width,
+        thickness,
+        ends: (Support::Free, Support::Free),
+        position: at,
+        nodes: stations,
+        alpha,
+        free_time_step,
+        samples_per_pulse: samples,
+        approach_scale: pulse.max_approach,
+        tolerance: None,
+        attachments: Vec::new(),
+        three_d: true,
+        offset,
+        torsion: None,
+        structure: Some(Box::new(StructurePlan { model, ball_start, up })),
+    })
+}

@@ -1,0 +1,85 @@
+//! A `[structure]` struck by the ball: a frame of two members at a right angle by the fe
+//! method's 3D beam, its static stiffness against the frame's closed form, its ledger and its
+//! twist, and the checks of the strike (validation/REFERENCES.md 1.11).
+#![allow(clippy::unwrap_used)] // a test stops on a bad fixture
+
+use impact::{simulate, Plan, Scene};
+
+/// validation/scenes/frame-impact.toml with `edits` (text replaced).
+fn frame(edits: &[(&str, &str)]) -> Result<Scene, impact::ImpactError> {
+    let mut text = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/frame-impact.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from}");
+        text = text.replace(from, to);
+    }
+    Scene::from_toml(&text)
+}
+
+#[test]
+fn the_frame_is_as_stiff_as_its_members_in_series_and_its_ledger_closes() {
+    // A unit force out of the plane at a = 0.4 m along the free member: the clamped member
+    // (L1 = 0.5 m) bends under it (L1^3/(3EI) + L1/(kGA)) and twists under its moment
+    // (a^2 L1/(GJ)), the free member bends as a cantilever from the corner (a^3/(3EI) +
+    // a/(kGA)): 2.240e-3 m/N, 446.5 N/m, with J by Roark (the section's). The report's static
+    // stiffness is the 3D beam's own static solve: measured 446.467 against 446.424 (9.6e-5, the
+    // one-point element's 1/(4 n^2) at 40 elements a member).
+    let report =
+        simulate(&frame(&[("end_time = 0.002", "end_time = 0.0002")]).unwrap()).unwrap().report;
+    let (e, g) = (2.1e11, 2.1e11 / 2.6);
+    let (b, t): (f64, f64) = (0.025, 0.005);
+    let ei = e * b * t.powi(3) / 12.0;
+    let gj = g * b * t.powi(3) * (1.0 / 3.0 - 0.21 * (t / b) * (1.0 - (t / b).powi(4) / 12.0));
+    let kga = 5.0 / 6.0 * g * b * t;
+    let (l1, a): (f64, f64) = (0.5, 0.4);
+    let flexibility =
+        l1.powi(3) / (3.0 * ei) + l1 / kga + a * a * l1 / gj + a.powi(3) / (3.0 * ei) + a / kga;
+    let k = report.static_stiffness.unwrap();
+    assert!((k * flexibility - 1.0).abs() < 5e-4, "{k} vs {}", 1.0 / flexibility);
+    let en = &report.energy;
+    assert!((en.balance_error / en.initial).abs() < 1e-4, "{en:?}");
+    assert_eq!(report.plan.method, impact::MethodKind::Fe);
+    assert!(report.contacts[0].peak_force > 0.0 && report.contacts[0].complete);
+    // The twist: the clamped member turns under the free member's bending moment (largest
+    // where it is longest from the clamp, by the corner), the struck section too.
+    let largest = report.largest_twist.unwrap();
+    assert!(largest.max > 0.0 && largest.position <= 0.5 + 1e-12, "{largest:?}");
+    assert!(report.max_twist.unwrap() > 0.0);
+}
+
+#[test]
+fn a_strike_off_the_structure_or_not_normal_to_a_face_is_refused_by_name() {
+    let cases: [(&[(&str, &str)], &str); 8] = [
+        (&[("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.3, -1.0]")], "impact.direction"),
+        (&[("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.0, 0.0]")], "impact.direction"),
+        (&[("at = 0.9 ", "at = 1.2 ")], "impact.at"),
+        (&[("at = 0.9 ", "position = 0.9 ")], "impact.position"),
+        (&[("method = \"fe\"", "method = \"modal\"")], "fe method on its 3D beam"),
+        (&[("method = \"fe\"", "method = \"fe\"\ntolerance = 0.01")], "segments' `elements`"),
+        (
+            &[("end = [0.5, 0.5, 0.0]", "start = [0.6, 0.0, 0.0]\nend = [0.5, 0.5, 0.0]")],
+            "structure.segment[1].start",
+        ),
+        (&[("width = 0.025 ", "")], "structure.section"),
+    ];
+    for (edits, key) in cases {
+        let err = match frame(edits) {
+            Ok(scene) => Plan::new(&scene).unwrap_err().to_string(),
+            Err(e) => e.to_string(),
+        };
+        assert!(err.contains(key), "{key}: {err}");
+    }
+    // The oblique strike names the faces' normals at the point.
+    let err = Plan::new(
+        &frame(&[("direction = [0.0, 0.0, -1.0]", "direction = [1.0, 0.0, -1.0]")]).unwrap(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("+-[0.000000, 0.000000, 1.000000]") && err.contains("friction"), "{err}");
+    // An unknown support kind is refused by the parser, naming it.
+    let err = frame(&[("kind = \"clamped\"", "kind = \"welded\"")]).unwrap_err().to_string();
+    assert!(err.contains("welded"), "{err}");
+}
