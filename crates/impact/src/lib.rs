@@ -65,7 +65,8 @@ pub use outcome::{
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, FeModelName, HalfSpaceSpec, ImpactSpec, LawName, MassSpec,
-    MethodName, Scene, SolverSpec, SpringSpec, StructureSpec, SupportName, TheoryName,
+    MethodName, Scene, SolverSpec, SpringSpec, StructureSpec, StructureSpringSpec, SupportName,
+    TheoryName,
 };
 pub use solve::{
     run, run_with_progress, BallOnBeam, BallOnBeam3d, BallOnBeam3dConfig, BallOnBeamConfig,

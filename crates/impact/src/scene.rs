@@ -161,6 +161,23 @@ pub struct StructureSpec {
     pub supports: Vec<simo_beam::scene::SupportSpec>,
     /// Yield stress (Pa); needed by plastic contact laws.
     pub yield_stress: Option<f64>,
+    /// Point masses at nodes (`at` = arc length, m), with their rotary inertia about the
+    /// member's axis.
+    #[serde(default, rename = "mass", skip_serializing_if = "Vec::is_empty")]
+    pub masses: Vec<MassSpec>,
+    /// Translational springs at nodes (`at` = arc length, m).
+    #[serde(default, rename = "spring", skip_serializing_if = "Vec::is_empty")]
+    pub springs: Vec<StructureSpringSpec>,
+}
+
+/// An elastic support on a structure (`[[structure.spring]]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StructureSpringSpec {
+    /// Where (m of arc length from the start of the first segment): a node.
+    pub at: f64,
+    /// Stiffness along x, y and z (N/m) against the node's displacement.
+    pub stiffness: [f64; 3],
 }
 
 /// A point mass on a beam (`[[beam.mass]]`).

@@ -83,3 +83,43 @@ fn a_strike_off_the_structure_or_not_normal_to_a_face_is_refused_by_name() {
     let err = frame(&[("kind = \"clamped\"", "kind = \"welded\"")]).unwrap_err().to_string();
     assert!(err.contains("welded"), "{err}");
 }
+
+#[test]
+fn springs_and_masses_sit_on_the_structures_nodes() {
+    // A spring [0, 0, k] at the impact point (a node, s = 0.9 m) holds the struck point's
+    // motion along the strike: the static stiffness there gains k exactly (parallel). A mass
+    // at the free end: the ledger still closes. A mass between nodes is refused, naming the
+    // nearest node.
+    let short = ("end_time = 0.002", "end_time = 0.0002");
+    let base = simulate(&frame(&[short]).unwrap()).unwrap().report;
+    let carried = frame(&[
+        short,
+        (
+            "[ball]",
+            "[[structure.spring]]\nat = 0.9\nstiffness = [0.0, 0.0, 300.0]\n[[structure.mass]]\nat = 1.0\nmass = 0.02\nrotary_inertia = 1e-6\n[ball]",
+        ),
+    ])
+    .unwrap();
+    let report = simulate(&carried).unwrap().report;
+    let (k0, k1) = (base.static_stiffness.unwrap(), report.static_stiffness.unwrap());
+    assert!(((k1 - k0) / 300.0 - 1.0).abs() < 1e-9, "{k1} - {k0}");
+    let e = &report.energy;
+    assert!((e.balance_error / e.initial).abs() < 1e-4, "{e:?}");
+    assert!(report.plan.reasons.iter().any(|r| r.contains("1 point mass(es) and 1 spring(s)")));
+    let err = Plan::new(
+        &frame(&[("[ball]", "[[structure.mass]]\nat = 0.905\nmass = 0.02\n[ball]")]).unwrap(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("structure.mass[0].at") && err.contains("nearest node at 0.9"), "{err}");
+    let err = Plan::new(
+        &frame(&[(
+            "[ball]",
+            "[[structure.spring]]\nat = 0.5\nstiffness = [1.0, -2.0, 0.0]\n[ball]",
+        )])
+        .unwrap(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("structure.spring[0].stiffness[1]"), "{err}");
+}

@@ -80,9 +80,60 @@ pub(super) fn plan(
     if impact.position.is_some() {
         return Err(ImpactError::Inconsistent("impact.position belongs to a [beam]; a [structure] takes impact.at (the arc length along its segments, m) and impact.direction (the ball's velocity)".into()));
     }
-    let (model, stations) =
+    let (mut model, stations) =
         simo_beam::scene::structure(&spec.section, &spec.segments, &spec.supports)
             .map_err(prefixed)?;
+    let total = stations.last().copied().unwrap_or(0.0);
+    // A mass or a spring sits on a node: the node at its arc length, or refused naming the
+    // nearest.
+    let node = |key: String, at: f64| -> Result<usize, ImpactError> {
+        let k = (0..stations.len())
+            .min_by(|a, b| (stations[*a] - at).abs().total_cmp(&(stations[*b] - at).abs()))
+            .unwrap_or(0);
+        if at.is_finite() && (stations[k] - at).abs() <= 1e-9 * total.max(1.0) {
+            Ok(k)
+        } else {
+            Err(invalid(
+                &key,
+                at,
+                &format!(
+                    "the arc length of a node, from 0 to {total} m (nearest node at {} m)",
+                    stations[k]
+                ),
+            ))
+        }
+    };
+    let not_negative = |key: String, v: f64, unit: &str| -> Result<f64, ImpactError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(invalid(&key, v, &format!("must be a finite number >= 0 ({unit})")))
+        }
+    };
+    for (k, m) in spec.masses.iter().enumerate() {
+        let n = node(format!("structure.mass[{k}].at"), m.at)?;
+        let mass = not_negative(format!("structure.mass[{k}].mass"), m.mass, "kg")?;
+        let rotary = not_negative(
+            format!("structure.mass[{k}].rotary_inertia"),
+            m.rotary_inertia.unwrap_or(0.0),
+            "kg m^2",
+        )?;
+        model = model.attach_mass(n, mass, rotary)?;
+    }
+    for (k, sp) in spec.springs.iter().enumerate() {
+        let n = node(format!("structure.spring[{k}].at"), sp.at)?;
+        for (i, v) in sp.stiffness.iter().enumerate() {
+            not_negative(format!("structure.spring[{k}].stiffness[{i}]"), *v, "N/m")?;
+        }
+        model = model.attach_spring(n, Vector3::from(sp.stiffness))?;
+    }
+    if !(spec.masses.is_empty() && spec.springs.is_empty()) {
+        reasons.push(format!(
+            "{} point mass(es) and {} spring(s) at their nodes",
+            spec.masses.len(),
+            spec.springs.len()
+        ));
+    }
     let section = &spec.section;
     let (Some(width), Some(thickness)) = (section.width, section.thickness) else {
         return Err(ImpactError::Inconsistent("structure.section: give width and thickness (m), a rectangle of a material (youngs_modulus, poisson_ratio, density): the ball strikes one of its faces".into()));
@@ -92,7 +143,6 @@ pub(super) fn plan(
         section.poisson_ratio.unwrap_or(f64::NAN),
         section.density.unwrap_or(f64::NAN),
     )?;
-    let total = stations.last().copied().unwrap_or(0.0);
     let at = impact.at.ok_or_else(|| {
         ImpactError::Inconsistent("impact.at (m, the arc length along the [structure]'s segments) is required with a [structure]".into())
     })?;
