@@ -123,3 +123,9 @@ fn springs_and_masses_sit_on_the_structures_nodes() {
     .to_string();
     assert!(err.contains("structure.spring[0].stiffness[1]"), "{err}");
 }
+
+#[test]
+fn a_structures_field_is_refused_not_misread() {
+    let err = Plan::new(&frame(&[]).unwrap()).unwrap().with_field().unwrap_err().to_string();
+    assert!(err.contains("[structure]'s field"), "{err}");
+}

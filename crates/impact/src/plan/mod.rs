@@ -949,6 +949,11 @@ impl Plan {
                 "a [half_space] has no beam: no field along it to write".into(),
             ));
         }
+        if matches!(&self.method, Method::Fe(fe) if fe.structure.is_some()) {
+            return Err(ImpactError::Inconsistent(
+                "a [structure]'s field is not written yet (its members leave the x-z plane the field's slope and displacement are read in); the report and the history are".into(),
+            ));
+        }
         // The free flight's instants plus about 200 a contact of the estimated duration,
         // counted as if the whole window were contact at worst a tenth of it.
         let instants = self.end_time / self.output_interval
