@@ -172,6 +172,14 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
             w.time
         )?;
     }
+    if let Some(w) = &r.torsion_shear {
+        say!(
+            "largest torsion shear stress {:.4e} Pa at s = {:.4} m, t = {:.4e} s",
+            w.max,
+            w.position,
+            w.time
+        )?;
+    }
     if let Some(f) = r.equivalent_static_force {
         say!(
             "equivalent static force {f:.4} N (static stiffness {:.4e} N/m)",

@@ -48,6 +48,11 @@ fn the_frame_is_as_stiff_as_its_members_in_series_and_its_ledger_closes() {
     let largest = report.largest_twist.unwrap();
     assert!(largest.max > 0.0 && largest.position <= 0.5 + 1e-12, "{largest:?}");
     assert!(report.max_twist.unwrap() > 0.0);
+    // The Saint-Venant shear k G t theta' at its largest twist rate is at least the clamped
+    // member's mean rate's, its twist at the corner over its length (k = 0.99 for 25 x 5).
+    let shear = report.torsion_shear.unwrap();
+    let mean_rate = largest.max / 0.5;
+    assert!(shear.max >= 0.99 * g * t * mean_rate, "{shear:?} vs {}", 0.99 * g * t * mean_rate);
 }
 
 #[test]

@@ -177,6 +177,12 @@ pub struct Report {
     /// otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub largest_twist: Option<Twist>,
+    /// The largest Saint-Venant shear stress of torsion (Pa), at the middle of the section's
+    /// long side, k G t theta' (validation/REFERENCES.md 1.9), where (arc length of the
+    /// element's midpoint, m) and when (s): the fe method's 3D beam, at the elements' midpoints
+    /// and accepted steps; null otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torsion_shear: Option<Twist>,
     /// Static stiffness of the beam at the impact point (N/m); null for a half-space or a
     /// free-free beam.
     pub static_stiffness: Option<f64>,
@@ -198,10 +204,11 @@ pub struct Report {
     pub wall_time: f64,
 }
 
-/// A largest twist: magnitude (rad), where (arc length from the first node, m) and when (s).
+/// A largest value along the beam: magnitude (rad for a twist, Pa for a stress), where (arc
+/// length from the first node, m) and when (s).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Twist {
-    /// Magnitude (rad).
+    /// Magnitude (rad, or Pa).
     pub max: f64,
     /// Arc length from the first node (m).
     pub position: f64,
@@ -225,6 +232,8 @@ pub(crate) struct Ending {
     pub(crate) twist: Option<(f64, f64)>,
     /// The largest twist anywhere, where and when (3D fe).
     pub(crate) largest_twist: Option<Twist>,
+    /// The largest Saint-Venant shear stress, where and when (3D fe).
+    pub(crate) torsion_shear: Option<Twist>,
     /// The last instant the solver observed (s): a maximum there is not yet one.
     pub(crate) last_time: f64,
 }
@@ -267,6 +276,7 @@ impl Report {
             max_twist: end.twist.map(|t| t.0),
             max_twist_time: end.twist.map(|t| t.1),
             largest_twist: end.largest_twist,
+            torsion_shear: end.torsion_shear,
         }
     }
 }

@@ -200,7 +200,7 @@ pub(super) fn plan(
         show(d),
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
-    reasons.push("structure: the stresses are each element's bending about its section's width axis (E2) and extension at its midpoint (arc length) and every accepted step; the twist is read at every node".into());
+    reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths) and every accepted step; the twist is read at every node".into());
     steps.reasons(s, pulse.duration, reasons);
     let Steps { alpha, samples, free_time_step, .. } = steps;
     Ok(FePlan {

@@ -118,8 +118,16 @@ struct Run<'a, L: ContactLaw, M: Struck<L>> {
     /// The history, the progress and the beam's stress and field: fed at every recorded
     /// instant, and at every accepted step for the stress envelope.
     recorders: Recorders<'a>,
-    /// Each element's section strains in `state` (the stress envelope's and the energy's).
+    /// Each element's section strains in `state` (the stress envelope's and the energy's), and
+    /// out of the plane (3D: the lateral curvature and the twist rate, 1/m).
     strains: Vec<(f64, f64, f64)>,
+    out_of_plane: Vec<(f64, f64)>,
+    /// E (w/2) |K3| per element (Pa; 3D), and what turns a twist rate into the largest
+    /// Saint-Venant shear stress, k G t_min (Pa m).
+    lateral: Vec<f64>,
+    shear_per_rate: f64,
+    /// The largest Saint-Venant shear stress (Pa), in which element and when (s) (3D).
+    max_shear: Option<(f64, usize, f64)>,
     contacts: Vec<Contact>,
     max_displacement: (f64, f64),
     force: f64,
@@ -156,8 +164,13 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             stress = stress.with_field(&target.nodes, target.width);
         }
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
-        model.section_strains(&q, &mut strains);
-        stress.observe_strains(0.0, &strains);
+        let mut out_of_plane = vec![(0.0, 0.0); target.elements()];
+        model.section_strains(&q, &mut strains, &mut out_of_plane);
+        let lateral = if target.three_d { vec![0.0; target.elements()] } else { Vec::new() };
+        stress.observe_strains(0.0, &strains, &lateral);
+        let g = target.material.shear_modulus;
+        let (_, k) = modal::rectangle_torsion(target.width, target.thickness);
+        let shear_per_rate = k * g * target.width.min(target.thickness);
         let scheme = Scheme::hht(target.alpha)
             .map_err(|source| ImpactError::Integrator { t: 0.0, source })?;
         // The beam's tangent changes little from step to step (small rotations): a Newton
@@ -198,6 +211,10 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
                 Some(Box::new(stress)),
             ),
             strains,
+            out_of_plane,
+            lateral,
+            shear_per_rate,
+            max_shear: None,
             contacts: Vec::new(),
             max_displacement: (0.0, 0.0),
             force: 0.0,
@@ -251,7 +268,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: Some(sample),
-            beam: BeamView::Fe { state, strains: &self.strains },
+            beam: BeamView::Fe { state, strains: &self.strains, lateral: &self.lateral },
             last: self.state.t >= self.plan.end_time,
         });
     }
@@ -296,8 +313,25 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let before = (self.state.t, self.beam_displacement(), self.beam_velocity());
         let old = std::mem::replace(&mut self.state, s);
         self.integrator.recycle(old);
-        self.model.section_strains(&self.state.q, &mut self.strains);
+        self.model.section_strains(&self.state.q, &mut self.strains, &mut self.out_of_plane);
         self.steps += 1;
+        if self.target.three_d {
+            let half_width = 0.5 * self.target.width;
+            let e = self.target.material.youngs_modulus;
+            for (l, (lateral, _)) in self.lateral.iter_mut().zip(&self.out_of_plane) {
+                *l = e * half_width * lateral.abs();
+            }
+            let (element, rate) = self
+                .out_of_plane
+                .iter()
+                .enumerate()
+                .map(|(k, (_, rate))| (k, rate.abs()))
+                .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+            let tau = self.shear_per_rate * rate;
+            if self.max_shear.is_none_or(|m| tau > m.0) {
+                self.max_shear = Some((tau, element, self.state.t));
+            }
+        }
         let twist = self.model.twist(&self.state.q, self.impact_element).abs();
         if twist > self.max_twist.0 {
             self.max_twist = (twist, self.state.t);
@@ -321,7 +355,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: None,
-            beam: BeamView::Fe { state, strains: &self.strains },
+            beam: BeamView::Fe { state, strains: &self.strains, lateral: &self.lateral },
             last: false,
         });
         Ok(())
@@ -569,6 +603,11 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
                 largest_twist: self.largest_twist.map(|(max, node, time)| Twist {
                     max,
                     position: self.target.nodes[node],
+                    time,
+                }),
+                torsion_shear: self.max_shear.map(|(max, e, time)| Twist {
+                    max,
+                    position: 0.5 * (self.target.nodes[e] + self.target.nodes[e + 1]),
                     time,
                 }),
                 last_time,

@@ -116,11 +116,16 @@ impl FeStress {
         }
     }
 
-    /// Observes the beam at time `t` (s), given each element's section strains.
-    pub(crate) fn observe_strains(&mut self, t: f64, strains: &[(f64, f64, f64)]) {
+    /// Observes the beam at time `t` (s), given each element's section strains and (the 3D
+    /// beam; empty in the plane) the stress its bending about the thickness axis adds at the
+    /// worst corner of the struck face's edge (Pa).
+    pub(crate) fn observe_strains(&mut self, t: f64, strains: &[(f64, f64, f64)], lateral: &[f64]) {
         self.observed = Some(t);
         for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(strains) {
             *stress = self.youngs_modulus * (extension - self.half_thickness * curvature);
+        }
+        for (stress, extra) in self.stresses.iter_mut().zip(lateral) {
+            *stress += extra.copysign(*stress);
         }
         for (k, &(clamped, [a, b], weight)) in self.supports.iter().enumerate() {
             let (sa, sb) = (self.stresses[a], self.stresses[b]);
@@ -134,10 +139,10 @@ impl BeamRecorder for FeStress {
     /// The envelope at every instant handed over (every accepted step), the field at the
     /// recorded ones.
     fn observe(&mut self, at: &Instant<'_>) {
-        if let BeamView::Fe { state, strains } = at.beam {
+        if let BeamView::Fe { state, strains, lateral } = at.beam {
             // A recorded instant is usually the step just accepted, already in the envelope.
             if self.observed != Some(at.t) {
-                self.observe_strains(at.t, strains);
+                self.observe_strains(at.t, strains, lateral);
             }
             if at.sample.is_some() {
                 self.record_field(at.t, state, strains);

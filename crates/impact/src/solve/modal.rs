@@ -897,6 +897,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 bending_stress: recovered.stress,
                 twist: recovered.twist,
                 largest_twist: None,
+                torsion_shear: None,
                 last_time,
             },
         );

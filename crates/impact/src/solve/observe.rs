@@ -16,8 +16,10 @@ pub(crate) enum BeamView<'a> {
     /// The modal beam: its modal coordinates, their rates and the contact force (N) on it.
     Modal { q: &'a [f64], v: &'a [f64], force: f64 },
     /// The fe beam in its configuration, with each element's section strains (extension,
-    /// shear, curvature (1/m)) in it, computed once for all their users.
-    Fe { state: &'a PlanarState, strains: &'a [(f64, f64, f64)] },
+    /// shear, curvature (1/m)) in it, computed once for all their users, and (the 3D beam)
+    /// each element's stress from its bending about the thickness axis, E (w/2) |K3| (Pa),
+    /// which adds to the largest corner's.
+    Fe { state: &'a PlanarState, strains: &'a [(f64, f64, f64)], lateral: &'a [f64] },
 }
 
 /// One instant of a run.

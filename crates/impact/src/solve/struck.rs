@@ -44,8 +44,14 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     /// `None` in the plane.
     fn largest_twist(&self, q: &Self::Config) -> Option<(usize, f64)>;
     /// Each element's (extension, shear, curvature) in the beam's plane (x-z), the planar
-    /// beam's sign convention.
-    fn section_strains(&self, q: &Self::Config, out: &mut [(f64, f64, f64)]);
+    /// beam's sign convention, and out of it (the 3D beam's: the bending curvature about the
+    /// thickness axis and the twist rate, 1/m; left as they are in the plane).
+    fn section_strains(
+        &self,
+        q: &Self::Config,
+        out: &mut [(f64, f64, f64)],
+        out_of_plane: &mut [(f64, f64)],
+    );
     /// The beam's strain (and springs') plus kinetic energy (J), given `strains` of `q`.
     fn beam_energy(&self, q: &Self::Config, v: ColRef<'_, f64>, strains: &[(f64, f64, f64)])
         -> f64;
@@ -139,7 +145,12 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
     fn largest_twist(&self, _q: &BallOnBeamConfig) -> Option<(usize, f64)> {
         None
     }
-    fn section_strains(&self, q: &BallOnBeamConfig, out: &mut [(f64, f64, f64)]) {
+    fn section_strains(
+        &self,
+        q: &BallOnBeamConfig,
+        out: &mut [(f64, f64, f64)],
+        _out_of_plane: &mut [(f64, f64)],
+    ) {
         self.beam().all_section_strains(&q.beam, out);
     }
     fn beam_energy(
@@ -236,15 +247,22 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     }
     /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x
-    /// toward z, a rotation about +y turns z toward x).
-    fn section_strains(&self, q: &BallOnBeam3dConfig, out: &mut [(f64, f64, f64)]) {
-        for (e, o) in self.beam().mesh().elements.iter().zip(out.iter_mut()) {
+    /// toward z, a rotation about +y turns z toward x); out of the plane (K3, K1).
+    fn section_strains(
+        &self,
+        q: &BallOnBeam3dConfig,
+        out: &mut [(f64, f64, f64)],
+        out_of_plane: &mut [(f64, f64)],
+    ) {
+        let elements = self.beam().mesh().elements.iter();
+        for ((e, o), p) in elements.zip(out.iter_mut()).zip(out_of_plane.iter_mut()) {
             let [a, b] = e.nodes;
             let s = e.strains(
                 [&q.beam.positions[a], &q.beam.positions[b]],
                 [&q.beam.rotations[a], &q.beam.rotations[b]],
             );
             *o = (s.gamma[0], s.gamma[2], -s.kappa[1]);
+            *p = (s.kappa[2], s.kappa[0]);
         }
     }
     fn beam_energy(
