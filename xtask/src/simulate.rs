@@ -7,16 +7,17 @@ use std::path::Path;
 
 /// Reads and runs a scene file.
 pub(crate) fn load_and_run(path: &Path) -> anyhow::Result<impact::Outcome> {
-    load_and_run_with(path, false)
+    load_and_run_with(path, false, false)
 }
 
-/// Reads and runs a scene file, recording the beam's field when `field`.
-fn load_and_run_with(path: &Path, field: bool) -> anyhow::Result<impact::Outcome> {
+/// Reads and runs a scene file, recording the beam's field when `field`, or for `plots` where
+/// the plan can record one (a `[structure]`'s plots then leave out the stress along it).
+fn load_and_run_with(path: &Path, field: bool, plots: bool) -> anyhow::Result<impact::Outcome> {
     let text = read_input(path, "scene file")?;
     let scene =
         impact::Scene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
     let mut plan = impact::Plan::new(&scene).with_context(|| format!("in {}", path.display()))?;
-    if field {
+    if field || (plots && plan.can_record_field()) {
         plan = plan.with_field().with_context(|| format!("in {}", path.display()))?;
     }
     // On standard error, and only on a terminal: --json output stays clean.
@@ -63,7 +64,7 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
     let history = outputs.history.map(create).transpose()?;
     let field_file = outputs.field.map(create).transpose()?;
     let plots = outputs.plots.map(OutDir::create).transpose()?;
-    let outcome = load_and_run_with(path, outputs.field.is_some() || plots.is_some())?;
+    let outcome = load_and_run_with(path, outputs.field.is_some(), plots.is_some())?;
     if let (Some(mut file), Some(h)) = (history, outputs.history) {
         outcome
             .history

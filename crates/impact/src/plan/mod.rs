@@ -937,12 +937,20 @@ impl Plan {
         &self.summary
     }
 
+    /// Whether the run can record a field along its beam: not on a half-space (no beam), not
+    /// yet on a `[structure]` (its members leave the plane the field is read in).
+    pub fn can_record_field(&self) -> bool {
+        !matches!(self.method, Method::HalfSpace)
+            && !matches!(&self.method, Method::Fe(fe) if fe.structure.is_some())
+    }
+
     /// The plan, its run recording the beam's field ([`crate::Field`]: displacement, slope,
     /// moment and stress at [`FIELD_POINTS`] points along the beam, at every recorded instant).
     ///
     /// # Errors
-    /// `Inconsistent` on a half-space (no beam), `InvalidField` naming `solver.output_interval`
-    /// when the field would hold more than [`MAX_FIELD_VALUES`] values (its size is said).
+    /// `Inconsistent` where [`Plan::can_record_field`] is false, `InvalidField` naming
+    /// `solver.output_interval` when the field would hold more than [`MAX_FIELD_VALUES`]
+    /// values (its size is said).
     pub fn with_field(mut self) -> Result<Self, ImpactError> {
         if matches!(self.method, Method::HalfSpace) {
             return Err(ImpactError::Inconsistent(
