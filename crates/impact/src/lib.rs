@@ -69,7 +69,7 @@ pub use scene::{
     TheoryName,
 };
 pub use solve::{
-    run, run_with_progress, BallOnBeam, BallOnBeam3d, BallOnBeam3dConfig, BallOnBeamConfig,
+    run, run_with_progress, BallOnBeam, BallOnBeam3d, BallOnBeam3dConfig, BallOnBeamConfig, Face,
     Progress,
 };
 

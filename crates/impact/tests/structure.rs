@@ -134,3 +134,34 @@ fn a_structures_field_is_refused_not_misread() {
     let err = Plan::new(&frame(&[]).unwrap()).unwrap().with_field().unwrap_err().to_string();
     assert!(err.contains("[structure]'s field"), "{err}");
 }
+
+#[test]
+fn a_width_face_struck_in_the_plane_loads_the_members_in_their_stiff_plane() {
+    // The free member struck along x, normal to its width faces (its E2 is -x): it bends in
+    // the frame's plane (I3 = t w^3/12) as a cantilever from the corner, and the clamped
+    // member takes the force axially and the moment F a at the corner in its stiff plane:
+    // f = a^3/(3 E I3) + a/(kGA) + a^2 L1/(E I3) + L1/(EA) = 7.42e-5 m/N (13479.87 N/m;
+    // measured 13480.56, 5.1e-5). The offset then goes across the thickness (at most t/2).
+    let side = ("direction = [0.0, 0.0, -1.0]", "direction = [1.0, 0.0, 0.0]");
+    let report = simulate(&frame(&[side, ("end_time = 0.002", "end_time = 0.0002")]).unwrap())
+        .unwrap()
+        .report;
+    let (e, g): (f64, f64) = (2.1e11, 2.1e11 / 2.6);
+    let (b, t): (f64, f64) = (0.025, 0.005);
+    let (i3, area) = (t * b.powi(3) / 12.0, b * t);
+    let (l1, a): (f64, f64) = (0.5, 0.4);
+    let flexibility = a.powi(3) / (3.0 * e * i3)
+        + a / (5.0 / 6.0 * g * area)
+        + a * a * l1 / (e * i3)
+        + l1 / (e * area);
+    let k = report.static_stiffness.unwrap();
+    assert!((k * flexibility - 1.0).abs() < 1e-3, "{k} vs {}", 1.0 / flexibility);
+    assert!(report.plan.reasons.iter().any(|r| r.contains("(a width face)")));
+    let en = &report.energy;
+    assert!((en.balance_error / en.initial).abs() < 1e-4, "{en:?}");
+    let err =
+        Plan::new(&frame(&[side, ("gravity = false", "gravity = false\noffset = 0.003")]).unwrap())
+            .unwrap_err()
+            .to_string();
+    assert!(err.contains("impact.offset") && err.contains("0.0025"), "{err}");
+}

@@ -6,6 +6,7 @@ use super::fe::{FePlan, Steps};
 use super::{offset, Pulse};
 use crate::error::{invalid, ImpactError};
 use crate::scene::{FeModelName, MethodName, Scene, StructureSpec};
+use crate::solve::Face;
 use nalgebra::Vector3;
 use simo_beam::{BeamModel, Support};
 
@@ -19,6 +20,9 @@ pub(crate) struct StructurePlan {
     /// The ball centre at first touch (m), and against its velocity (unit).
     pub(crate) ball_start: Vector3<f64>,
     pub(crate) up: Vector3<f64>,
+    /// The faces struck, and their distance from the centre line (m).
+    pub(crate) face: Face,
+    pub(crate) half_depth: f64,
 }
 
 impl PartialEq for StructurePlan {
@@ -26,6 +30,8 @@ impl PartialEq for StructurePlan {
         let (a, b) = (self.model.mesh(), other.model.mesh());
         self.ball_start == other.ball_start
             && self.up == other.up
+            && self.face == other.face
+            && self.half_depth.to_bits() == other.half_depth.to_bits()
             && a.positions == b.positions
             && a.frames == b.frames
             && (0..a.positions.len())
@@ -174,17 +180,23 @@ pub(super) fn plan(
     }
     let d = d.normalize();
     let show = |v: Vector3<f64>| format!("[{:.6}, {:.6}, {:.6}]", v.x, v.y, v.z);
-    if 1.0 - d.dot(&e3).abs() > NORMAL {
+    // The face the direction is normal to: its distance from the centre line, the axis and
+    // the size of the face across (where the offset goes).
+    let (face, half_depth, across, size) = if 1.0 - d.dot(&e3).abs() <= NORMAL {
+        (Face::Thickness, 0.5 * thickness, e2, width)
+    } else if 1.0 - d.dot(&e2).abs() <= NORMAL {
+        (Face::Width, 0.5 * width, e3, thickness)
+    } else {
         return Err(invalid(
             "impact.direction",
             show(d),
-            &format!("must be normal to a face of the struck section at impact.at = {at} m: its thickness faces' normals are +-{} (the faces the ball strikes); its width faces' normals +-{} are not struck yet, and an oblique strike would need friction, which is not modelled", show(e3), show(e2)),
+            &format!("must be normal to a face of the struck section at impact.at = {at} m: its thickness faces' normals are +-{}, its width faces' +-{}; an oblique strike would need friction, which is not modelled", show(e3), show(e2)),
         ));
-    }
-    let offset = offset(width, impact.offset, scene.ball.radius, pulse, warnings)?;
+    };
+    let offset = offset(size, impact.offset, scene.ball.radius, pulse, warnings)?;
     let up = -d;
-    let point = mesh.positions[a] * (1.0 - xi) + mesh.positions[b] * xi + e2 * offset;
-    let ball_start = point + up * (0.5 * thickness + scene.ball.radius);
+    let point = mesh.positions[a] * (1.0 - xi) + mesh.positions[b] * xi + across * offset;
+    let ball_start = point + up * (half_depth + scene.ball.radius);
     let steps = Steps::new(s, pulse)?;
     let supports: Vec<String> = spec
         .supports
@@ -192,12 +204,13 @@ pub(super) fn plan(
         .map(|sp| format!("{:?} at s = {} m", sp.kind, sp.at).to_lowercase())
         .collect();
     reasons.push(format!(
-        "structure of {} segment(s), {} elements, {} m of members, held {}: 3D geometrically exact beam (Simo's rod, 6 unknowns a node; rigid joints where segments meet), the ball striking the face at s = {at} m along {} (its thickness face){}",
+        "structure of {} segment(s), {} elements, {} m of members, held {}: 3D geometrically exact beam (Simo's rod, 6 unknowns a node; rigid joints where segments meet), the ball striking the face at s = {at} m along {} (a {} face){}",
         spec.segments.len(),
         mesh.elements.len(),
         total,
         if supports.is_empty() { "nowhere".to_string() } else { supports.join(", ") },
         show(d),
+        if face == Face::Thickness { "thickness" } else { "width" },
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
     reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths) and every accepted step; the twist is read at every node".into());
@@ -220,6 +233,6 @@ pub(super) fn plan(
         three_d: true,
         offset,
         torsion: None,
-        structure: Some(Box::new(StructurePlan { model, ball_start, up })),
+        structure: Some(Box::new(StructurePlan { model, ball_start, up, face, half_depth })),
     })
 }

@@ -72,6 +72,8 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     /// Against the ball's velocity (unit): the direction the struck face's height is read
     /// along (+z on a `[beam]`).
     up: Vector3<f64>,
+    /// The faces struck.
+    face: Face,
     pub(crate) law: &'a L,
     /// The law's history, committed after every accepted step.
     pub law_state: L::State,
@@ -83,6 +85,35 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
 
 /// The node's position and rotation matrix.
 type Node = (Vector3<f64>, Matrix3<f64>);
+
+/// Which faces of the rectangle the ball strikes: those normal to the section's E3 (the
+/// thickness faces, a `[beam]`'s) or to its E2 (the width faces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Face {
+    /// Normal +-E3, `thickness/2` from the centre line, the offset along E2.
+    Thickness,
+    /// Normal +-E2, `width/2` from the centre line, the offset along E3.
+    Width,
+}
+
+impl Face {
+    /// The section axes (columns of the rotation) of the face's normal and of the offset.
+    pub(crate) fn axes(self) -> (usize, usize) {
+        match self {
+            Face::Thickness => (2, 1),
+            Face::Width => (1, 2),
+        }
+    }
+
+    /// How a twist theta moves the face's point at the offset e along its normal: +e theta on
+    /// a thickness face (E2 turns toward E3), -e theta on a width face (E3 turns toward -E2).
+    pub(crate) fn twist_sign(self) -> f64 {
+        match self {
+            Face::Thickness => 1.0,
+            Face::Width => -1.0,
+        }
+    }
+}
 
 /// The skew matrix of `v`: `skew(v) w = v x w`.
 fn skew<T: nalgebra::RealField + Copy>(v: &Vector3<T>) -> Matrix3<T> {
@@ -96,9 +127,10 @@ fn approach_of<T: nalgebra::RealField + Copy>(
     c0: &Vector3<f64>,
     a: &Node,
     b: &Node,
-    (radius, half): (f64, f64),
+    (radius, half, face): (f64, f64, Face),
     ends: (bool, bool),
 ) -> T {
+    let (normal, across) = face.axes();
     let lift = nalgebra::convert::<f64, T>;
     let part = |k: usize| Vector3::new(u[k], u[k + 1], u[k + 2]);
     let c = c0.map(lift) + part(0);
@@ -113,8 +145,8 @@ fn approach_of<T: nalgebra::RealField + Copy>(
     let t = xb - xa;
     let xi = (c - xa).dot(&t) / t.dot(&t);
     let edge = |x: Vector3<T>, r: &Matrix3<T>| {
-        let n: Vector3<T> = r.column(2).into_owned();
-        let along: Vector3<T> = r.column(1).into_owned();
+        let n: Vector3<T> = r.column(normal).into_owned();
+        let along: Vector3<T> = r.column(across).into_owned();
         let side = if (c - x).dot(&n) < T::zero() { -half } else { half };
         let v = c - (x + n * side);
         let across = v - along * v.dot(&along);
@@ -127,8 +159,8 @@ fn approach_of<T: nalgebra::RealField + Copy>(
         return edge(xb, &rb);
     }
     let x = xa + t * xi;
-    let na: Vector3<T> = ra.column(2).into_owned();
-    let nb: Vector3<T> = rb.column(2).into_owned();
+    let na: Vector3<T> = ra.column(normal).into_owned();
+    let nb: Vector3<T> = rb.column(normal).into_owned();
     let d = na * (T::one() - xi) + nb * xi;
     let n = d / d.norm();
     radius + half - (c - x).dot(&n).abs()
@@ -145,15 +177,16 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         half_thickness: f64,
         law: &'a L,
     ) -> Self {
-        Self::striking(beam, (mass, gravity, radius), (offset, Vector3::z()), half_thickness, law)
+        let struck = (offset, Vector3::z(), Face::Thickness);
+        Self::striking(beam, (mass, gravity, radius), struck, half_thickness, law)
     }
 
-    /// [`BallOnBeam3d::new`] for a ball moving along `-up` (unit), against a face whose normal
-    /// is the sections' E3 (a `[structure]`); gravity acts along the ball's velocity.
+    /// [`BallOnBeam3d::new`] for a ball moving along `-up` against `face` (a `[structure]`),
+    /// `half_depth` (m) from the centre line; gravity acts along the ball's velocity.
     pub fn striking(
         beam: BeamModel,
         (mass, gravity, radius): (f64, f64, f64),
-        (offset, up): (f64, Vector3<f64>),
+        (offset, up, face): (f64, Vector3<f64>, Face),
         half_thickness: f64,
         law: &'a L,
     ) -> Self {
@@ -184,6 +217,7 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
             half_thickness,
             offset,
             up: up.normalize(),
+            face,
             law,
             law_state: L::State::default(),
             local_dofs,
@@ -206,16 +240,19 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         self.up
     }
 
-    /// +1 where the struck face's normal (E3 of element `e`'s first node at rest) points along
-    /// `up`, -1 where against it: the sign of the face's motion under a twist.
+    /// How a twist moves the struck point along `up`, per unit offset and twist: the face's
+    /// sign (see [`Face::twist_sign`]) times +1 where its normal (of element `e`'s first node at
+    /// rest) points along `up`, -1 where against it.
     pub(crate) fn facing(&self, e: usize) -> f64 {
         let node = self.beam.mesh().elements[e].nodes[0];
-        let e3 = self.beam.mesh().frames[node] * Vector3::z();
-        if e3.dot(&self.up) < 0.0 {
-            -1.0
-        } else {
-            1.0
-        }
+        let (normal, _) = self.face.axes();
+        let n = self.beam.mesh().frames[node]
+            .to_rotation_matrix()
+            .into_inner()
+            .column(normal)
+            .into_owned();
+        let side = if n.dot(&self.up) < 0.0 { -1.0 } else { 1.0 };
+        side * self.face.twist_sign()
     }
 
     /// Node `node`'s section rotation about its axis from its reference frame (rad): the
@@ -277,7 +314,7 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
             (q.beam.positions[i], q.beam.rotations[i].to_rotation_matrix().into_inner())
         };
         let (a, b) = (node(na), node(nb));
-        let surface = (self.radius, self.half_thickness);
+        let surface = (self.radius, self.half_thickness, self.face);
         let ends = (element == 0, element + 1 == self.elements());
         let c = &q.ball;
         let zero = SVector::<f64, LOCAL>::zeros();
@@ -448,7 +485,7 @@ mod tests {
         let a = (Vector3::zeros(), Matrix3::identity());
         let r = UnitQuaternion::from_scaled_axis(Vector3::new(twist, 0.0, 0.0));
         let b = (Vector3::new(1.0, 0.0, 0.0), r.to_rotation_matrix().into_inner());
-        approach_of(u, &c, &a, &b, (0.005, 0.0025), (false, true))
+        approach_of(u, &c, &a, &b, (0.005, 0.0025, Face::Thickness), (false, true))
     }
 
     #[test]
@@ -493,18 +530,18 @@ mod tests {
                 v[k] = 0.0;
             }
             let (ta, tb) = ((a.0, turn(&a, 6)), (b.0, turn(&b, 12)));
-            approach_of(&v, &c, &ta, &tb, (0.005, 0.0025), (false, true))
+            approach_of(&v, &c, &ta, &tb, (0.005, 0.0025, Face::Thickness), (false, true))
         };
         let zero = SVector::<f64, LOCAL>::zeros();
         let (_, g) = num_dual::gradient(
             |u: SVector<DualSVec64<LOCAL>, LOCAL>| {
-                approach_of(&u, &c, &a, &b, (0.005, 0.0025), (false, true))
+                approach_of(&u, &c, &a, &b, (0.005, 0.0025, Face::Thickness), (false, true))
             },
             &zero,
         );
         let (_, _, hess) = num_dual::hessian(
             |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| {
-                approach_of(&u, &c, &a, &b, (0.005, 0.0025), (false, true))
+                approach_of(&u, &c, &a, &b, (0.005, 0.0025, Face::Thickness), (false, true))
             },
             &zero,
         );

@@ -66,8 +66,8 @@ impl WithLaw for FeRun<'_> {
             let model = BallOnBeam3d::striking(
                 target.beam3d()?,
                 (plan.ball_mass, plan.gravity, radius),
-                (target.offset, st.up),
-                half,
+                (target.offset, st.up, st.face),
+                st.half_depth,
                 law,
             );
             let q =

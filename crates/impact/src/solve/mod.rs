@@ -19,7 +19,7 @@ mod refine;
 mod struck;
 
 pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};
-pub use ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig};
+pub use ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig, Face};
 
 use crate::error::ImpactError;
 use crate::outcome::Outcome;
