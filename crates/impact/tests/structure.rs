@@ -165,3 +165,64 @@ fn a_width_face_struck_in_the_plane_loads_the_members_in_their_stiff_plane() {
             .to_string();
     assert!(err.contains("impact.offset") && err.contains("0.0025"), "{err}");
 }
+
+#[test]
+fn a_stepped_member_is_struck_on_its_own_section() {
+    // A cantilever of two parts, 0.6 m of 25 x 8 mm then 0.5 m of 25 x 4 mm (its segment's own
+    // section), struck at the tip: the static stiffness is the stepped closed form
+    // 1/((L^3 - L2^3)/(3 EI1) + L2^3/(3 EI2) + shear) to the mesh's error, the ball touches the
+    // thin part's face at t = 0 (its start from that section's thickness) and the ledger closes.
+    let text = r#"
+name = "stepped"
+[structure.section]
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+width = 0.025
+thickness = 0.008
+[[structure.segment]]
+start = [0.0, 0.0, 0.0]
+end = [0.6, 0.0, 0.0]
+elements = 48
+[[structure.segment]]
+end = [1.1, 0.0, 0.0]
+elements = 40
+[structure.segment.section]
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+width = 0.025
+thickness = 0.004
+[[structure.support]]
+at = 0.0
+kind = "clamped"
+[ball]
+radius = 0.005
+mass = 0.009
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+[impact]
+at = 1.1
+direction = [0.0, 0.0, -1.0]
+drop_height = 0.2
+gravity = false
+[solver]
+end_time = 0.0001
+"#;
+    let report = simulate(&Scene::from_toml(text).unwrap()).unwrap().report;
+    let (e, g, b): (f64, f64, f64) = (2.1e11, 2.1e11 / 2.6, 0.025);
+    let ei = |t: f64| e * b * t.powi(3) / 12.0;
+    let kga = |t: f64| 5.0 / 6.0 * g * b * t;
+    let (l, l2): (f64, f64) = (1.1, 0.5);
+    let flexibility = (l.powi(3) - l2.powi(3)) / (3.0 * ei(0.008))
+        + l2.powi(3) / (3.0 * ei(0.004))
+        + 0.6 / kga(0.008)
+        + 0.5 / kga(0.004);
+    let k = report.static_stiffness.unwrap();
+    assert!((k * flexibility - 1.0).abs() < 1e-3, "{k} vs {}", 1.0 / flexibility);
+    let first = &report.contacts[0];
+    assert!(first.start.abs() < 1e-12 && first.peak_force > 0.0, "{first:?}");
+    let en = &report.energy;
+    assert!((en.balance_error / en.initial).abs() < 1e-4, "{en:?}");
+}

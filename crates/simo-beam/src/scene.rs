@@ -215,6 +215,9 @@ pub struct SegmentSpec {
     pub thickness_direction: Option<[f64; 3]>,
     /// Number of elements.
     pub elements: usize,
+    /// The segment's own section (a stepped member), in place of the scene's `[section]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<SectionSpec>,
 }
 
 /// How a node is held.
@@ -582,6 +585,19 @@ impl SegmentSpec {
 /// The mesh's own arc length sums the element chords, which falls short on an arc.
 struct Stations(Vec<f64>);
 
+/// `e` with its `section.` keys named under `prefix` (`segment[1].section.width`).
+fn renamed(e: SceneError, prefix: &str) -> SceneError {
+    match e {
+        SceneError::InvalidField { field, value, allowed } => {
+            SceneError::InvalidField { field: format!("{prefix}.{field}"), value, allowed }
+        }
+        SceneError::Inconsistent(message) if message.starts_with("section") => {
+            SceneError::Inconsistent(format!("{prefix}.{message}"))
+        }
+        other => other,
+    }
+}
+
 /// The beam of a `section`, a chain of `segments` and its `supports`: what a beam scene and an
 /// impact scene's `[structure]` share (one parser, one validation), as the model and each
 /// node's arc length from the start of the first segment (m). Errors name the keys as a beam
@@ -602,7 +618,11 @@ pub fn structure(
     let mut stations = vec![0.0];
     for (i, seg) in segments.iter().enumerate() {
         let previous_end = mesh.as_ref().and_then(|m| m.positions.last().copied());
-        let (piece, length) = seg.build(i, previous_end, section)?;
+        let own = match &seg.section {
+            Some(spec) => spec.build().map_err(|e| renamed(e, &format!("segment[{i}]")))?,
+            None => section,
+        };
+        let (piece, length) = seg.build(i, previous_end, own)?;
         let s0 = stations.last().copied().unwrap_or(0.0);
         // Nodes are equally spaced along each piece (in length or in angle).
         stations.extend((1..=seg.elements).map(|k| s0 + length * k as f64 / seg.elements as f64));

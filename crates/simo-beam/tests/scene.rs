@@ -272,3 +272,55 @@ fn strains_beyond_the_small_strain_range_are_reported() {
     // The slender original stays within it: no warning.
     assert!(scene("beam-mattiasson-k10.toml").run(|_| {}).unwrap().warnings.is_empty());
 }
+
+#[test]
+fn a_stepped_cantilever_bends_as_its_two_sections_say() {
+    // A steel strip 25 mm wide, 0.6 m at 8 mm thick then 0.5 m at 4 mm (its own section),
+    // clamped, 1 N down at the tip: delta = P ((L^3 - L2^3)/(3 EI1) + L2^3/(3 EI2)) (the
+    // moment P (L - x) over each part's EI), 1.0445e-3 m; shear adds P (L1/GA1 + L2/GA2)
+    // (below 1e-6 of it). Within 1e-3 at 32 elements a part (the one-point element's
+    // 1/(4 n^2)).
+    let text = r#"
+name = "stepped"
+analysis = "static"
+[section]
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+width = 0.025
+thickness = 0.008
+[[segment]]
+start = [0.0, 0.0, 0.0]
+end = [0.6, 0.0, 0.0]
+elements = 32
+[[segment]]
+end = [1.1, 0.0, 0.0]
+elements = 32
+[segment.section]
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+width = 0.025
+thickness = 0.004
+[[support]]
+at = 0.0
+kind = "clamped"
+[[load]]
+at = 1.1
+force = [0.0, 0.0, -1.0]
+"#;
+    let run = BeamScene::from_toml(text).unwrap().run(|_| {}).unwrap();
+    let z = -run.history.last().unwrap().position[2];
+    let (e, b) = (2.1e11, 0.025);
+    let (ei1, ei2) = (e * b * 0.008f64.powi(3) / 12.0, e * b * 0.004f64.powi(3) / 12.0);
+    let (l, l2): (f64, f64) = (1.1, 0.5);
+    let expected = (l.powi(3) - l2.powi(3)) / (3.0 * ei1) + l2.powi(3) / (3.0 * ei2);
+    assert!((z / expected - 1.0).abs() < 1e-3, "{z} vs {expected}");
+    // A bad key of the segment's own section is named under the segment.
+    let err = BeamScene::from_toml(&text.replace("thickness = 0.004", "thickness = -0.004"))
+        .unwrap()
+        .run(|_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("segment[1].section.thickness"), "{err}");
+}

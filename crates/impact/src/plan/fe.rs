@@ -197,6 +197,21 @@ impl FePlan {
         Ok(beam)
     }
 
+    /// Each element's section: E (Pa), G (Pa), width and thickness (m): a structure's own, or
+    /// the beam's uniform one.
+    pub(crate) fn element_sections(&self) -> Vec<[f64; 4]> {
+        match &self.structure {
+            Some(st) => st.sections.clone(),
+            None => {
+                let m = &self.material;
+                vec![
+                    [m.youngs_modulus, m.shear_modulus, self.width, self.thickness];
+                    self.elements()
+                ]
+            }
+        }
+    }
+
     /// The struck face's static flexibility at the impact point (m/N): the analytic
     /// Timoshenko beam's, plus offset^2 times the static twist per torque off the centre.
     pub(crate) fn static_flexibility(&self) -> Option<f64> {

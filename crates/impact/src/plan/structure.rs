@@ -23,6 +23,8 @@ pub(crate) struct StructurePlan {
     /// The faces struck, and their distance from the centre line (m).
     pub(crate) face: Face,
     pub(crate) half_depth: f64,
+    /// Each element's section: E (Pa), G (Pa), width and thickness (m).
+    pub(crate) sections: Vec<[f64; 4]>,
 }
 
 impl PartialEq for StructurePlan {
@@ -32,6 +34,7 @@ impl PartialEq for StructurePlan {
             && self.up == other.up
             && self.face == other.face
             && self.half_depth.to_bits() == other.half_depth.to_bits()
+            && self.sections == other.sections
             && a.positions == b.positions
             && a.frames == b.frames
             && (0..a.positions.len())
@@ -140,10 +143,28 @@ pub(super) fn plan(
             spec.springs.len()
         ));
     }
-    let section = &spec.section;
-    let (Some(width), Some(thickness)) = (section.width, section.thickness) else {
-        return Err(ImpactError::Inconsistent("structure.section: give width and thickness (m), a rectangle of a material (youngs_modulus, poisson_ratio, density): the ball strikes one of its faces".into()));
+    // Each element's section: the structure's, or its segment's own (a stepped member).
+    let rectangle = |key: &str, section: &simo_beam::scene::SectionSpec| {
+        match (
+        section.width,
+        section.thickness,
+        section.youngs_modulus,
+        section.poisson_ratio,
+    ) {
+        (Some(w), Some(t), Some(e), Some(nu)) => Ok([e, e / (2.0 * (1.0 + nu)), w, t]),
+        _ => Err(ImpactError::Inconsistent(format!("{key}: give width and thickness (m), a rectangle of a material (youngs_modulus, poisson_ratio, density): the ball strikes one of its faces"))),
+    }
     };
+    let shared = rectangle("structure.section", &spec.section)?;
+    let mut sections = Vec::new();
+    for (i, seg) in spec.segments.iter().enumerate() {
+        let own = match &seg.section {
+            Some(own) => rectangle(&format!("structure.segment[{i}].section"), own)?,
+            None => shared,
+        };
+        sections.extend(std::iter::repeat_n(own, seg.elements));
+    }
+    let section = &spec.section;
     let material = simo_beam::Material::new(
         section.youngs_modulus.unwrap_or(f64::NAN),
         section.poisson_ratio.unwrap_or(f64::NAN),
@@ -163,6 +184,12 @@ pub(super) fn plan(
     let xi = (at - stations[e]) / (stations[e + 1] - stations[e]);
     let mesh = model.mesh();
     let [a, b] = mesh.elements[e].nodes;
+    // The struck element's section: its faces, and the contact's material (the law is set from
+    // the structure's section).
+    let [struck_e, _, width, thickness] = sections[e];
+    if (struck_e - shared[0]).abs() > 1e-12 * shared[0] {
+        return Err(ImpactError::Inconsistent(format!("impact.at = {at} m strikes a segment whose own section's youngs_modulus ({struck_e} Pa) is not the structure's ({} Pa): the contact is set from [structure.section]; strike a member of that material", shared[0])));
+    }
     let axis = |k: Vector3<f64>| {
         ((mesh.frames[a] * k) * (1.0 - xi) + (mesh.frames[b] * k) * xi).normalize()
     };
@@ -233,6 +260,13 @@ pub(super) fn plan(
         three_d: true,
         offset,
         torsion: None,
-        structure: Some(Box::new(StructurePlan { model, ball_start, up, face, half_depth })),
+        structure: Some(Box::new(StructurePlan {
+            model,
+            ball_start,
+            up,
+            face,
+            half_depth,
+            sections,
+        })),
     })
 }

@@ -122,10 +122,12 @@ struct Run<'a, L: ContactLaw, M: Struck<L>> {
     /// out of the plane (3D: the lateral curvature and the twist rate, 1/m).
     strains: Vec<(f64, f64, f64)>,
     out_of_plane: Vec<(f64, f64)>,
-    /// E (w/2) |K3| per element (Pa; 3D), and what turns a twist rate into the largest
-    /// Saint-Venant shear stress, k G t_min (Pa m).
+    /// E (w/2) |K3| per element (Pa; 3D), and per element what turns a lateral curvature
+    /// into it, E w/2 (Pa m), and a twist rate into the largest Saint-Venant shear stress,
+    /// k G t_min (Pa m).
     lateral: Vec<f64>,
-    shear_per_rate: f64,
+    lateral_per_curvature: Vec<f64>,
+    shear_per_rate: Vec<f64>,
     /// The largest Saint-Venant shear stress (Pa), in which element and when (s) (3D).
     max_shear: Option<(f64, usize, f64)>,
     contacts: Vec<Contact>,
@@ -163,14 +165,21 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         if plan.field {
             stress = stress.with_field(&target.nodes, target.width);
         }
+        let sections = target.element_sections();
+        if let Some(st) = &target.structure {
+            let each = st.sections.iter().map(|[e, _, _, t]| (*e, 0.5 * t)).collect();
+            stress = stress.with_sections(each);
+        }
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
         let mut out_of_plane = vec![(0.0, 0.0); target.elements()];
         model.section_strains(&q, &mut strains, &mut out_of_plane);
         let lateral = if target.three_d { vec![0.0; target.elements()] } else { Vec::new() };
         stress.observe_strains(0.0, &strains, &lateral);
-        let g = target.material.shear_modulus;
-        let (_, k) = modal::rectangle_torsion(target.width, target.thickness);
-        let shear_per_rate = k * g * target.width.min(target.thickness);
+        let lateral_per_curvature = sections.iter().map(|[e, _, w, _]| 0.5 * e * w).collect();
+        let shear_per_rate = sections
+            .iter()
+            .map(|[_, g, w, t]| modal::rectangle_torsion(*w, *t).1 * g * w.min(*t))
+            .collect();
         let scheme = Scheme::hht(target.alpha)
             .map_err(|source| ImpactError::Integrator { t: 0.0, source })?;
         // The beam's tangent changes little from step to step (small rotations): a Newton
@@ -213,6 +222,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             strains,
             out_of_plane,
             lateral,
+            lateral_per_curvature,
             shear_per_rate,
             max_shear: None,
             contacts: Vec::new(),
@@ -316,18 +326,17 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         self.model.section_strains(&self.state.q, &mut self.strains, &mut self.out_of_plane);
         self.steps += 1;
         if self.target.three_d {
-            let half_width = 0.5 * self.target.width;
-            let e = self.target.material.youngs_modulus;
-            for (l, (lateral, _)) in self.lateral.iter_mut().zip(&self.out_of_plane) {
-                *l = e * half_width * lateral.abs();
+            let per = self.lateral_per_curvature.iter();
+            for ((l, (lateral, _)), c) in self.lateral.iter_mut().zip(&self.out_of_plane).zip(per) {
+                *l = c * lateral.abs();
             }
-            let (element, rate) = self
+            let (element, tau) = self
                 .out_of_plane
                 .iter()
+                .zip(&self.shear_per_rate)
                 .enumerate()
-                .map(|(k, (_, rate))| (k, rate.abs()))
+                .map(|(k, ((_, rate), c))| (k, c * rate.abs()))
                 .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
-            let tau = self.shear_per_rate * rate;
             if self.max_shear.is_none_or(|m| tau > m.0) {
                 self.max_shear = Some((tau, element, self.state.t));
             }

@@ -18,6 +18,8 @@ pub(crate) struct FeStress {
     /// E (Pa) and h/2 (m).
     youngs_modulus: f64,
     half_thickness: f64,
+    /// Each element's (E, h/2) where they differ (a stepped structure); empty otherwise.
+    sections: Vec<(f64, f64)>,
     /// Element count; the envelope's points are the midpoints, then the supports.
     elements: usize,
     /// For each support, in the order of its envelope point after the midpoints: whether it
@@ -68,6 +70,7 @@ impl FeStress {
         Self {
             youngs_modulus,
             half_thickness: 0.5 * thickness,
+            sections: Vec::new(),
             elements,
             supports,
             stresses: vec![0.0; count],
@@ -85,6 +88,12 @@ impl FeStress {
         let thickness = 2.0 * self.half_thickness;
         self.flexural_rigidity = self.youngs_modulus * width * thickness.powi(3) / 12.0;
         self.field = Some(Field::new(nodes.to_vec()));
+        self
+    }
+
+    /// Each element's own (E (Pa), h/2 (m)): a structure whose members differ.
+    pub(crate) fn with_sections(mut self, sections: Vec<(f64, f64)>) -> Self {
+        self.sections = sections;
         self
     }
 
@@ -123,6 +132,11 @@ impl FeStress {
         self.observed = Some(t);
         for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(strains) {
             *stress = self.youngs_modulus * (extension - self.half_thickness * curvature);
+        }
+        for (stress, ((extension, _, curvature), (e, half))) in
+            self.stresses.iter_mut().zip(strains.iter().zip(&self.sections))
+        {
+            *stress = e * (extension - half * curvature);
         }
         for (stress, extra) in self.stresses.iter_mut().zip(lateral) {
             *stress += extra.copysign(*stress);
