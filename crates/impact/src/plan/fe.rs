@@ -232,7 +232,7 @@ impl FePlan {
             let beam = self.analytic.as_ref()?;
             beam.modes(3).ok()?.into_iter().map(|m| m.omega).find(|w| *w > 0.0)?
         } else {
-            let beam = self.remeshed(32).beam().ok()?;
+            let beam = self.remeshed(32).ok()?.beam().ok()?;
             let modes = simo_beam::planar_modes(&beam, 8).ok()?;
             // Rigid-body modes (a free beam) sit at round-off's scale of the highest.
             let top = modes.iter().fold(0.0, |m: f64, x| m.max(x.omega));
@@ -241,11 +241,22 @@ impl FePlan {
         Some(2.0 * std::f64::consts::PI / omega)
     }
 
-    /// The same plan on `elements` equal elements (and a node at each attachment).
-    pub(crate) fn remeshed(&self, elements: usize) -> FePlan {
+    /// The same plan on `elements` equal elements (and a node at each attachment); a
+    /// structure's with every segment's elements times `elements` over its own.
+    ///
+    /// # Errors
+    /// From rebuilding a structure (not expected: it was built once).
+    pub(crate) fn remeshed(&self, elements: usize) -> Result<FePlan, ImpactError> {
+        if let Some(st) = &self.structure {
+            let factor = (elements / st.base_elements).max(1);
+            let mut refined = st.refined(factor)?;
+            refined.free_time_step = self.free_time_step;
+            refined.samples_per_pulse = self.samples_per_pulse;
+            return Ok(refined);
+        }
         let length = self.nodes.last().copied().unwrap_or(0.0);
         let nodes = with_nodes_at(uniform(length, elements), &self.attachments);
-        FePlan { nodes, ..self.clone() }
+        Ok(FePlan { nodes, ..self.clone() })
     }
 }
 

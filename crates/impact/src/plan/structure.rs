@@ -25,6 +25,30 @@ pub(crate) struct StructurePlan {
     pub(crate) half_depth: f64,
     /// Each element's section: E (Pa), G (Pa), width and thickness (m).
     pub(crate) sections: Vec<[f64; 4]>,
+    /// The scene and pulse it was made from, and its elements: a refinement rebuilds it with
+    /// every segment's elements multiplied ([`StructurePlan::refined`]).
+    source: Box<(Scene, Pulse)>,
+    pub(crate) base_elements: usize,
+}
+
+impl StructurePlan {
+    /// The fe plan of the same strike with every segment's `elements` times `factor`.
+    ///
+    /// # Errors
+    /// As [`plan`] (which made this one, so none expected).
+    pub(crate) fn refined(&self, factor: usize) -> Result<FePlan, ImpactError> {
+        let (scene, pulse) = &*self.source;
+        let mut scene = scene.clone();
+        if let Some(st) = scene.structure.as_mut() {
+            for seg in &mut st.segments {
+                seg.elements *= factor;
+            }
+        }
+        let spec = scene.structure.clone().ok_or_else(|| {
+            ImpactError::Inconsistent("a structure's plan without its [structure]".into())
+        })?;
+        plan(&scene, &spec, pulse, (&mut Vec::new(), &mut Vec::new()))
+    }
 }
 
 impl PartialEq for StructurePlan {
@@ -35,6 +59,7 @@ impl PartialEq for StructurePlan {
             && self.face == other.face
             && self.half_depth.to_bits() == other.half_depth.to_bits()
             && self.sections == other.sections
+            && self.base_elements == other.base_elements
             && a.positions == b.positions
             && a.frames == b.frames
             && (0..a.positions.len())
@@ -77,8 +102,12 @@ pub(super) fn plan(
     {
         return Err(ImpactError::Inconsistent("a [structure] runs by the fe method on its 3D beam: the modal method's modes are a uniform beam's (Goldsmith's method on structures is not built yet); give solver.method = \"fe\" or \"auto\", without modes, residual_flexibility, plain_stress_series, beam_theory, adaptive_step or energy_tolerance".into()));
     }
-    if s.tolerance.is_some() || s.elements.is_some() || s.element_size.is_some() {
-        return Err(ImpactError::Inconsistent("a [structure]'s mesh is its segments' `elements`: solver.elements, element_size and tolerance do not apply (refine by more elements per segment)".into()));
+    if s.elements.is_some() || s.element_size.is_some() {
+        return Err(ImpactError::Inconsistent("a [structure]'s mesh is its segments' `elements`: solver.elements and element_size do not apply (give more elements per segment, or solver.tolerance)".into()));
+    }
+    let tolerance = s.tolerance.map(super::checked_tolerance).transpose()?;
+    if let Some(tolerance) = tolerance {
+        reasons.push(format!("every segment's elements doubled until two successive runs agree within solver.tolerance = {tolerance} on every significant contact and the largest displacement (second-order Richardson estimate of the finer's error), then the steps as for a beam"));
     }
     if s.fe_model == Some(FeModelName::Planar) {
         return Err(ImpactError::Inconsistent(
@@ -255,7 +284,7 @@ pub(super) fn plan(
         free_time_step,
         samples_per_pulse: samples,
         approach_scale: pulse.max_approach,
-        tolerance: None,
+        tolerance,
         attachments: Vec::new(),
         three_d: true,
         offset,
@@ -266,7 +295,9 @@ pub(super) fn plan(
             up,
             face,
             half_depth,
+            base_elements: sections.len(),
             sections,
+            source: Box::new((scene.clone(), *pulse)),
         })),
     })
 }

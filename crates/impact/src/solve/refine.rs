@@ -45,13 +45,15 @@ pub(super) fn run_fe(
     tolerance: f64,
     progress: Progress<'_>,
 ) -> Result<Outcome, ImpactError> {
-    let ladder =
-        Ladder { start: FE_LADDER_START, end: FE_LADDER_END, unit: "elements", share: 1.0 / 3.0 };
+    // A beam's ladder starts at FE_LADDER_START equal elements (its plan's mesh, less the
+    // nodes of its attachments), a structure's at its segments' own elements.
+    let start = target.structure.as_ref().map_or(FE_LADDER_START, |s| s.base_elements);
+    let ladder = Ladder { start, end: FE_LADDER_END, unit: "elements", share: 1.0 / 3.0 };
     let uniform_mesh = |elements| target.remeshed(elements);
     let (space, elements) = ladder.climb(tolerance, |elements| {
-        plan.law.with(FeRun { plan, target: &uniform_mesh(elements), progress })
+        plan.law.with(FeRun { plan, target: &uniform_mesh(elements)?, progress })
     })?;
-    let mesh = uniform_mesh(elements);
+    let mesh = uniform_mesh(elements)?;
     let space_error = space.report.estimated_error;
     let space_time = space.report.wall_time;
     // What the mesh ladder said (its line of reasons, its warning if not met), for a finer
