@@ -28,8 +28,8 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     fn contact_element(&self, q: &Self::Config) -> (usize, f64);
     /// How many of the last unknowns are the ball's.
     fn ball_unknowns(&self) -> usize;
-    /// The ball centre's height above the struck face's plane, along the direction it comes
-    /// from (m), and its speed toward the face (m/s).
+    /// The ball centre's coordinate along the direction it comes from (m; its travel is the
+    /// drop of this), and its speed toward the face (m/s).
     fn ball_height(&self, q: &Self::Config) -> f64;
     fn ball_speed(&self, v: ColRef<'_, f64>) -> f64;
     /// Sets the ball's velocity in `v` to `speed` (m/s) toward the face.
