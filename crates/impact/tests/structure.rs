@@ -130,9 +130,29 @@ fn springs_and_masses_sit_on_the_structures_nodes() {
 }
 
 #[test]
-fn a_structures_field_is_refused_not_misread() {
-    let err = Plan::new(&frame(&[]).unwrap()).unwrap().with_field().unwrap_err().to_string();
-    assert!(err.contains("[structure]'s field"), "{err}");
+fn a_structures_field_runs_along_its_arc_length() {
+    // The field of the frame: at its nodes' arc lengths, the displacement along the strike and
+    // the rotation about each section's width axis; at the struck node it is the history's
+    // beam displacement at every recorded instant (the same point, the same direction).
+    let plan = Plan::new(&frame(&[("end_time = 0.002", "end_time = 0.0001")]).unwrap())
+        .unwrap()
+        .with_field()
+        .unwrap();
+    let out = impact::run(&plan).unwrap();
+    let field = out.field.unwrap();
+    let k = field.points.iter().position(|x| (x - 0.9).abs() < 1e-9).unwrap();
+    let p = field.points.len();
+    assert!((field.points[p - 1] - 1.0).abs() < 1e-12, "{:?}", field.points.last());
+    let history = &out.history;
+    let mut compared = 0;
+    for (i, t) in field.time.iter().enumerate() {
+        if let Some(j) = history.time.iter().position(|h| h.to_bits() == t.to_bits()) {
+            let (a, b) = (field.displacement[i * p + k], history.beam_displacement[j]);
+            assert!((a - b).abs() <= 1e-12 * b.abs().max(1e-9), "t = {t}: {a} vs {b}");
+            compared += 1;
+        }
+    }
+    assert!(compared > 10, "{compared}");
 }
 
 #[test]

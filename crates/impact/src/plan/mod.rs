@@ -937,11 +937,9 @@ impl Plan {
         &self.summary
     }
 
-    /// Whether the run can record a field along its beam: not on a half-space (no beam), not
-    /// yet on a `[structure]` (its members leave the plane the field is read in).
+    /// Whether the run can record a field along its beam: not on a half-space (no beam).
     pub fn can_record_field(&self) -> bool {
         !matches!(self.method, Method::HalfSpace)
-            && !matches!(&self.method, Method::Fe(fe) if fe.structure.is_some())
     }
 
     /// The plan, its run recording the beam's field ([`crate::Field`]: displacement, slope,
@@ -955,11 +953,6 @@ impl Plan {
         if matches!(self.method, Method::HalfSpace) {
             return Err(ImpactError::Inconsistent(
                 "a [half_space] has no beam: no field along it to write".into(),
-            ));
-        }
-        if matches!(&self.method, Method::Fe(fe) if fe.structure.is_some()) {
-            return Err(ImpactError::Inconsistent(
-                "a [structure]'s field is not written yet (its members leave the x-z plane the field's slope and displacement are read in); the report and the history are".into(),
             ));
         }
         // The free flight's instants plus about 200 a contact of the estimated duration,

@@ -167,7 +167,11 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         }
         let sections = target.element_sections();
         if let Some(st) = &target.structure {
-            let each = st.sections.iter().map(|[e, _, _, t]| (*e, 0.5 * t)).collect();
+            let each = st
+                .sections
+                .iter()
+                .map(|[e, _, w, t]| (*e, 0.5 * t, e * w * t.powi(3) / 12.0))
+                .collect();
             stress = stress.with_sections(each);
         }
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];

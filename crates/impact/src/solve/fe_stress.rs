@@ -18,8 +18,8 @@ pub(crate) struct FeStress {
     /// E (Pa) and h/2 (m).
     youngs_modulus: f64,
     half_thickness: f64,
-    /// Each element's (E, h/2) where they differ (a stepped structure); empty otherwise.
-    sections: Vec<(f64, f64)>,
+    /// Each element's (E, h/2, EI) where they differ (a stepped structure); empty otherwise.
+    sections: Vec<(f64, f64, f64)>,
     /// Element count; the envelope's points are the midpoints, then the supports.
     elements: usize,
     /// For each support, in the order of its envelope point after the midpoints: whether it
@@ -91,8 +91,8 @@ impl FeStress {
         self
     }
 
-    /// Each element's own (E (Pa), h/2 (m)): a structure whose members differ.
-    pub(crate) fn with_sections(mut self, sections: Vec<(f64, f64)>) -> Self {
+    /// Each element's own (E (Pa), h/2 (m), EI (N m^2)): a structure whose members differ.
+    pub(crate) fn with_sections(mut self, sections: Vec<(f64, f64, f64)>) -> Self {
         self.sections = sections;
         self
     }
@@ -103,10 +103,12 @@ impl FeStress {
         field.push_instant(t);
         let element = |e: usize| {
             let (extension, _, curvature) = strains[e];
-            (
-                -self.flexural_rigidity * curvature,
-                self.youngs_modulus * (extension - self.half_thickness * curvature),
-            )
+            let (youngs, half, ei) = self.sections.get(e).copied().unwrap_or((
+                self.youngs_modulus,
+                self.half_thickness,
+                self.flexural_rigidity,
+            ));
+            (-ei * curvature, youngs * (extension - half * curvature))
         };
         let last = self.elements - 1;
         for i in 0..=self.elements {
@@ -133,7 +135,7 @@ impl FeStress {
         for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(strains) {
             *stress = self.youngs_modulus * (extension - self.half_thickness * curvature);
         }
-        for (stress, ((extension, _, curvature), (e, half))) in
+        for (stress, ((extension, _, curvature), (e, half, _))) in
             self.stresses.iter_mut().zip(strains.iter().zip(&self.sections))
         {
             *stress = e * (extension - half * curvature);

@@ -8,7 +8,6 @@ use super::ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig};
 use faer::ColRef;
 use hertz::{ContactForce, ContactLaw};
 use hht::Model;
-use nalgebra::Vector3;
 use simo_beam::{PlanarBeam, PlanarState};
 
 /// A ball on a beam, as the fe run steps it.
@@ -274,6 +273,9 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         let beam = self.beam();
         beam.strain_energy(&q.beam) + beam.kinetic_energy(v.subrows(0, beam.ndof()))
     }
+    /// Along the arc length: the displacement along `up` (the strike's line) and the section's
+    /// rotation about its width axis E2 from its reference frame (the bending slope, signed as
+    /// the planar beam's): on a straight `[beam]` its z and theta.
     fn planar_view<'s>(
         &'s self,
         q: &'s BallOnBeam3dConfig,
@@ -283,9 +285,12 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         for v in [&mut scratch.x, &mut scratch.z, &mut scratch.theta] {
             v.resize(n, 0.0);
         }
-        for (k, (x, r)) in q.beam.positions.iter().zip(&q.beam.rotations).enumerate() {
-            let e1 = r * Vector3::x();
-            (scratch.x[k], scratch.z[k], scratch.theta[k]) = (x.x, x.z, e1.z.atan2(e1.x));
+        let mesh = self.beam().mesh();
+        for k in 0..n {
+            let moved = q.beam.positions[k] - mesh.positions[k];
+            let turned = (mesh.frames[k].inverse() * q.beam.rotations[k]).scaled_axis();
+            (scratch.x[k], scratch.z[k], scratch.theta[k]) =
+                (mesh.arc_length[k], self.up().dot(&moved), -turned.y);
         }
         scratch
     }
