@@ -89,6 +89,19 @@ def test_an_off_centre_strike_reports_its_twist_as_the_command_line_does():
     assert report["contacts"][0]["peak_force"] == pytest.approx(781.6675, rel=1e-4)
 
 
+def test_a_structure_reports_as_the_command_line_does():
+    # validation/scenes/frame-impact.toml (validation/REFERENCES.md 1.11): an L-frame struck out
+    # of its plane by the fe method's 3D beam; its static stiffness 446.467 N/m against the
+    # members-in-series closed form 446.424, the clamped member's twist reported.
+    frame = SCENES / "frame-impact.toml"
+    stdout, _ = cli("simulate", frame, "--json")
+    got = ib.simulate(frame).report
+    assert timeless(got) == timeless(json.loads(stdout))
+    assert got["static_stiffness"] == pytest.approx(446.424, rel=5e-4)
+    assert got["largest_twist"]["position"] <= 0.5
+    assert got["torsion_shear"]["max"] > 0
+
+
 def test_a_simulation_prints_its_headline_not_its_arrays():
     run = ib.simulate(TIP)
     text = repr(run)
