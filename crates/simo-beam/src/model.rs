@@ -132,6 +132,9 @@ pub struct BeamModel {
     /// Translational springs (node, stiffness along x, y, z (N/m)) against the displacement
     /// from the reference position.
     springs: Vec<(usize, Vector3<f64>)>,
+    /// Rotational springs (node, stiffness about the section's E1, E2, E3 (N m/rad)) against
+    /// the rotation from the reference frame, psi = log(Lambda_0^T Lambda) (material).
+    rotational_springs: Vec<(usize, Vector3<f64>)>,
 }
 
 impl BeamModel {
@@ -171,6 +174,7 @@ impl BeamModel {
             force_scale,
             point_masses: Vec::new(),
             springs: Vec::new(),
+            rotational_springs: Vec::new(),
         };
         model.number(&vec![Support::Free; nodes]);
         Ok(model)
@@ -251,15 +255,57 @@ impl BeamModel {
         Ok(self)
     }
 
+    /// Adds a rotational spring at `node`: `stiffness` (N m/rad) about the section's axes E1,
+    /// E2, E3 against its rotation from the reference frame, the energy
+    /// `psi . K psi / 2` with `psi = log(Lambda_0^T Lambda)`. Its moment on the material
+    /// increment is `J_r^-T(psi) K psi` (exact); its tangent the leading `J_r^-T K J_r^-1` (the
+    /// term of the Jacobian's own rate, of order |psi| |K psi|, is left to Newton).
+    ///
+    /// # Errors
+    /// As [`BeamModel::attach_mass`].
+    pub fn attach_rotational_spring(
+        mut self,
+        node: usize,
+        stiffness: Vector3<f64>,
+    ) -> Result<Self, BeamError> {
+        self.check_node(node)?;
+        for value in stiffness.iter() {
+            if !(value.is_finite() && *value >= 0.0) {
+                return Err(BeamError::InvalidParameter {
+                    name: "rotational_stiffness",
+                    value: *value,
+                    allowed: "finite components >= 0 (N m/rad)",
+                });
+            }
+        }
+        self.rotational_springs.push((node, stiffness));
+        Ok(self)
+    }
+
+    /// A node's rotation from its reference frame, psi = log(Lambda_0^T Lambda) (rad, material).
+    fn turned(&self, q: &BeamState, node: usize) -> Vector3<f64> {
+        (self.mesh.frames[node].inverse() * q.rotations[node]).scaled_axis()
+    }
+
     /// The springs' stored energy (J).
     fn spring_energy(&self, q: &BeamState) -> f64 {
-        self.springs
+        let translational: f64 = self
+            .springs
             .iter()
             .map(|(node, k)| {
                 let u = q.positions[*node] - self.mesh.positions[*node];
                 0.5 * k.component_mul(&u).dot(&u)
             })
-            .sum()
+            .sum();
+        let rotational: f64 = self
+            .rotational_springs
+            .iter()
+            .map(|(node, k)| {
+                let psi = self.turned(q, *node);
+                0.5 * k.component_mul(&psi).dot(&psi)
+            })
+            .sum();
+        translational + rotational
     }
 
     fn check_node(&self, node: usize) -> Result<(), BeamError> {
@@ -520,6 +566,12 @@ impl hht::Model for BeamModel {
             let u = q.positions[*node] - self.mesh.positions[*node];
             self.add_node_vector(&mut out, *node, 0, &k.component_mul(&u));
         }
+        for (node, k) in &self.rotational_springs {
+            let psi = self.turned(q, *node);
+            let moment =
+                crate::rotation::right_jacobian_inverse(&psi).transpose() * k.component_mul(&psi);
+            self.add_node_vector(&mut out, *node, 3, &moment);
+        }
         for load in &self.loads {
             let (f, m) = self.external(t, q, load);
             self.add_node_vector(&mut out, load.node, 0, &(-f));
@@ -588,6 +640,11 @@ impl hht::Model for BeamModel {
         }
         for (node, k) in &self.springs {
             self.push_block(out, *node, 0, *node, 0, &(Matrix3::from_diagonal(k) * stiffness));
+        }
+        for (node, k) in &self.rotational_springs {
+            let j = crate::rotation::right_jacobian_inverse(&self.turned(q, *node));
+            let block = j.transpose() * Matrix3::from_diagonal(k) * j * stiffness;
+            self.push_block(out, *node, 3, *node, 3, &block);
         }
     }
 

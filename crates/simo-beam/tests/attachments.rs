@@ -163,3 +163,48 @@ fn the_3d_beam_takes_a_tip_mass_in_bending_and_its_rotary_inertia_in_twist() {
         .unwrap();
     assert!((twist.omega / omega - 1.0).abs() < 1e-3, "torsion: {} vs {omega}", twist.omega);
 }
+
+#[test]
+fn a_rotational_spring_s_moment_is_the_derivative_of_its_energy() {
+    // A 3D strip with a rotational spring K = (3, 40, 7) N m/rad at its free end, the end
+    // turned by psi = (0.3, -0.2, 0.1) rad (far from small): the net force's rotation entries
+    // there are the derivative of the strain energy along the material increments (central
+    // differences through the exponential update), to 1e-6.
+    use faer::Col;
+    use nalgebra::{UnitQuaternion, Vector3};
+    use simo_beam::{BeamModel, Mesh};
+    let steel = Material::new(E, 0.3, RHO).unwrap();
+    let section = Section::rectangle(&steel, 0.025, 0.005).unwrap();
+    let mesh =
+        Mesh::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0), 4, section, Vector3::z())
+            .unwrap();
+    let model = BeamModel::new(mesh)
+        .unwrap()
+        .support(0, Support::Clamped)
+        .unwrap()
+        .attach_rotational_spring(4, Vector3::new(3.0, 40.0, 7.0))
+        .unwrap();
+    let mut q = model.reference_state();
+    q.rotations[4] *= UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.2, 0.1));
+    let n = model.ndof();
+    let zero = Col::<f64>::zeros(n);
+    let mut force = Col::<f64>::zeros(n);
+    model.net_force(0.0, &q, zero.as_ref(), force.as_mut());
+    for k in 3..6 {
+        let i = model.dof(4, k).unwrap();
+        let h = 1e-6;
+        let energy = |d: f64| {
+            let mut p = q.clone();
+            let mut dq = Col::<f64>::zeros(n);
+            dq[i] = d;
+            model.update(&mut p, dq.as_ref());
+            model.strain_energy(&p)
+        };
+        let fd = (energy(h) - energy(-h)) / (2.0 * h);
+        assert!(
+            (fd - force[i]).abs() < 1e-6 * force[i].abs().max(1.0),
+            "{k}: {fd} vs {}",
+            force[i]
+        );
+    }
+}

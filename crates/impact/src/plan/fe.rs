@@ -166,8 +166,8 @@ impl FePlan {
     }
 
     /// The 3D beam of the plan: straight along x, width along y, thickness along z, its ends
-    /// held, its masses (with their rotary inertia about the axis) and springs (along z)
-    /// attached.
+    /// held, its masses (with their rotary inertia about the axis) and springs (along z, and
+    /// against the bending rotation about the width axis) attached.
     ///
     /// # Errors
     /// From `simo_beam` for a section or mesh it refuses (checked before, not expected).
@@ -192,6 +192,11 @@ impl FePlan {
             }
             if a.stiffness > 0.0 {
                 beam = beam.attach_spring(node, Vector3::new(0.0, 0.0, a.stiffness))?;
+            }
+            if a.rotational_stiffness > 0.0 {
+                // Against the bending rotation: about the section's width axis E2.
+                let k = Vector3::new(0.0, a.rotational_stiffness, 0.0);
+                beam = beam.attach_rotational_spring(node, k)?;
             }
         }
         Ok(beam)
@@ -405,11 +410,6 @@ pub(super) fn model(
         Some(FeModelName::Planar) => false,
         None => offset != 0.0,
     };
-    if three_d && fe.attachments.iter().any(|a| a.rotational_stiffness > 0.0) {
-        return Err(ImpactError::Inconsistent(
-            "beam.spring's rotational_stiffness on the 3D beam (an off-centre strike, or solver.fe_model = \"3d\"): not built yet (the 3D beam takes masses, their rotary inertia and springs along the strike); leave it out, or strike on the centreline".into(),
-        ));
-    }
     if three_d {
         // The planar model's reason gives way to the 3D one's.
         reasons.retain(|r| !r.starts_with("planar geometrically exact beam"));
