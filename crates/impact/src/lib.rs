@@ -1,8 +1,8 @@
-//! # impact: a ball striking a beam, end to end
+//! # impact: a ball striking a beam or a structure of beams, end to end
 //!
 //! Reads a scene (TOML, SI units), plans the model it needs, couples the ball, the beam and the
 //! contact law, and reports every contact, the energy ledger, the largest displacement and the
-//! equivalent static force.
+//! equivalent static force, the stresses and, off the centreline, the twist.
 //!
 //! **Model (modal path).** Goldsmith's method (Goldsmith, *Impact*, 1960, Ch. 4; the paper's
 //! eqs. 1-4): the ball is a point mass m with a Hertzian surface, u'' = g - F/m; the beam is
@@ -11,10 +11,13 @@
 //! holds F linear in time and propagates ball and modes exactly, so the end approach is affine
 //! in the end force and the step is one scalar monotone equation. Contact onset and separation
 //! are located by root finding; free flight jumps ahead by conservative advancement; the
-//! scheme is second order in the contact step.
+//! scheme is second order in the contact step. Off the centreline (`impact.offset`) the basis
+//! adds the beam's Saint-Venant torsion modes, each seen at the struck face through the offset.
 //!
-//! **Model (fe path).** The ball on a geometrically exact Simo beam ([`BallOnBeam`]), one
-//! monolithic HHT-alpha system; for large deflections, where the modal beam does not hold.
+//! **Model (fe path).** The ball on a geometrically exact Simo beam, one monolithic HHT-alpha
+//! system: in the plane ([`BallOnBeam`]) for a centred strike, in 3D ([`BallOnBeam3d`]) off the
+//! centreline and for a `[structure]` of segments; for large deflections, masses and springs,
+//! and structures, where the modal beam does not hold.
 //!
 //! **Data path.** `scene` (what a user writes, serde only) -> [`Plan::new`] (validated, every
 //! choice made with its reason: [`Method`], [`Law`], steps) -> [`run`] (the solver of the
