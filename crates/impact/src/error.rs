@@ -86,6 +86,18 @@ pub(crate) fn positive(field: &str, value: f64, unit: &str) -> Result<f64, Impac
     Ok(value)
 }
 
+/// `value` must be finite and not negative (`unit`).
+pub(crate) fn not_negative(field: &str, value: f64, unit: &str) -> Result<f64, ImpactError> {
+    if !(value.is_finite() && value >= 0.0) {
+        return Err(ImpactError::InvalidField {
+            field: field.to_owned(),
+            value: show(value),
+            allowed: format!("must be a finite number >= 0 ({unit})"),
+        });
+    }
+    Ok(value)
+}
+
 /// `field` must lie in [lo, hi] (`unit`): the range the models are built and tested for, so a
 /// value far outside is refused by name instead of surfacing as an infinite stiffness, a zero
 /// time step or a NaN energy deep in a run.

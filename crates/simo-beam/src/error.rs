@@ -48,3 +48,15 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, BeamError>
     }
     Ok(value)
 }
+
+/// Checks that `value` is finite and not negative; `allowed` says so with the unit.
+pub(crate) fn not_negative(
+    name: &'static str,
+    value: f64,
+    allowed: &'static str,
+) -> Result<f64, BeamError> {
+    if !(value.is_finite() && value >= 0.0) {
+        return Err(BeamError::InvalidParameter { name, value, allowed });
+    }
+    Ok(value)
+}

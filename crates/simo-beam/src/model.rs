@@ -1,6 +1,6 @@
 //! The assembled beam: supports, loads, inertia, and the [`hht::Model`] implementation.
 
-use crate::error::BeamError;
+use crate::error::{not_negative, BeamError};
 use crate::mesh::Mesh;
 use crate::rotation::skew;
 use faer::{Col, ColMut, ColRef};
@@ -218,13 +218,7 @@ impl BeamModel {
     ) -> Result<Self, BeamError> {
         self.check_node(node)?;
         for (name, value) in [("mass", mass), ("rotary_inertia", rotary_inertia)] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(BeamError::InvalidParameter {
-                    name,
-                    value,
-                    allowed: "a finite number >= 0 (kg, kg m^2)",
-                });
-            }
+            not_negative(name, value, "a finite number >= 0 (kg, kg m^2)")?;
         }
         self.point_masses.push((node, mass));
         self.node_inertia[node][(0, 0)] += rotary_inertia;
@@ -243,13 +237,7 @@ impl BeamModel {
     ) -> Result<Self, BeamError> {
         self.check_node(node)?;
         for value in stiffness.iter() {
-            if !(value.is_finite() && *value >= 0.0) {
-                return Err(BeamError::InvalidParameter {
-                    name: "stiffness",
-                    value: *value,
-                    allowed: "finite components >= 0 (N/m)",
-                });
-            }
+            not_negative("stiffness", *value, "finite components >= 0 (N/m)")?;
         }
         self.springs.push((node, stiffness));
         Ok(self)
@@ -270,13 +258,7 @@ impl BeamModel {
     ) -> Result<Self, BeamError> {
         self.check_node(node)?;
         for value in stiffness.iter() {
-            if !(value.is_finite() && *value >= 0.0) {
-                return Err(BeamError::InvalidParameter {
-                    name: "rotational_stiffness",
-                    value: *value,
-                    allowed: "finite components >= 0 (N m/rad)",
-                });
-            }
+            not_negative("rotational_stiffness", *value, "finite components >= 0 (N m/rad)")?;
         }
         self.rotational_springs.push((node, stiffness));
         Ok(self)

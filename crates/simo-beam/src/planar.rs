@@ -21,7 +21,7 @@
 //! Node-major numbering keeps every element's six unknowns within five of each other: the
 //! Newton matrix is banded with half-bandwidth 5 and is factorised by [`hht::BandedLu`].
 
-use crate::error::{positive, BeamError};
+use crate::error::{not_negative, positive, BeamError};
 use crate::model::Support;
 use crate::section::Section;
 use faer::{ColMut, ColRef};
@@ -305,13 +305,7 @@ impl PlanarBeam {
     /// mass that is negative or not finite.
     pub fn attach_mass(mut self, node: usize, mass: f64) -> Result<Self, BeamError> {
         self.check_node(node)?;
-        if !(mass.is_finite() && mass >= 0.0) {
-            return Err(BeamError::InvalidParameter {
-                name: "mass",
-                value: mass,
-                allowed: "a finite number >= 0 (kg)",
-            });
-        }
+        not_negative("mass", mass, "a finite number >= 0 (kg)")?;
         self.point_masses.push((node, mass));
         let supports = self.supports();
         self.number(&supports);
@@ -333,13 +327,7 @@ impl PlanarBeam {
         for (name, value) in
             [("stiffness", stiffness), ("rotational_stiffness", rotational_stiffness)]
         {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(BeamError::InvalidParameter {
-                    name,
-                    value,
-                    allowed: "a finite number >= 0 (N/m, N m/rad)",
-                });
-            }
+            not_negative(name, value, "a finite number >= 0 (N/m, N m/rad)")?;
         }
         self.springs.push((node, stiffness, rotational_stiffness));
         Ok(self)

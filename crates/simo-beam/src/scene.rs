@@ -585,6 +585,32 @@ impl SegmentSpec {
 /// The mesh's own arc length sums the element chords, which falls short on an arc.
 struct Stations(Vec<f64>);
 
+/// The node at arc length `s` (m) of nodes at arc lengths `stations` (increasing, from 0), which
+/// must be a node's: else `InvalidField` naming `field` and the nearest node.
+///
+/// # Errors
+/// As said.
+pub fn node_at(stations: &[f64], field: String, s: f64) -> Result<usize, SceneError> {
+    let total = stations.last().copied().unwrap_or(0.0);
+    let mut node = 0;
+    for (i, si) in stations.iter().enumerate() {
+        if (si - s).abs() < (stations[node] - s).abs() {
+            node = i;
+        }
+    }
+    if !(s.is_finite() && (stations[node] - s).abs() <= 1e-9 * total.max(1.0)) {
+        return Err(invalid(
+            field,
+            s,
+            &format!(
+                "the arc length of a node, from 0 to {total} m (nearest node at {} m)",
+                stations[node]
+            ),
+        ));
+    }
+    Ok(node)
+}
+
 /// `e` with its `section.` keys named under `prefix` (`segment[1].section.width`).
 fn renamed(e: SceneError, prefix: &str) -> SceneError {
     match e {
@@ -665,24 +691,7 @@ impl Stations {
 
     /// The node at arc length `s`, which must be a node's.
     fn node(&self, field: String, s: f64) -> Result<usize, SceneError> {
-        let total = self.total();
-        let mut node = 0;
-        for (i, si) in self.0.iter().enumerate() {
-            if (si - s).abs() < (self.0[node] - s).abs() {
-                node = i;
-            }
-        }
-        if !(s.is_finite() && (self.0[node] - s).abs() <= 1e-9 * total.max(1.0)) {
-            return Err(invalid(
-                field,
-                s,
-                &format!(
-                    "the arc length of a node, from 0 to {total} m (nearest node at {} m)",
-                    self.0[node]
-                ),
-            ));
-        }
-        Ok(node)
+        node_at(&self.0, field, s)
     }
 
     /// The mesh's chord arc length at the true arc length `s`, interpolated within its element.

@@ -22,7 +22,7 @@ pub use fe::{
 pub use modal::{ModalPlan, MODAL_LADDER_END, MODE_CUTOFF};
 pub use theory::{MIN_SLENDERNESS, MIN_WAVELENGTH, NEGLIGIBLE_CORRECTION, NOTABLE_CORRECTION};
 
-use crate::error::{bounded, invalid, positive, range, show, ImpactError};
+use crate::error::{bounded, invalid, not_negative, positive, range, show, ImpactError};
 use crate::law::{Law, LawContext};
 use crate::scene::{
     BallSpec, BeamSpec, ImpactSpec, LawName, MethodName, Scene, SolverSpec, SupportName, TheoryName,
@@ -536,20 +536,13 @@ fn attachments(
             ))
         }
     };
-    let not_negative = |key: String, value: f64, unit: &str| -> Result<f64, ImpactError> {
-        if value.is_finite() && value >= 0.0 {
-            Ok(value)
-        } else {
-            Err(invalid(&key, value, &format!("must be a finite number >= 0 ({unit})")))
-        }
-    };
     let mut out = Vec::new();
     let patch = (radius * pulse.max_approach).sqrt();
     for (k, m) in beam.masses.iter().enumerate() {
         let at = place(format!("beam.mass[{k}].at"), m.at)?;
-        let mass = not_negative(format!("beam.mass[{k}].mass"), m.mass, "kg")?;
+        let mass = not_negative(&format!("beam.mass[{k}].mass"), m.mass, "kg")?;
         let rotary = not_negative(
-            format!("beam.mass[{k}].rotary_inertia"),
+            &format!("beam.mass[{k}].rotary_inertia"),
             m.rotary_inertia.unwrap_or(0.0),
             "kg m^2",
         )?;
@@ -569,9 +562,9 @@ fn attachments(
     }
     for (k, sp) in beam.springs.iter().enumerate() {
         let at = place(format!("beam.spring[{k}].at"), sp.at)?;
-        let stiffness = not_negative(format!("beam.spring[{k}].stiffness"), sp.stiffness, "N/m")?;
+        let stiffness = not_negative(&format!("beam.spring[{k}].stiffness"), sp.stiffness, "N/m")?;
         let rotational_stiffness = not_negative(
-            format!("beam.spring[{k}].rotational_stiffness"),
+            &format!("beam.spring[{k}].rotational_stiffness"),
             sp.rotational_stiffness.unwrap_or(0.0),
             "N m/rad",
         )?;

@@ -4,7 +4,7 @@
 
 use super::fe::{FePlan, Steps};
 use super::{offset, Pulse};
-use crate::error::{invalid, ImpactError};
+use crate::error::{invalid, not_negative, ImpactError};
 use crate::scene::{FeModelName, MethodName, Scene, StructureSpec};
 use crate::solve::Face;
 use nalgebra::Vector3;
@@ -124,44 +124,22 @@ pub(super) fn plan(
     let total = stations.last().copied().unwrap_or(0.0);
     // A mass or a spring sits on a node: the node at its arc length, or refused naming the
     // nearest.
-    let node = |key: String, at: f64| -> Result<usize, ImpactError> {
-        let k = (0..stations.len())
-            .min_by(|a, b| (stations[*a] - at).abs().total_cmp(&(stations[*b] - at).abs()))
-            .unwrap_or(0);
-        if at.is_finite() && (stations[k] - at).abs() <= 1e-9 * total.max(1.0) {
-            Ok(k)
-        } else {
-            Err(invalid(
-                &key,
-                at,
-                &format!(
-                    "the arc length of a node, from 0 to {total} m (nearest node at {} m)",
-                    stations[k]
-                ),
-            ))
-        }
-    };
-    let not_negative = |key: String, v: f64, unit: &str| -> Result<f64, ImpactError> {
-        if v.is_finite() && v >= 0.0 {
-            Ok(v)
-        } else {
-            Err(invalid(&key, v, &format!("must be a finite number >= 0 ({unit})")))
-        }
-    };
+    let node =
+        |key: String, at: f64| simo_beam::scene::node_at(&stations, key, at).map_err(prefixed);
     for (k, m) in spec.masses.iter().enumerate() {
-        let n = node(format!("structure.mass[{k}].at"), m.at)?;
-        let mass = not_negative(format!("structure.mass[{k}].mass"), m.mass, "kg")?;
+        let n = node(format!("mass[{k}].at"), m.at)?;
+        let mass = not_negative(&format!("structure.mass[{k}].mass"), m.mass, "kg")?;
         let rotary = not_negative(
-            format!("structure.mass[{k}].rotary_inertia"),
+            &format!("structure.mass[{k}].rotary_inertia"),
             m.rotary_inertia.unwrap_or(0.0),
             "kg m^2",
         )?;
         model = model.attach_mass(n, mass, rotary)?;
     }
     for (k, sp) in spec.springs.iter().enumerate() {
-        let n = node(format!("structure.spring[{k}].at"), sp.at)?;
+        let n = node(format!("spring[{k}].at"), sp.at)?;
         for (i, v) in sp.stiffness.iter().enumerate() {
-            not_negative(format!("structure.spring[{k}].stiffness[{i}]"), *v, "N/m")?;
+            not_negative(&format!("structure.spring[{k}].stiffness[{i}]"), *v, "N/m")?;
         }
         model = model.attach_spring(n, Vector3::from(sp.stiffness))?;
     }

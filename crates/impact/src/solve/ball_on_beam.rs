@@ -73,14 +73,59 @@ pub(crate) enum Order {
 const LOCAL: usize = 8;
 
 /// The contact kinematics at a configuration: which element, where, and delta with its
-/// gradient and Hessian over the element's 8 local unknowns.
+/// gradient and Hessian over the contact's `N` local unknowns (the ball's and the element's
+/// nodes': 8 in the plane, 15 in 3D).
 #[derive(Debug, Clone)]
-pub(crate) struct ContactPoint {
+pub(crate) struct ContactPoint<const N: usize = LOCAL> {
     pub(crate) element: usize,
     pub(crate) xi: f64,
     pub(crate) delta: f64,
-    gradient: SVector<f64, LOCAL>,
-    hessian: SMatrix<f64, LOCAL, LOCAL>,
+    pub(crate) gradient: SVector<f64, N>,
+    pub(crate) hessian: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> ContactPoint<N> {
+    /// delta-dot = grad(delta) . the local unknowns' velocities (`dofs` their equation
+    /// numbers, `None` where held).
+    pub(crate) fn rate(&self, dofs: &[Option<usize>; N], v: ColRef<'_, f64>) -> f64 {
+        dofs.iter().zip(self.gradient.iter()).map(|(d, g)| d.map_or(0.0, |i| g * v[i])).sum()
+    }
+
+    /// Adds the contact force's generalised force `F grad(delta)` to `out`.
+    pub(crate) fn add_force(
+        &self,
+        dofs: &[Option<usize>; N],
+        force: f64,
+        mut out: ColMut<'_, f64>,
+    ) {
+        for (d, g) in dofs.iter().zip(self.gradient.iter()) {
+            if let Some(i) = d {
+                out[*i] += force * g;
+            }
+        }
+    }
+
+    /// Pushes the contact's Newton block, `k grad grad^T + F Hess(delta)` (+ the damping term
+    /// `c grad grad^T` times dv/dq), weighted by `w`.
+    pub(crate) fn push_block(
+        &self,
+        dofs: &[Option<usize>; N],
+        cf: &hertz::ContactForce,
+        w: NewtonWeights,
+        out: &mut Triplets,
+    ) {
+        let gg = self.gradient * self.gradient.transpose();
+        let block = (gg * cf.stiffness + self.hessian * cf.force) * (w.force * w.dq)
+            + gg * (cf.damping * w.force * w.dv);
+        for (r, dr) in dofs.iter().enumerate() {
+            let Some(i) = dr else { continue };
+            for (c, dc) in dofs.iter().enumerate() {
+                if let Some(j) = dc {
+                    out.push(*i, *j, block[(r, c)]);
+                }
+            }
+        }
+    }
 }
 
 /// The coupled ball-beam-contact model for [`hht`].
@@ -313,11 +358,7 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
 
     /// delta-dot = grad(delta) . local velocities.
     fn rate(&self, p: &ContactPoint, v: ColRef<'_, f64>) -> f64 {
-        self.local_dofs[p.element]
-            .iter()
-            .zip(p.gradient.iter())
-            .map(|(d, g)| d.map_or(0.0, |i| g * v[i]))
-            .sum()
+        p.rate(&self.local_dofs[p.element], v)
     }
 
     /// Contact approach, its rate and the law's force at a state.
@@ -393,11 +434,7 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
             return;
         };
         let f = self.law.force(&self.law_state, p.delta, self.rate(&p, v)).force;
-        for (d, g) in self.local_dofs[p.element].iter().zip(p.gradient.iter()) {
-            if let Some(i) = d {
-                out[*i] += f * g;
-            }
-        }
+        p.add_force(&self.local_dofs[p.element], f, out);
     }
 
     fn tangent(
@@ -419,20 +456,8 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         let Some(p) = self.touching(q, Order::Hessian) else {
             return;
         };
-        let rate = self.rate(&p, v);
-        let cf = self.law.force(&self.law_state, p.delta, rate);
-        let gg = p.gradient * p.gradient.transpose();
-        let block = (gg * cf.stiffness + p.hessian * cf.force) * (w.force * w.dq)
-            + gg * (cf.damping * w.force * w.dv);
-        let dofs = &self.local_dofs[p.element];
-        for (r, dr) in dofs.iter().enumerate() {
-            let Some(i) = dr else { continue };
-            for (c, dc) in dofs.iter().enumerate() {
-                if let Some(j) = dc {
-                    out.push(*i, *j, block[(r, c)]);
-                }
-            }
-        }
+        let cf = self.law.force(&self.law_state, p.delta, self.rate(&p, v));
+        p.push_block(&self.local_dofs[p.element], &cf, w, out);
     }
 
     fn force_scale(&self, q: &BallOnBeamConfig) -> f64 {

@@ -35,7 +35,7 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
 use simo_beam::{BeamModel, BeamState};
 
-use super::ball_on_beam::{Order, STICKY_REACH};
+use super::ball_on_beam::{ContactPoint, Order, STICKY_REACH};
 
 /// Configuration of the coupled model: the beam's and the ball centre's (m).
 #[derive(Debug, Clone)]
@@ -49,15 +49,8 @@ pub struct BallOnBeam3dConfig {
 /// Unknowns of one contact element: ball (3), node a (6), node b (6).
 const LOCAL: usize = 15;
 
-/// The contact kinematics at a configuration (see the planar model's).
-#[derive(Debug, Clone)]
-pub(crate) struct ContactPoint3d {
-    pub(crate) element: usize,
-    pub(crate) xi: f64,
-    pub(crate) delta: f64,
-    gradient: SVector<f64, LOCAL>,
-    hessian: SMatrix<f64, LOCAL, LOCAL>,
-}
+/// The contact kinematics at a configuration, over the 15 local unknowns.
+type ContactPoint3d = ContactPoint<LOCAL>;
 
 /// The coupled ball-beam-contact model in 3D for [`hht`].
 pub struct BallOnBeam3d<'a, L: ContactLaw> {
@@ -347,11 +340,7 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
 
     /// delta-dot = grad(delta) . local velocities.
     fn rate(&self, p: &ContactPoint3d, v: ColRef<'_, f64>) -> f64 {
-        self.local_dofs[p.element]
-            .iter()
-            .zip(p.gradient.iter())
-            .map(|(d, g)| d.map_or(0.0, |i| g * v[i]))
-            .sum()
+        p.rate(&self.local_dofs[p.element], v)
     }
 
     /// Contact approach, its rate and the law's force at a state.
@@ -418,11 +407,7 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
             return;
         };
         let f = self.law.force(&self.law_state, p.delta, self.rate(&p, v)).force;
-        for (d, g) in self.local_dofs[p.element].iter().zip(p.gradient.iter()) {
-            if let Some(i) = d {
-                out[*i] += f * g;
-            }
-        }
+        p.add_force(&self.local_dofs[p.element], f, out);
     }
 
     fn tangent(
@@ -442,20 +427,8 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
         let Some(p) = self.touching(q, Order::Hessian) else {
             return;
         };
-        let rate = self.rate(&p, v);
-        let cf = self.law.force(&self.law_state, p.delta, rate);
-        let gg = p.gradient * p.gradient.transpose();
-        let block = (gg * cf.stiffness + p.hessian * cf.force) * (w.force * w.dq)
-            + gg * (cf.damping * w.force * w.dv);
-        let dofs = &self.local_dofs[p.element];
-        for (r, dr) in dofs.iter().enumerate() {
-            let Some(i) = dr else { continue };
-            for (c, dc) in dofs.iter().enumerate() {
-                if let Some(j) = dc {
-                    out.push(*i, *j, block[(r, c)]);
-                }
-            }
-        }
+        let cf = self.law.force(&self.law_state, p.delta, self.rate(&p, v));
+        p.push_block(&self.local_dofs[p.element], &cf, w, out);
     }
 
     fn force_scale(&self, q: &BallOnBeam3dConfig) -> f64 {

@@ -113,8 +113,11 @@ struct Run<'a, L: ContactLaw, M: Struck<L>> {
     max_twist: (f64, f64),
     /// The largest twist anywhere (rad), at which node and when (s), at the accepted steps.
     largest_twist: Option<(f64, usize, f64)>,
-    /// The impact point's element and local coordinate (material point, fixed).
+    /// The impact point's element and local coordinate (material point, fixed), and the
+    /// unknowns and weights of the struck face's motion there (fixed too: built once, not at
+    /// every step).
     impact_element: (usize, f64),
+    face_rows: Vec<(usize, f64)>,
     /// The history, the progress and the beam's stress and field: fed at every recorded
     /// instant, and at every accepted step for the stress envelope.
     recorders: Recorders<'a>,
@@ -205,6 +208,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let approach = model.approach(&state.q);
         let i = target.nodes.windows(2).position(|w| target.position <= w[1]).unwrap_or(0);
         let xi = (target.position - target.nodes[i]) / (target.nodes[i + 1] - target.nodes[i]);
+        let face_rows = model.face_rows((i, xi));
         Ok(Self {
             plan,
             target,
@@ -217,6 +221,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             max_twist: (0.0, 0.0),
             largest_twist: None,
             impact_element: (i, xi),
+            face_rows,
             recorders: Recorders::new(
                 History::default(),
                 progress,
@@ -252,8 +257,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
 
     /// Its velocity (m/s), along -z.
     fn beam_velocity(&self) -> f64 {
-        let rows = self.model.face_rows(self.impact_element);
-        -rows.iter().map(|(d, w)| w * self.state.v[*d]).sum::<f64>()
+        -self.face_rows.iter().map(|(d, w)| w * self.state.v[*d]).sum::<f64>()
     }
 
     fn ball_position(&self) -> f64 {
@@ -541,8 +545,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
     /// Local error of the beam's displacement at the impact point over a step (m): the
     /// Zienkiewicz-Xie estimate `h^2 |beta - 1/6| |a_1 - a_0|` on its interpolated z.
     fn impact_point_step_error(&self, from: &State<M::Config>, to: &State<M::Config>) -> f64 {
-        let rows = self.model.face_rows(self.impact_element);
-        let jump: f64 = rows.iter().map(|(d, w)| w * (to.a[*d] - from.a[*d])).sum();
+        let jump: f64 = self.face_rows.iter().map(|(d, w)| w * (to.a[*d] - from.a[*d])).sum();
         let h = to.t - from.t;
         let beta = self.integrator.scheme().beta;
         h * h * (beta - 1.0 / 6.0).abs() * jump.abs()
