@@ -250,11 +250,14 @@ impl BandedLu {
 
     /// Overwrites `b` (length n) with `B^-1 b`.
     fn solve_band(&self, b: &mut [f64]) {
-        // Without row interchanges (the usual, diagonally dominant Newton matrix) a beam of
-        // three unknowns a node (kd = 5) takes the fixed-width path, which keeps the last
+        // Without row interchanges (the usual, diagonally dominant Newton matrix) a planar beam
+        // of three unknowns a node (kd = 5) takes the fixed-width path, which keeps the last
         // values solved in registers (and runs in its AVX2/FMA copy where there is one).
-        if self.kd == 5 && self.upper == 5 {
-            return crate::fast::run(FixedSolve::<5> { lu: self, b });
+        // The 3D beam (six unknowns a node, kd = 11) likewise.
+        match (self.kd, self.upper) {
+            (5, 5) => return crate::fast::run(FixedSolve::<5> { lu: self, b }),
+            (11, 11) => return crate::fast::run(FixedSolve::<11> { lu: self, b }),
+            _ => {}
         }
         self.solve_band_general(b);
     }
@@ -597,6 +600,10 @@ mod tests {
             (41, 5, 2, false),
             (40, 5, 2, true),
             (7, 6, 3, true),
+            // The 3D beam's fixed-width path (kd = 11, no interchange) and its pivoting one.
+            (66, 11, 3, false),
+            (67, 11, 0, false),
+            (66, 11, 3, true),
         ] {
             let a = matrix(n, kd, k, weak, &mut seed);
             let total = n + k;

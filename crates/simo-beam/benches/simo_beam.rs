@@ -36,6 +36,13 @@ fn element(c: &mut Criterion) {
     c.bench_function("simo_beam/element_force", |b| {
         b.iter(|| e.force([&x[0], &x[1]], [&r[0], &r[1]]))
     });
+    // A fine mesh's element: the relative rotation ~1e-3 rad takes the series branch of the
+    // rotation coefficients (the impact runs' case).
+    let small =
+        [r[0], r[0] * nalgebra::UnitQuaternion::from_scaled_axis(Vector3::new(1e-3, -2e-3, 5e-4))];
+    c.bench_function("simo_beam/element_force_small_rotation", |b| {
+        b.iter(|| e.force([&x[0], &x[1]], [&small[0], &small[1]]))
+    });
     c.bench_function("simo_beam/element_force_and_tangent", |b| {
         b.iter(|| e.force_and_tangent([&x[0], &x[1]], [&r[0], &r[1]]))
     });

@@ -25,7 +25,10 @@
 //! mode automatic differentiation with 12 dual directions), so it carries the material and
 //! geometric parts and the non-symmetric part away from equilibrium.
 
-use crate::rotation::{log_and_half, matrix, right_jacobian, right_jacobian_inverse};
+use crate::rotation::{
+    log_and_half, matrix, right_jacobian, right_jacobian_inverse,
+    right_jacobian_inverse_transpose_times, right_jacobian_transpose_times,
+};
 use crate::section::Section;
 use nalgebra::{Quaternion, RealField, SMatrix, SVector, UnitQuaternion, Vector3};
 use num_dual::{DualSVec64, DualVec};
@@ -88,6 +91,13 @@ impl Element {
         }
     }
 
+    /// Whether both end frames are the nodes' own (no corner offset): along a smooth beam,
+    /// where the `f64` force skips the offsets' rotations.
+    fn straight(&self) -> bool {
+        // Exactly the identity, as `Element::new` sets it (a corner's offset is far from it).
+        self.offsets.iter().all(|o| o.i == 0.0 && o.j == 0.0 && o.k == 0.0)
+    }
+
     /// Strains and the quantities the force needs, generic in the scalar.
     #[allow(clippy::type_complexity)]
     fn kinematics<T: RealField + Copy>(
@@ -107,15 +117,42 @@ impl Element {
         (Strains { gamma, kappa }, gamma_full, phi, half)
     }
 
+    /// [`Self::kinematics`] in `f64` with unit quaternions (the rotations applied to vectors
+    /// directly, no matrices; the same arithmetic up to round-off), from the node rotations:
+    /// the strains, `gamma_full`, `phi`, the half rotation and the midpoint rotation.
+    #[allow(clippy::type_complexity)]
+    fn kinematics_f64(
+        &self,
+        x: [&Vector3<f64>; 2],
+        r: [&UnitQuaternion<f64>; 2],
+    ) -> (Strains<f64>, Vector3<f64>, Vector3<f64>, UnitQuaternion<f64>, UnitQuaternion<f64>) {
+        let (q1, q2) = if self.straight() {
+            (*r[0], *r[1])
+        } else {
+            (r[0] * self.offsets[0], r[1] * self.offsets[1])
+        };
+        let (phi, half) = log_and_half((q1.conjugate() * q2).quaternion());
+        let half = UnitQuaternion::new_unchecked(half);
+        let midpoint = q1 * half;
+        let per_length = 1.0 / self.length;
+        let gamma_full = midpoint.inverse_transform_vector(&(x[1] - x[0])) * per_length;
+        let strains =
+            Strains { gamma: gamma_full - self.gamma0, kappa: (phi - self.phi0) * per_length };
+        (strains, gamma_full, phi, half, midpoint)
+    }
+
     /// Strains at the current configuration.
     pub fn strains(&self, x: [&Vector3<f64>; 2], r: [&UnitQuaternion<f64>; 2]) -> Strains<f64> {
-        let (q1, q2) = (r[0] * self.offsets[0], r[1] * self.offsets[1]);
-        self.kinematics(x[0], x[1], q1.quaternion(), q2.quaternion()).0
+        self.kinematics_f64(x, r).0
     }
 
     /// Strain energy (J).
     pub fn energy(&self, x: [&Vector3<f64>; 2], r: [&UnitQuaternion<f64>; 2]) -> f64 {
-        let s = self.strains(x, r);
+        self.energy_of(&self.strains(x, r))
+    }
+
+    /// Strain energy (J) at the strains `s` (`l0 (Gamma . C_N Gamma + K . C_M K) / 2`).
+    pub fn energy_of(&self, s: &Strains<f64>) -> f64 {
         let cn = self.section.force_stiffness();
         let cm = self.section.moment_stiffness();
         0.5 * self.length
@@ -160,9 +197,31 @@ impl Element {
         f
     }
 
-    /// Internal force (N, N m).
+    /// Internal force (N, N m): [`Self::force_generic`]'s formulas in `f64`, with rotations
+    /// applied to vectors by the quaternions and the Jacobians by cross products (a Newton
+    /// iteration of the 3D beam evaluates this for every element; the generic form builds five
+    /// 3x3 matrices for it). The dual-number tangent differentiates the generic form; a test
+    /// holds the two equal to round-off.
     pub fn force(&self, x: [&Vector3<f64>; 2], r: [&UnitQuaternion<f64>; 2]) -> SVector<f64, 12> {
-        self.force_generic(x[0], x[1], r[0].quaternion(), r[1].quaternion())
+        let (s, gamma_full, phi, half, midpoint) = self.kinematics_f64(x, r);
+        let n = s.gamma.component_mul(&Vector3::from(self.section.force_stiffness()));
+        let m = s.kappa.component_mul(&Vector3::from(self.section.moment_stiffness()));
+        let n_spatial = midpoint * n;
+        let c = n.cross(&gamma_full) * self.length;
+        let m_tilde = m + right_jacobian_transpose_times(&(phi * 0.5), &(c * 0.5));
+        let f_th2 = right_jacobian_inverse_transpose_times(&phi, &m_tilde);
+        let f_th1 = half * (c - half * f_th2);
+        let mut f = SVector::<f64, 12>::zeros();
+        f.fixed_rows_mut::<3>(0).copy_from(&(-n_spatial));
+        f.fixed_rows_mut::<3>(6).copy_from(&n_spatial);
+        if self.straight() {
+            f.fixed_rows_mut::<3>(3).copy_from(&f_th1);
+            f.fixed_rows_mut::<3>(9).copy_from(&f_th2);
+        } else {
+            f.fixed_rows_mut::<3>(3).copy_from(&(self.offsets[0] * f_th1));
+            f.fixed_rows_mut::<3>(9).copy_from(&(self.offsets[1] * f_th2));
+        }
+        f
     }
 
     /// Internal force and its exact derivative with respect to `[dx1, th1, dx2, th2]`, where

@@ -270,7 +270,7 @@ impl BeamModel {
     }
 
     /// The springs' stored energy (J).
-    fn spring_energy(&self, q: &BeamState) -> f64 {
+    pub fn spring_energy(&self, q: &BeamState) -> f64 {
         let translational: f64 = self
             .springs
             .iter()
@@ -509,7 +509,7 @@ impl hht::Model for BeamModel {
             q.positions[node] += self.node_vector(dq, node, 0);
             let th = self.node_vector(dq, node, 3);
             if th.norm_squared() > 0.0 {
-                q.rotations[node] *= UnitQuaternion::from_scaled_axis(th);
+                q.rotations[node] *= crate::rotation::exp(&th);
             }
         }
     }

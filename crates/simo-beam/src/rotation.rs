@@ -36,49 +36,87 @@ pub fn log_and_half<T: RealField + Copy>(q: &Quaternion<T>) -> (Vector3<T>, Quat
     let s2 = v.norm_squared();
     // angle / |v| = 2 atan2(|v|, w) / |v|, written in |v|^2 near zero so dual numbers stay finite.
     let ratio = if s2 < c(SERIES_BELOW) {
-        let x = s2 / (w * w);
-        (c::<T>(2.0) / w) * (T::one() - x / c(3.0) + x * x / c(5.0) - x * x * x / c(7.0))
+        let inverse_w = T::one() / w;
+        let x = s2 * inverse_w * inverse_w;
+        (c::<T>(2.0) * inverse_w)
+            * (T::one() - x * c(1.0 / 3.0) + x * x * c(1.0 / 5.0) - x * x * x * c(1.0 / 7.0))
     } else {
         let s = s2.sqrt();
         c::<T>(2.0) * s.atan2(w) / s
     };
     // exp(phi/2) is the normalised mean of the identity and q (w >= 0 keeps 1 + w away from 0).
     let one_plus_w = T::one() + w;
-    let norm = (c::<T>(2.0) * one_plus_w).sqrt();
-    let half = Quaternion::from_parts(one_plus_w / norm, v / norm);
+    let inverse_norm = T::one() / (c::<T>(2.0) * one_plus_w).sqrt();
+    let half = Quaternion::from_parts(one_plus_w * inverse_norm, v * inverse_norm);
     (v * ratio, half)
+}
+
+/// The coefficient of `phi^2` in `J_r(phi)^-1`: `1/a^2 - (1 + cos a)/(2 a sin a)`, a = |phi|.
+fn inverse_coefficient<T: RealField + Copy>(a2: T) -> T {
+    if a2 < c(SERIES_BELOW) {
+        c::<T>(1.0 / 12.0) + a2 * c(1.0 / 720.0) + a2 * a2 * c(1.0 / 30240.0)
+    } else {
+        let a = a2.sqrt();
+        T::one() / a2 - (T::one() + a.cos()) / (c::<T>(2.0) * a * a.sin())
+    }
+}
+
+/// The coefficients of `-phi^` and `phi^2` in `J_r(phi)`: `(1 - cos a)/a^2`, `(a - sin a)/a^3`.
+fn jacobian_coefficients<T: RealField + Copy>(a2: T) -> (T, T) {
+    if a2 < c(SERIES_BELOW) {
+        (
+            c::<T>(0.5) - a2 * c(1.0 / 24.0) + a2 * a2 * c(1.0 / 720.0),
+            c::<T>(1.0 / 6.0) - a2 * c(1.0 / 120.0) + a2 * a2 * c(1.0 / 5040.0),
+        )
+    } else {
+        let a = a2.sqrt();
+        ((T::one() - a.cos()) / a2, (a - a.sin()) / (a2 * a))
+    }
 }
 
 /// `J_r(phi)^-1 = I + phi^/2 + (1/a^2 - (1 + cos a)/(2 a sin a)) phi^2`, valid for a < pi.
 pub fn right_jacobian_inverse<T: RealField + Copy>(phi: &Vector3<T>) -> Matrix3<T> {
-    let a2 = phi.norm_squared();
-    let coefficient = if a2 < c(SERIES_BELOW) {
-        c::<T>(1.0 / 12.0) + a2 / c(720.0) + a2 * a2 / c(30240.0)
-    } else {
-        let a = a2.sqrt();
-        T::one() / a2 - (T::one() + a.cos()) / (c::<T>(2.0) * a * a.sin())
-    };
+    let coefficient = inverse_coefficient(phi.norm_squared());
     let k = skew(phi);
     Matrix3::identity() + k * c::<T>(0.5) + k * k * coefficient
 }
 
 /// `J_r(phi) = I - (1 - cos a)/a^2 phi^ + (a - sin a)/a^3 phi^2`.
 pub fn right_jacobian<T: RealField + Copy>(phi: &Vector3<T>) -> Matrix3<T> {
-    let a2 = phi.norm_squared();
-    let (c1, c2) = if a2 < c(SERIES_BELOW) {
-        (
-            c::<T>(0.5) - a2 / c(24.0) + a2 * a2 / c(720.0),
-            c::<T>(1.0 / 6.0) - a2 / c(120.0) + a2 * a2 / c(5040.0),
-        )
-    } else {
-        let a = a2.sqrt();
-        ((T::one() - a.cos()) / a2, (a - a.sin()) / (a2 * a))
-    };
+    let (c1, c2) = jacobian_coefficients(phi.norm_squared());
     let k = skew(phi);
     Matrix3::identity() - k * c1 + k * k * c2
 }
 
-/// `exp(phi^)` as a unit quaternion (f64 only; used by the configuration update).
+/// `J_r(phi)^T v = v + c1 phi x v + c2 phi x (phi x v)` (the transposed skew changes sign),
+/// by cross products: the element's force in `f64` needs only the product, not the matrix.
+pub fn right_jacobian_transpose_times(phi: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
+    let (c1, c2) = jacobian_coefficients(phi.norm_squared());
+    let pv = phi.cross(v);
+    v + pv * c1 + phi.cross(&pv) * c2
+}
+
+/// `J_r(phi)^-T v = v - phi x v / 2 + coefficient phi x (phi x v)`, by cross products.
+pub fn right_jacobian_inverse_transpose_times(
+    phi: &Vector3<f64>,
+    v: &Vector3<f64>,
+) -> Vector3<f64> {
+    let coefficient = inverse_coefficient(phi.norm_squared());
+    let pv = phi.cross(v);
+    v - pv * 0.5 + phi.cross(&pv) * coefficient
+}
+
+/// `exp(phi^)` as a unit quaternion `(cos(a/2), sin(a/2)/a phi)` (f64 only; used by the
+/// configuration update). A Newton correction's angle is small: below the series bound the
+/// coefficients are Taylor series (`cos(a/2) = 1 - a^2/8 + a^4/384 - a^6/46080`,
+/// `sin(a/2)/a = 1/2 - a^2/48 + a^4/3840 - a^6/645120`, truncation ~ a^8/1e7 < 1e-23),
+/// without `sin` and `cos`.
 pub fn exp(phi: &Vector3<f64>) -> UnitQuaternion<f64> {
-    UnitQuaternion::from_scaled_axis(*phi)
+    let a2 = phi.norm_squared();
+    if a2 >= SERIES_BELOW {
+        return UnitQuaternion::from_scaled_axis(*phi);
+    }
+    let w = 1.0 - a2 * (1.0 / 8.0 - a2 * (1.0 / 384.0 - a2 * (1.0 / 46080.0)));
+    let s = 0.5 - a2 * (1.0 / 48.0 - a2 * (1.0 / 3840.0 - a2 * (1.0 / 645_120.0)));
+    UnitQuaternion::new_unchecked(Quaternion::from_parts(w, phi * s))
 }

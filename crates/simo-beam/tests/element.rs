@@ -123,3 +123,53 @@ fn strains_are_objective_and_reference_is_stress_free() {
     let f0 = e.force([&x0[0], &x0[1]], [&r0[0], &r0[1]]);
     assert!(f0.amax() < 1e-6, "{f0}");
 }
+
+#[test]
+fn the_f64_force_is_the_generic_force_the_tangent_differentiates() {
+    // `force` (quaternions on vectors, Jacobians by cross products) against the value of
+    // `force_and_tangent` (the generic, matrix form on dual numbers): the same formulas, so
+    // equal to round-off (1e-12 of the largest entry), in the series branch of the
+    // trigonometric coefficients (a small relative rotation), in the closed form (about 1 rad,
+    // `setup`), near pi, and with corner offsets at both ends (a frame's joint).
+    let (mut e, x, r) = setup();
+    let small = [r[0], r[0] * UnitQuaternion::from_scaled_axis(Vector3::new(1e-3, -2e-3, 5e-4))];
+    let near_pi = [r[0], r[0] * UnitQuaternion::from_scaled_axis(Vector3::new(0.3, 2.9, -0.7))];
+    for offsets in [false, true] {
+        if offsets {
+            e.offsets = [
+                UnitQuaternion::from_scaled_axis(Vector3::new(
+                    0.0,
+                    0.0,
+                    std::f64::consts::FRAC_PI_2,
+                )),
+                UnitQuaternion::from_scaled_axis(Vector3::new(0.4, -0.1, 0.2)),
+            ];
+        }
+        for rotations in [r, small, near_pi] {
+            let fast = e.force([&x[0], &x[1]], [&rotations[0], &rotations[1]]);
+            let (generic, _) = e.force_and_tangent([&x[0], &x[1]], [&rotations[0], &rotations[1]]);
+            let scale = generic.amax();
+            let error = (fast - generic).amax();
+            assert!(scale > 1.0, "a force of {scale:e} tests nothing");
+            assert!(error <= 1e-12 * scale, "offsets {offsets}: error {error:e} of {scale:e}");
+        }
+    }
+}
+
+#[test]
+fn the_update_exponential_is_the_rotation_of_its_vector() {
+    // The series branch (a Newton correction's small angle) and the closed form against
+    // nalgebra's axis-angle quaternion, to round-off; on both sides of the series bound.
+    for phi in [
+        Vector3::new(1e-9, 0.0, -2e-9),
+        Vector3::new(3e-4, -2e-3, 1e-3),
+        Vector3::new(5e-3, 5e-3, -5e-3),
+        Vector3::new(6e-3, 6e-3, -6e-3),
+        Vector3::new(0.4, -1.2, 2.0),
+    ] {
+        let ours = simo_beam::rotation::exp(&phi);
+        let reference = UnitQuaternion::from_scaled_axis(phi);
+        let error = (ours.coords - reference.coords).amax();
+        assert!(error < 2e-16, "phi {phi:?}: error {error:e}");
+    }
+}

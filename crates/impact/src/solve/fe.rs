@@ -124,7 +124,7 @@ struct Run<'a, L: ContactLaw, M: Struck<L>> {
     /// Each element's section strains in `state` (the stress envelope's and the energy's), and
     /// out of the plane (3D: the lateral curvature and the twist rate, 1/m).
     strains: Vec<(f64, f64, f64)>,
-    out_of_plane: Vec<(f64, f64)>,
+    out_of_plane: Vec<super::struck::OutOfPlane>,
     /// E (w/2) |K3| per element (Pa; 3D), and per element what turns a lateral curvature
     /// into it, E w/2 (Pa m), and a twist rate into the largest Saint-Venant shear stress,
     /// k G t_min (Pa m).
@@ -178,7 +178,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             stress = stress.with_sections(each);
         }
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
-        let mut out_of_plane = vec![(0.0, 0.0); target.elements()];
+        let mut out_of_plane = vec![(0.0, 0.0, 0.0); target.elements()];
         model.section_strains(&q, &mut strains, &mut out_of_plane);
         let lateral = if target.three_d { vec![0.0; target.elements()] } else { Vec::new() };
         stress.observe_strains(0.0, &strains, &lateral);
@@ -335,7 +335,9 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         self.steps += 1;
         if self.target.three_d {
             let per = self.lateral_per_curvature.iter();
-            for ((l, (lateral, _)), c) in self.lateral.iter_mut().zip(&self.out_of_plane).zip(per) {
+            for ((l, (lateral, _, _)), c) in
+                self.lateral.iter_mut().zip(&self.out_of_plane).zip(per)
+            {
                 *l = c * lateral.abs();
             }
             let (element, tau) = self
@@ -343,7 +345,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
                 .iter()
                 .zip(&self.shear_per_rate)
                 .enumerate()
-                .map(|(k, ((_, rate), c))| (k, c * rate.abs()))
+                .map(|(k, ((_, rate, _), c))| (k, c * rate.abs()))
                 .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
             if self.max_shear.is_none_or(|m| tau > m.0) {
                 self.max_shear = Some((tau, element, self.state.t));
@@ -564,7 +566,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let ball_speed2 = (n - ball..n).map(|k| v[k] * v[k]).sum::<f64>();
         let ball_kinetic = 0.5 * m * ball_speed2;
         let ball_potential = -m * self.plan.gravity * self.ball_position();
-        let beam = self.model.beam_energy(q, v, &self.strains);
+        let beam = self.model.beam_energy(q, v, &self.strains, &self.out_of_plane);
         let contact_stored = law.stored_energy(self.model.law_state(), delta);
         let dissipated = law.dissipated_energy(self.model.law_state());
         Energy::new(

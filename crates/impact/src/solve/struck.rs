@@ -44,16 +44,23 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     fn largest_twist(&self, q: &Self::Config) -> Option<(usize, f64)>;
     /// Each element's (extension, shear, curvature) in the beam's plane (x-z), the planar
     /// beam's sign convention, and out of it (the 3D beam's: the bending curvature about the
-    /// thickness axis and the twist rate, 1/m; left as they are in the plane).
+    /// thickness axis, the twist rate (1/m) and the shear across the width; left as they are
+    /// in the plane).
     fn section_strains(
         &self,
         q: &Self::Config,
         out: &mut [(f64, f64, f64)],
-        out_of_plane: &mut [(f64, f64)],
+        out_of_plane: &mut [OutOfPlane],
     );
-    /// The beam's strain (and springs') plus kinetic energy (J), given `strains` of `q`.
-    fn beam_energy(&self, q: &Self::Config, v: ColRef<'_, f64>, strains: &[(f64, f64, f64)])
-        -> f64;
+    /// The beam's strain (and springs') plus kinetic energy (J), given the section strains
+    /// of `q`.
+    fn beam_energy(
+        &self,
+        q: &Self::Config,
+        v: ColRef<'_, f64>,
+        strains: &[(f64, f64, f64)],
+        out_of_plane: &[OutOfPlane],
+    ) -> f64;
     /// The beam in the x-z plane, for the recorders (the 3D model's projection is written
     /// into `scratch`).
     fn planar_view<'s>(
@@ -65,6 +72,10 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     /// beam alone (its springs included) under a unit force there.
     fn static_flexibility(&self, impact: (usize, f64)) -> Option<f64>;
 }
+
+/// An element's strains out of the beam's plane (x-z): the bending curvature about the
+/// thickness axis, the twist rate (1/m) and the shear strain across the width.
+pub(crate) type OutOfPlane = (f64, f64, f64);
 
 /// The static flexibility (m/N) of `model` at the rows `rows` (unknown, weight): `K u = f` at
 /// the configuration `q` for the force `f = rows` (a unit force shared between the unknowns
@@ -148,7 +159,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
         &self,
         q: &BallOnBeamConfig,
         out: &mut [(f64, f64, f64)],
-        _out_of_plane: &mut [(f64, f64)],
+        _out_of_plane: &mut [OutOfPlane],
     ) {
         self.beam().all_section_strains(&q.beam, out);
     }
@@ -157,6 +168,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
         q: &BallOnBeamConfig,
         v: ColRef<'_, f64>,
         strains: &[(f64, f64, f64)],
+        _out_of_plane: &[OutOfPlane],
     ) -> f64 {
         let beam = self.beam();
         beam.strain_energy_of(strains)
@@ -251,7 +263,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         &self,
         q: &BallOnBeam3dConfig,
         out: &mut [(f64, f64, f64)],
-        out_of_plane: &mut [(f64, f64)],
+        out_of_plane: &mut [OutOfPlane],
     ) {
         let elements = self.beam().mesh().elements.iter();
         for ((e, o), p) in elements.zip(out.iter_mut()).zip(out_of_plane.iter_mut()) {
@@ -261,17 +273,29 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
                 [&q.beam.rotations[a], &q.beam.rotations[b]],
             );
             *o = (s.gamma[0], s.gamma[2], -s.kappa[1]);
-            *p = (s.kappa[2], s.kappa[0]);
+            *p = (s.kappa[2], s.kappa[0], s.gamma[1]);
         }
     }
+    /// The elements' strain energy from the strains `section_strains` gave (not a second pass
+    /// over the elements' rotations), plus the springs' and the kinetic energy.
     fn beam_energy(
         &self,
         q: &BallOnBeam3dConfig,
         v: ColRef<'_, f64>,
-        _strains: &[(f64, f64, f64)],
+        strains: &[(f64, f64, f64)],
+        out_of_plane: &[OutOfPlane],
     ) -> f64 {
         let beam = self.beam();
-        beam.strain_energy(&q.beam) + beam.kinetic_energy(v.subrows(0, beam.ndof()))
+        let elements = beam.mesh().elements.iter().zip(strains).zip(out_of_plane);
+        let strain: f64 = elements
+            .map(|((e, o), p)| {
+                e.energy_of(&simo_beam::Strains {
+                    gamma: nalgebra::Vector3::new(o.0, p.2, o.1),
+                    kappa: nalgebra::Vector3::new(p.1, -o.2, p.0),
+                })
+            })
+            .sum();
+        strain + beam.spring_energy(&q.beam) + beam.kinetic_energy(v.subrows(0, beam.ndof()))
     }
     /// Along the arc length: the displacement along `up` (the strike's line) and the section's
     /// rotation about its width axis E2 from its reference frame (the bending slope, signed as
