@@ -1,5 +1,5 @@
 //! The toolkit's command line: `cargo xtask reproduce | simulate | compare | accuracy | sweep |
-//! beam | validate`.
+//! beam | check-figures | schema | validate`.
 
 mod accuracy;
 mod beam;
@@ -9,6 +9,7 @@ mod files;
 mod plot;
 mod plots;
 mod reproduce;
+mod schema;
 mod simulate;
 mod sweep;
 mod validate;
@@ -138,6 +139,14 @@ enum Command {
         /// The folder (searched recursively).
         dir: PathBuf,
     },
+    /// Write the scene files' JSON Schemas (docs/scene.schema.json,
+    /// docs/beam-scene.schema.json) and their reference tables (docs/scene.md) from the types
+    /// the parsers read.
+    Schema {
+        /// Only check that the files are current; non-zero exit if they differ.
+        #[arg(long)]
+        check: bool,
+    },
     /// Run every case under validation/ against its reference; non-zero exit on a failure.
     Validate {
         /// Print the results as a JSON list.
@@ -187,6 +196,7 @@ fn main() -> std::process::ExitCode {
             }
         }
         Command::CheckFigures { dir } => figures::run(&dir),
+        Command::Schema { check } => schema::run(check),
         Command::Validate { json } => validate::run(json),
     };
     match result {

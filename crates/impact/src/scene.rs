@@ -1,10 +1,11 @@
 //! The scene file: what a user writes (TOML, SI units).
 
 use crate::error::ImpactError;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// A ball striking a beam (or a massive half-space). Every unknown key is an error.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     /// Name used in reports and file names.
@@ -47,61 +48,127 @@ pub enum SupportName {
 }
 
 /// One of `names` by its spelling in a scene file; anything else is an error that lists them.
-fn named<T: Copy>(value: toml::Value, names: &[(&str, T)]) -> Result<T, String> {
-    let allowed = names.iter().map(|(n, _)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
+fn named<T: Copy>(value: toml::Value, names: &[(&str, T, &str)]) -> Result<T, String> {
+    let allowed = names.iter().map(|(n, ..)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
     match &value {
         toml::Value::String(s) => names
             .iter()
-            .find(|(n, _)| n == s)
-            .map(|(_, v)| *v)
+            .find(|(n, ..)| n == s)
+            .map(|(_, v, _)| *v)
             .ok_or_else(|| format!("\"{s}\" is not one of {allowed}")),
         other => Err(format!("{other} is not one of {allowed}")),
     }
 }
 
-impl TryFrom<toml::Value> for SupportName {
-    type Error = String;
-    fn try_from(value: toml::Value) -> Result<Self, String> {
-        named(
-            value,
-            &[
-                ("clamped-free", Self::ClampedFree),
-                ("pinned-pinned", Self::PinnedPinned),
-                ("clamped-clamped", Self::ClampedClamped),
-                ("clamped-pinned", Self::ClampedPinned),
-                ("free-free", Self::FreeFree),
-            ],
-        )
-    }
+/// The JSON Schema of a value [`named`] reads: a string, one of the names, each with its
+/// meaning in the description (what an editor shows on hover).
+fn named_schema<T>(what: &str, names: &[(&str, T, &str)]) -> schemars::Schema {
+    let meanings: Vec<String> = names.iter().map(|(n, _, m)| format!("`{n}`: {m}")).collect();
+    let values: Vec<&str> = names.iter().map(|(n, ..)| *n).collect();
+    schemars::json_schema!({
+        "type": "string",
+        "description": format!("{what} {}", meanings.join("; ")),
+        "enum": values,
+    })
 }
 
-impl TryFrom<toml::Value> for LawName {
-    type Error = String;
-    fn try_from(value: toml::Value) -> Result<Self, String> {
-        named(
-            value,
-            &[
-                ("hertz", Self::Hertz),
-                ("hunt-crossley", Self::HuntCrossley),
-                ("thornton", Self::Thornton),
-            ],
-        )
-    }
+/// A scene's choice among names (`kind = "name"`): its spellings and meanings in one table,
+/// read by `TryFrom<toml::Value>` (the error lists them) and described by its JSON Schema.
+macro_rules! named_choice {
+    ($type:ident, $what:literal, [$(($name:literal, $value:ident, $meaning:literal)),+ $(,)?]) => {
+        impl $type {
+            /// The spellings a scene file may use, with the value and its meaning.
+            pub const NAMES: &'static [(&'static str, $type, &'static str)] =
+                &[$(($name, $type::$value, $meaning)),+];
+        }
+
+        impl TryFrom<toml::Value> for $type {
+            type Error = String;
+            fn try_from(value: toml::Value) -> Result<Self, String> {
+                named(value, Self::NAMES)
+            }
+        }
+
+        impl JsonSchema for $type {
+            fn schema_name() -> std::borrow::Cow<'static, str> {
+                stringify!($type).into()
+            }
+            fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+                named_schema($what, Self::NAMES)
+            }
+        }
+    };
 }
 
-impl TryFrom<toml::Value> for MethodName {
-    type Error = String;
-    fn try_from(value: toml::Value) -> Result<Self, String> {
-        named(value, &[("auto", Self::Auto), ("modal", Self::Modal), ("fe", Self::Fe)])
-    }
-}
+named_choice!(
+    SupportName,
+    "End conditions.",
+    [
+        ("clamped-free", ClampedFree, "clamped at x = 0, free at x = L"),
+        ("pinned-pinned", PinnedPinned, "pinned at both ends"),
+        ("clamped-clamped", ClampedClamped, "clamped at both ends"),
+        ("clamped-pinned", ClampedPinned, "clamped at x = 0, pinned at x = L"),
+        ("free-free", FreeFree, "free at both ends"),
+    ]
+);
 
-impl TryFrom<toml::Value> for TheoryName {
-    type Error = String;
-    fn try_from(value: toml::Value) -> Result<Self, String> {
-        named(value, &[("euler-bernoulli", Self::EulerBernoulli), ("timoshenko", Self::Timoshenko)])
-    }
-}
+named_choice!(
+    LawName,
+    "The contact law.",
+    [
+        ("hertz", Hertz, "elastic Hertz"),
+        (
+            "hunt-crossley",
+            HuntCrossley,
+            "Hertz with Hunt-Crossley damping (`damping` or `restitution`)"
+        ),
+        (
+            "thornton",
+            Thornton,
+            "Thornton elastic-perfectly-plastic (a yield stress or `limiting_pressure`)"
+        ),
+    ]
+);
+
+named_choice!(
+    MethodName,
+    "The solution method.",
+    [
+        ("auto", Auto, "the plan chooses, and says why"),
+        ("modal", Modal, "Goldsmith's modal method"),
+        ("fe", Fe, "the geometrically exact finite-element beam (Simo) with HHT-alpha"),
+    ]
+);
+
+named_choice!(
+    TheoryName,
+    "The modal method's beam theory.",
+    [
+        (
+            "euler-bernoulli",
+            EulerBernoulli,
+            "plane sections stay normal to the axis; no rotary inertia"
+        ),
+        ("timoshenko", Timoshenko, "shear deformation and rotary inertia"),
+    ]
+);
+
+named_choice!(
+    FeModelName,
+    "The fe method's beam.",
+    [
+        (
+            "planar",
+            Planar,
+            "the rod in the x-z plane (3 unknowns a node): what a centred strike moves"
+        ),
+        (
+            "3d",
+            ThreeD,
+            "Simo's 3D rod (6 unknowns a node): bending both ways, extension, shear and twist"
+        ),
+    ]
+);
 
 impl From<SupportName> for modal::Support {
     fn from(s: SupportName) -> Self {
@@ -116,26 +183,34 @@ impl From<SupportName> for modal::Support {
 }
 
 /// A uniform beam of rectangular section, struck on its `thickness` face.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BeamSpec {
     /// Length L (m).
+    #[schemars(range(min = 1e-9, max = 1e4), extend("x-unit" = "m"))]
     pub length: f64,
     /// Section width b (m).
+    #[schemars(range(min = 1e-9, max = 1e4), extend("x-unit" = "m"))]
     pub width: f64,
     /// Section thickness h (m), in the direction of impact.
+    #[schemars(range(min = 1e-9, max = 1e4), extend("x-unit" = "m"))]
     pub thickness: f64,
     /// End conditions.
     pub support: SupportName,
     /// Young's modulus E (Pa).
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub youngs_modulus: f64,
     /// Poisson's ratio (-).
+    #[schemars(extend("exclusiveMinimum" = -1, "exclusiveMaximum" = 0.5))]
     pub poisson_ratio: f64,
     /// Density (kg/m^3).
+    #[schemars(range(min = 1e-3, max = 1e6), extend("x-unit" = "kg/m^3"))]
     pub density: f64,
     /// Yield stress (Pa); needed by plastic contact laws.
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub yield_stress: Option<f64>,
     /// Modal damping ratio of every elastic mode (-), default 0.
+    #[schemars(range(min = 0), extend("exclusiveMaximum" = 1, "default" = 0))]
     pub modal_damping: Option<f64>,
     /// Point masses on the beam (`[[beam.mass]]`): sensors, tip masses.
     #[serde(default, rename = "mass", skip_serializing_if = "Vec::is_empty")]
@@ -148,7 +223,7 @@ pub struct BeamSpec {
 /// A structure of beams (`[structure]`), described as a beam scene describes its beam (one
 /// parser, `simo_beam::scene::structure`): a rectangular `section` of a material, a chain of
 /// `segment`s, `support`s at arc lengths.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StructureSpec {
     /// The section (`youngs_modulus`, `poisson_ratio`, `density`, `width`, `thickness`).
@@ -160,6 +235,7 @@ pub struct StructureSpec {
     #[serde(rename = "support", default)]
     pub supports: Vec<simo_beam::scene::SupportSpec>,
     /// Yield stress (Pa); needed by plastic contact laws.
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub yield_stress: Option<f64>,
     /// Point masses at nodes (`at` = arc length, m), with their rotary inertia about the
     /// member's axis.
@@ -171,79 +247,98 @@ pub struct StructureSpec {
 }
 
 /// An elastic support on a structure (`[[structure.spring]]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StructureSpringSpec {
     /// Where (m of arc length from the start of the first segment): a node.
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Stiffness along x, y and z (N/m) against the node's displacement.
+    #[schemars(extend("x-unit" = "N/m"))]
     pub stiffness: [f64; 3],
 }
 
 /// A point mass on a beam (`[[beam.mass]]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MassSpec {
     /// Where (m from x = 0).
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Mass (kg).
+    #[schemars(range(min = 0), extend("x-unit" = "kg"))]
     pub mass: f64,
     /// Rotary inertia about the beam's axis (kg m^2), default 0: it resists twist only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0), extend("x-unit" = "kg m^2"), extend("default" = 0))]
     pub rotary_inertia: Option<f64>,
 }
 
 /// An elastic support on a beam (`[[beam.spring]]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpringSpec {
     /// Where (m from x = 0).
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Stiffness along the impact direction (N/m).
+    #[schemars(range(min = 0), extend("x-unit" = "N/m"))]
     pub stiffness: f64,
     /// Stiffness against the section's bending rotation (N m/rad), default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0), extend("x-unit" = "N m/rad"), extend("default" = 0))]
     pub rotational_stiffness: Option<f64>,
 }
 
 /// A massive elastic block: the ball's counterface does not move.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HalfSpaceSpec {
     /// Young's modulus E (Pa).
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub youngs_modulus: f64,
     /// Poisson's ratio (-).
+    #[schemars(extend("exclusiveMinimum" = -1, "exclusiveMaximum" = 0.5))]
     pub poisson_ratio: f64,
     /// Yield stress (Pa); needed by plastic contact laws.
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub yield_stress: Option<f64>,
 }
 
 /// A solid elastic sphere.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BallSpec {
     /// Radius (m).
+    #[schemars(range(min = 1e-9, max = 1e4), extend("x-unit" = "m"))]
     pub radius: f64,
     /// Mass (kg); default density x volume.
+    #[schemars(range(min = 1e-12, max = 1e6), extend("x-unit" = "kg"))]
     pub mass: Option<f64>,
     /// Young's modulus E (Pa).
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub youngs_modulus: f64,
     /// Poisson's ratio (-).
+    #[schemars(extend("exclusiveMinimum" = -1, "exclusiveMaximum" = 0.5))]
     pub poisson_ratio: f64,
     /// Density (kg/m^3).
+    #[schemars(range(min = 1e-3, max = 1e6), extend("x-unit" = "kg/m^3"))]
     pub density: f64,
     /// Yield stress (Pa), if the ball can yield.
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub yield_stress: Option<f64>,
 }
 
 /// Where and how fast the ball strikes.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ImpactSpec {
     /// Impact point (m) from x = 0 (the first support); required with a beam.
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub position: Option<f64>,
     /// Impact point on a `[structure]`: arc length along its chain of segments (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: Option<f64>,
     /// The ball's velocity direction on a `[structure]` (any length): normal to the struck
     /// face (the section's thickness faces).
@@ -253,10 +348,13 @@ pub struct ImpactSpec {
     /// centred strike): the contact force twists the beam by offset x force. At most half
     /// the width (the face's edge).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("x-unit" = "m"), extend("default" = 0))]
     pub offset: Option<f64>,
     /// Drop height h (m): speed sqrt(2 g h). Exactly one of `drop_height` and `speed`.
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "m"))]
     pub drop_height: Option<f64>,
     /// Impact speed (m/s), toward the beam.
+    #[schemars(range(min = 1e-6, max = 1e4), extend("x-unit" = "m/s"))]
     pub speed: Option<f64>,
     /// Whether gravity (9.81 m/s^2, toward the beam) acts on the ball during the run.
     #[serde(default = "default_gravity")]
@@ -298,17 +396,20 @@ impl std::fmt::Display for LawName {
 }
 
 /// The contact law and its parameters.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
     /// Which law.
     #[serde(default)]
     pub law: LawName,
     /// Hunt-Crossley damping factor chi (s/m).
+    #[schemars(range(min = 0, max = 1e6), extend("x-unit" = "s/m"))]
     pub damping: Option<f64>,
     /// Hunt-Crossley: target restitution at the impact speed, instead of `damping`.
+    #[schemars(range(max = 1), extend("exclusiveMinimum" = 0))]
     pub restitution: Option<f64>,
     /// Thornton: limiting contact pressure (Pa); default 1.6 x the softer yield stress.
+    #[schemars(range(min = 1e3, max = 1e13), extend("x-unit" = "Pa"))]
     pub limiting_pressure: Option<f64>,
 }
 
@@ -336,13 +437,6 @@ pub enum FeModelName {
     ThreeD,
 }
 
-impl TryFrom<toml::Value> for FeModelName {
-    type Error = String;
-    fn try_from(value: toml::Value) -> Result<Self, String> {
-        named(value, &[("planar", Self::Planar), ("3d", Self::ThreeD)])
-    }
-}
-
 /// Beam theories of the modal method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", try_from = "toml::Value")]
@@ -354,47 +448,58 @@ pub enum TheoryName {
 }
 
 /// Method and resolution; every field has a default.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
     /// Method.
     #[serde(default)]
     pub method: MethodName,
     /// Number of modes (modal method); default chosen by the plan.
+    #[schemars(range(min = 1, max = 20_000))]
     pub modes: Option<usize>,
     /// Beam theory of the modal method's modes, "euler-bernoulli" or "timoshenko"; default
     /// chosen by the plan (Timoshenko unless shear and rotary inertia change nothing the
     /// contact excites). The fe beam always has shear and rotary inertia.
     pub beam_theory: Option<TheoryName>,
     /// Simulated time (s) from first touch.
+    #[schemars(range(min = 1e-12, max = 1e4), extend("x-unit" = "s"))]
     pub end_time: Option<f64>,
     /// Time steps per estimated contact duration (the largest contact step of the modal and
     /// half-space methods, which adapt it below that; the fe method's smallest).
+    #[schemars(range(min = 10, max = 1_000_000))]
     pub samples_per_pulse: Option<usize>,
     /// Modal and half-space methods: allowed energy mismatch of the contact steps, as a
     /// fraction of the impact energy per estimated contact duration; default 1e-6.
+    #[schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = 1, "default" = 1e-6))]
     pub energy_tolerance: Option<f64>,
     /// Modal and half-space methods: adapt the contact step to `energy_tolerance` (default
     /// true); false takes uniform steps of the estimated duration / samples_per_pulse.
+    #[schemars(extend("default" = true))]
     pub adaptive_step: Option<bool>,
     /// Modal method: put the truncated modes' static compliance at the impact point (the
     /// beam's static flexibility minus the kept modes' share) in series with the contact, as
     /// the mode-acceleration method does: the modes above the cutoff answer the force
     /// quasi-statically. Default false.
+    #[schemars(extend("default" = false))]
     pub residual_flexibility: Option<bool>,
     /// Modal method: recover the bending stress by the plain modal series
     /// M = EI sum q_n phi_n'' instead of the mode-acceleration form (which adds the truncated
     /// modes' quasi-static share and converges far faster near the ball); for studies of the
     /// series itself. Default false.
+    #[schemars(extend("default" = false))]
     pub plain_stress_series: Option<bool>,
     /// Interval of the recorded history in free flight (s).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "s"))]
     pub output_interval: Option<f64>,
     /// Number of equal finite elements (fe method); default a mesh graded from the impact point.
+    #[schemars(range(min = 1, max = 100_000))]
     pub elements: Option<usize>,
     /// Element length at the impact point (m) of the graded mesh (fe method); default 1/16 of
     /// the flexural wavelength at the fastest frequency the pulse excites.
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "m"))]
     pub element_size: Option<f64>,
     /// HHT alpha in [-1/3, 0] (fe method); default -0.05.
+    #[schemars(range(min = -0.333_333_333_333_333_3, max = 0), extend("default" = -0.05))]
     pub alpha: Option<f64>,
     /// The fe method's beam: `planar` (x-z, 3 unknowns a node) or `3d` (Simo's rod, 6 a node:
     /// twist); default planar for a centred strike, 3d off the centreline.
@@ -403,14 +508,25 @@ pub struct SolverSpec {
     /// Largest time step (s) (fe method); default the contact step (every step of the same
     /// length: converged in time, validation/REFERENCES.md 1.7); a longer one lets the steps out
     /// of contact, and in a long contact, grow up to it.
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "s"))]
     pub time_step: Option<f64>,
     /// Relative error accepted on every significant contact (start, duration, peak force) and
     /// on the largest displacement, instead of a resolution: the fe method refines a uniform
     /// mesh, the modal method doubles its modes, until two successive runs agree within it.
+    #[schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = 1))]
     pub tolerance: Option<f64>,
 }
 
 impl Scene {
+    /// The JSON Schema of a scene file (draft 2020-12), from the types the parser reads: every
+    /// key with its documentation, unit (`x-unit`), default and bounds. Editors that read TOML
+    /// with a schema (Taplo, the "Even Better TOML" extension) complete and check a scene that
+    /// names it on its first line (`#:schema`); `cargo xtask schema` writes it to
+    /// docs/scene.schema.json.
+    pub fn schema() -> schemars::Schema {
+        simo_beam::scene::toml_schema::<Scene>("impact-beam scene")
+    }
+
     /// Parses a scene from TOML text.
     ///
     /// # Errors

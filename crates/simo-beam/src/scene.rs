@@ -39,6 +39,7 @@ use crate::{
 use faer::Col;
 use hht::{Integrator, Model, NewtonOptions, Scheme};
 use nalgebra::{UnitQuaternion, Vector3};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// What can go wrong when reading or running a beam scene.
@@ -119,8 +120,49 @@ fn positive(field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
     Ok(value)
 }
 
+/// The JSON Schema (draft 2020-12) of a TOML file read as `T`, titled `title`: an optional
+/// key is left out, never `null` (TOML has none), and a table's default is not spelled out
+/// as an object (its keys carry their own defaults).
+pub fn toml_schema<T: JsonSchema>(title: &str) -> schemars::Schema {
+    let tables = schemars::transform::RecursiveTransform(|schema: &mut schemars::Schema| {
+        if schema.get("default").is_some_and(|d| d.is_object()) {
+            schema.remove("default");
+        }
+        without_null(schema);
+    });
+    let mut schema = schemars::generate::SchemaSettings::draft2020_12()
+        .with_transform(tables)
+        .into_generator()
+        .into_root_schema_for::<T>();
+    schema.insert("title".into(), title.into());
+    schema
+}
+
+/// An `Option` field's schema without its `null` (`"type": ["number", "null"]`, or `anyOf` a
+/// reference and `null`): a TOML file leaves the key out instead.
+fn without_null(schema: &mut schemars::Schema) {
+    use serde_json::Value;
+    let null = |v: &Value| v.get("type").and_then(Value::as_str) == Some("null");
+    if let Some(Value::Array(types)) = schema.get_mut("type") {
+        types.retain(|t| t.as_str() != Some("null"));
+        if types.len() == 1 {
+            let only = types.remove(0);
+            schema.insert("type".into(), only);
+        }
+    }
+    let Some(Value::Array(any)) = schema.get_mut("anyOf") else { return };
+    if any.len() == 2 && any.iter().any(null) {
+        any.retain(|v| !null(v));
+        let Some(Value::Object(kept)) = any.pop() else { return };
+        schema.remove("anyOf");
+        for (k, v) in kept {
+            schema.insert(k, v);
+        }
+    }
+}
+
 /// Static or dynamic analysis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum AnalysisName {
     /// Equilibrium under the full loads, reached in load steps.
@@ -130,7 +172,7 @@ pub enum AnalysisName {
 }
 
 /// A beam under prescribed loads. Every unknown key is an error.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BeamScene {
     /// Name used in reports and file names.
@@ -160,60 +202,79 @@ pub struct BeamScene {
 
 /// A section: either a material (`youngs_modulus`, `poisson_ratio`, `density`) with a rectangle
 /// (`width`, `thickness`) or a circle (`radius`), or the stiffnesses directly.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SectionSpec {
     /// Young's modulus E (Pa).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "Pa"))]
     pub youngs_modulus: Option<f64>,
     /// Poisson's ratio (-).
+    #[schemars(extend("exclusiveMinimum" = -1, "exclusiveMaximum" = 0.5))]
     pub poisson_ratio: Option<f64>,
     /// Density (kg/m^3).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "kg/m^3"))]
     pub density: Option<f64>,
     /// Rectangle width along the section axis E2 (m).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "m"))]
     pub width: Option<f64>,
     /// Rectangle thickness along the section axis E3 (m).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "m"))]
     pub thickness: Option<f64>,
     /// Circle radius (m).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "m"))]
     pub radius: Option<f64>,
     /// EA (N).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "N"))]
     pub axial_stiffness: Option<f64>,
     /// k G A (N), both shear directions.
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "N"))]
     pub shear_stiffness: Option<f64>,
     /// G J (N m^2).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "N m^2"))]
     pub torsional_stiffness: Option<f64>,
     /// E I (N m^2) about both section axes, unless `bending_stiffness_2`/`_3` are given.
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "N m^2"))]
     pub bending_stiffness: Option<f64>,
     /// E I2 about E2 (N m^2).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "N m^2"))]
     pub bending_stiffness_2: Option<f64>,
     /// E I3 about E3 (N m^2).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "N m^2"))]
     pub bending_stiffness_3: Option<f64>,
     /// rho A (kg/m); default 1 (statics does not use it).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "kg/m"))]
     pub mass_per_length: Option<f64>,
     /// rho (I2 + I3), rho I2, rho I3 (kg m); default 1e-3 x `mass_per_length` each.
+    #[schemars(extend("x-unit" = "kg m"))]
     pub rotary_inertia: Option<[f64; 3]>,
 }
 
 /// One piece of the beam axis. It starts where the previous piece ended (the first at `start`,
 /// default the origin); a straight piece goes to `end`, an arc turns `angle_degrees` about
 /// `normal` around `centre`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentSpec {
     /// Start point (m); only needed for the first piece (later pieces must start where the
     /// previous ended, if given).
+    #[schemars(extend("x-unit" = "m"))]
     pub start: Option<[f64; 3]>,
     /// End point of a straight piece (m).
+    #[schemars(extend("x-unit" = "m"))]
     pub end: Option<[f64; 3]>,
     /// Centre of an arc (m).
+    #[schemars(extend("x-unit" = "m"))]
     pub centre: Option<[f64; 3]>,
     /// Axis of an arc (right-handed turn); it is also the section axis E3 along the arc.
     pub normal: Option<[f64; 3]>,
     /// Angle swept by an arc (degrees).
+    #[schemars(extend("x-unit" = "deg"))]
     pub angle_degrees: Option<f64>,
     /// Section axis E3 (thickness direction) of a straight piece; default z, or x for a piece
     /// along z.
     pub thickness_direction: Option<[f64; 3]>,
     /// Number of elements.
+    #[schemars(range(min = 1, max = 100_000))]
     pub elements: usize,
     /// The segment's own section (a stepped member), in place of the scene's `[section]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -221,7 +282,7 @@ pub struct SegmentSpec {
 }
 
 /// How a node is held.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum SupportKind {
     /// Position and rotation fixed.
@@ -231,26 +292,30 @@ pub enum SupportKind {
 }
 
 /// A support at the node at arc length `at`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SupportSpec {
     /// Arc length from the start of the first piece (m); must be a node.
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Clamped or pinned.
     pub kind: SupportKind,
 }
 
 /// A point load at arc length `at`, shared between the two nodes of its element.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {
     /// Arc length from the start (m).
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Force (N).
     #[serde(default)]
+    #[schemars(extend("x-unit" = "N"))]
     pub force: [f64; 3],
     /// Moment (N m).
     #[serde(default)]
+    #[schemars(extend("x-unit" = "N m"))]
     pub moment: [f64; 3],
     /// Whether the load turns with the section (given in the section frame E1, E2, E3).
     #[serde(default)]
@@ -258,34 +323,40 @@ pub struct LoadSpec {
     /// Dynamic analysis: (time (s), factor) points, piecewise linear, constant beyond the
     /// ends (before the first point's time its factor holds, from t = 0); default factor 1 at
     /// all times. A static analysis refuses it (its loads grow with the load factor).
+    #[schemars(extend("x-unit" = "s, -"))]
     pub profile: Option<Vec<[f64; 2]>>,
 }
 
 /// Static analysis settings.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StaticSpec {
     /// Equal load increments (each cut in half automatically if Newton fails); default 10.
+    #[schemars(range(min = 1, max = 1_000_000))]
     pub load_steps: Option<usize>,
 }
 
 /// Dynamic analysis settings.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicSpec {
     /// Simulated time (s) from rest in the reference configuration.
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "s"))]
     pub duration: f64,
     /// Time step (s).
+    #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "s"))]
     pub time_step: f64,
     /// HHT alpha in [-1/3, 0]; default 0 (trapezoidal rule, no numerical damping).
+    #[schemars(range(min = -0.333_333_333_333_333_3, max = 0))]
     pub alpha: Option<f64>,
 }
 
 /// Output settings.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Arc length (m) of the node whose history is recorded; default the last node.
+    #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub track: Option<f64>,
 }
 
@@ -711,6 +782,12 @@ fn rotation_vector(q: &UnitQuaternion<f64>, reference: &UnitQuaternion<f64>) -> 
 }
 
 impl BeamScene {
+    /// The JSON Schema of a beam scene file (draft 2020-12), from the types the parser reads
+    /// (`cargo xtask schema` writes it to docs/beam-scene.schema.json).
+    pub fn schema() -> schemars::Schema {
+        toml_schema::<BeamScene>("impact-beam beam scene")
+    }
+
     /// Parses a beam scene from TOML text.
     ///
     /// # Errors
