@@ -28,8 +28,9 @@ HALF_SPACE = SCENES / "half-space-r10.toml"
 
 
 def cli(*args, check=True):
-    """`cargo xtask ARGS` (or $IMPACT_XTASK ARGS) in the repository: (stdout, stderr)."""
-    command = [os.environ["IMPACT_XTASK"]] if "IMPACT_XTASK" in os.environ else ["cargo", "xtask"]
+    """`cargo --quiet xtask ARGS` (or $IMPACT_XTASK ARGS) in the repository: (stdout, stderr)."""
+    # cargo's own lines ("Finished", "Running") kept off stderr, which the tests read.
+    command = [os.environ["IMPACT_XTASK"]] if "IMPACT_XTASK" in os.environ else ["cargo", "--quiet", "xtask"]
     done = subprocess.run(command + [str(a) for a in args], cwd=REPO, capture_output=True, text=True)
     if check:
         assert done.returncode == 0, done.stderr

@@ -6,6 +6,8 @@ mod beam;
 mod compare;
 mod figures;
 mod files;
+#[cfg(test)]
+mod links;
 mod plot;
 mod plots;
 mod reproduce;

@@ -75,14 +75,18 @@ fn hostile_scenes_are_refused_by_name_or_run_clean() {
         let at = candidates[noise(&mut seed) as usize % candidates.len()];
         let mut mutated: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
         let choice = noise(&mut seed) as usize % (HOSTILE.len() + 1);
+        // A removed required key is named by the error ("missing field `name`").
+        let mut removed = None;
         if choice == HOSTILE.len() {
+            removed = lines[at].split(" = ").next().map(|k| k.trim().to_string());
             mutated.remove(at);
         } else {
             let key = lines[at].split(" = ").next().unwrap();
             mutated[at] = format!("{key} = {}", HOSTILE[choice]);
         }
         let text = mutated.join("\n");
-        let held = keys(&text);
+        let mut held = keys(&text);
+        held.extend(removed);
         let outcome = Scene::from_toml(&text).and_then(|s| Plan::new(&s).map(|p| (s, p)));
         match outcome {
             Err(e) => {

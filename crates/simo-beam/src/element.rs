@@ -197,7 +197,7 @@ impl Element {
         f
     }
 
-    /// Internal force (N, N m): [`Self::force_generic`]'s formulas in `f64`, with rotations
+    /// Internal force (N, N m): the generic force's formulas in `f64`, with rotations
     /// applied to vectors by the quaternions and the Jacobians by cross products (a Newton
     /// iteration of the 3D beam evaluates this for every element; the generic form builds five
     /// 3x3 matrices for it). The dual-number tangent differentiates the generic form; a test
