@@ -137,6 +137,17 @@ fn tables(out: &mut String, root: &Value, table: &Value, path: &str, array: bool
             }
             (own, names) => own.or(names).unwrap_or_default(),
         };
+        // A derived enum's variants carry their own documentation.
+        let meaning = match constants(target) {
+            Some(names) if !std::ptr::eq(field, target) => {
+                let each: Vec<String> = names
+                    .iter()
+                    .map(|(n, d)| format!("`{}`: {}", show(n), one_line(d).trim_end_matches('.')))
+                    .collect();
+                format!("{meaning} {}", each.join("; "))
+            }
+            _ => meaning,
+        };
         let default = if required.contains(&key.as_str()) {
             "*required*".to_string()
         } else {
@@ -192,6 +203,7 @@ fn kind(root: &Value, field: &Value) -> String {
         }
         Some("number") => "number".into(),
         Some(other) => other.into(),
+        None if constants(node).is_some() => "string".into(),
         None => "value".into(),
     }
 }
@@ -200,6 +212,9 @@ fn kind(root: &Value, field: &Value) -> String {
 fn allowed(node: &Value) -> String {
     if let Some(names) = node.get("enum").and_then(Value::as_array) {
         return names.iter().map(|n| format!("`{}`", show(n))).collect::<Vec<_>>().join(", ");
+    }
+    if let Some(names) = constants(node) {
+        return names.iter().map(|(n, _)| format!("`{}`", show(n))).collect::<Vec<_>>().join(", ");
     }
     let bound = |k: &str| node.get(k).map(show);
     let lower = bound("minimum")
@@ -213,6 +228,18 @@ fn allowed(node: &Value) -> String {
         (None, None) => node.get("items").map(allowed).unwrap_or_default(),
         (l, u) => format!("{}x{}", l.unwrap_or_default(), u.unwrap_or_default()),
     }
+}
+
+/// A choice written as `oneOf` constants (a derived enum's variants): each value and its
+/// documentation.
+fn constants(node: &Value) -> Option<Vec<(&Value, &str)>> {
+    let variants = node.get("oneOf")?.as_array()?;
+    variants
+        .iter()
+        .map(|v| {
+            Some((v.get("const")?, v.get("description").and_then(Value::as_str).unwrap_or("")))
+        })
+        .collect()
 }
 
 /// A JSON value as a scene file writes it.

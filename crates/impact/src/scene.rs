@@ -170,6 +170,21 @@ named_choice!(
     ]
 );
 
+impl SupportName {
+    /// How the beam's two ends (x = 0, x = L) are held: the one table of what each name means
+    /// (the modal method's analytic supports follow from it too).
+    pub fn ends(self) -> [simo_beam::Support; 2] {
+        use simo_beam::Support::{Clamped, Free, Pinned};
+        match self {
+            SupportName::ClampedFree => [Clamped, Free],
+            SupportName::PinnedPinned => [Pinned, Pinned],
+            SupportName::ClampedClamped => [Clamped, Clamped],
+            SupportName::ClampedPinned => [Clamped, Pinned],
+            SupportName::FreeFree => [Free, Free],
+        }
+    }
+}
+
 impl From<SupportName> for modal::Support {
     fn from(s: SupportName) -> Self {
         match s {

@@ -7,10 +7,18 @@ use faer::{Col, ColMut, ColRef};
 use hht::{NewtonWeights, Triplets};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-/// How a node is held.
+/// How a node is held. A beam scene's `[[support]]` (and an impact scene's
+/// `[[structure.support]]`) names it `kind = "clamped" | "pinned"`; an impact scene's `[beam]`
+/// names a pair of them for its two ends (`support = "clamped-free"`, ...).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "scene",
+    derive(serde::Serialize, serde::Deserialize, schemars::JsonSchema),
+    serde(rename_all = "kebab-case")
+)]
 pub enum Support {
-    /// No constraint.
+    /// No constraint (not a support a scene names: a node without one is free).
+    #[cfg_attr(feature = "scene", serde(skip))]
     Free,
     /// Position fixed, rotation free.
     Pinned,

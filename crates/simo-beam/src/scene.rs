@@ -281,16 +281,6 @@ pub struct SegmentSpec {
     pub section: Option<SectionSpec>,
 }
 
-/// How a node is held.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum SupportKind {
-    /// Position and rotation fixed.
-    Clamped,
-    /// Position fixed, rotation free.
-    Pinned,
-}
-
 /// A support at the node at arc length `at`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -299,7 +289,7 @@ pub struct SupportSpec {
     #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Clamped or pinned.
-    pub kind: SupportKind,
+    pub kind: Support,
 }
 
 /// A point load at arc length `at`, shared between the two nodes of its element.
@@ -746,11 +736,7 @@ pub fn structure(
     }
     let mut model = BeamModel::new(mesh)?;
     for (node, s) in nodes.into_iter().zip(supports) {
-        let kind = match s.kind {
-            SupportKind::Clamped => Support::Clamped,
-            SupportKind::Pinned => Support::Pinned,
-        };
-        model = model.support(node, kind)?;
+        model = model.support(node, s.kind)?;
     }
     Ok((model, at.0))
 }

@@ -3,7 +3,7 @@
 use super::modal::MODE_CUTOFF;
 use super::Pulse;
 use crate::error::{invalid, positive, ImpactError};
-use crate::scene::{BeamSpec, FeModelName, SolverSpec, SupportName};
+use crate::scene::{BeamSpec, FeModelName, SolverSpec};
 use simo_beam::Support;
 use std::f64::consts::PI;
 
@@ -356,7 +356,8 @@ pub(super) fn plan(
             .collect();
         reasons.push(format!("a node at each point mass and spring ({}): a mass moves with its node in x and z, a spring holds its node's z and section rotation", places.join("; ")));
     }
-    let ends = ends(beam.support);
+    let [first, last] = beam.support.ends();
+    let ends = (first, last);
     resolution(s, &analytic, (&nodes, ends, position), estimated_duration, (reasons, warnings))?;
     steps.reasons(s, pulse.duration, reasons);
     Ok(FePlan {
@@ -378,17 +379,6 @@ pub(super) fn plan(
         torsion: None,
         structure: None,
     })
-}
-
-/// How the two ends of a beam are held in the finite-element model.
-fn ends(support: SupportName) -> (Support, Support) {
-    match support {
-        SupportName::ClampedFree => (Support::Clamped, Support::Free),
-        SupportName::PinnedPinned => (Support::Pinned, Support::Pinned),
-        SupportName::ClampedClamped => (Support::Clamped, Support::Clamped),
-        SupportName::ClampedPinned => (Support::Clamped, Support::Pinned),
-        SupportName::FreeFree => (Support::Free, Support::Free),
-    }
 }
 
 /// The beam model of an fe plan: planar unless asked (`solver.fe_model`) or the strike is off
