@@ -97,6 +97,15 @@ impl Torsion {
         }
     }
 
+    /// Which ends hold the twist (x = 0, x = L): where a torque reaches a support.
+    pub fn held_ends(&self) -> (bool, bool) {
+        match self.ends() {
+            Ends::HeldFree => (true, false),
+            Ends::Held => (true, true),
+            Ends::Free => (false, false),
+        }
+    }
+
     /// Torsional rigidity G J (N m^2).
     pub fn rigidity(&self) -> f64 {
         self.rigidity

@@ -108,20 +108,40 @@ struct Peaks {
     correction: f64,
     displacement: Row,
     /// The one-point fields searched in time: each support's stress, then (an off-centre
-    /// strike) the twist of the struck section.
+    /// strike) those of `points`.
     supports: Vec<Row>,
     /// How many of `supports` are supports.
     support_count: usize,
+    /// The one-point fields after the supports' stresses: what, where, the largest seen and
+    /// the search's result.
+    points: Vec<PointSearch>,
 
     /// The largest displacement observed (m) and when (s).
     seen_displacement: (f64, f64),
-    /// The largest twist magnitude of the struck section observed (rad) and when (s).
-    seen_twist: (f64, f64),
     /// The searches' results, once run: the stress's, the displacement's, each support's.
     stress_peak: Option<Peak>,
     displacement_peak: Option<Peak>,
     support_peaks: Vec<Peak>,
-    twist_peak: Option<Peak>,
+}
+
+/// Which one-point field a [`PointSearch`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PointKind {
+    /// The struck section's twist (rad).
+    Twist,
+    /// The Saint-Venant shear stress of torsion at a section (Pa).
+    TorsionShear,
+}
+
+/// A one-point field searched in time besides the supports' stresses.
+struct PointSearch {
+    kind: PointKind,
+    /// Where (m).
+    x: f64,
+    /// The largest magnitude observed and when (s).
+    seen: (f64, f64),
+    /// The search's result.
+    peak: Option<Peak>,
 }
 
 /// What the modal stress recovery needs besides the beam and its modes.
@@ -141,6 +161,9 @@ pub(crate) struct StressSetup {
     pub(crate) duration: f64,
     /// An off-centre strike: the struck section's twist (rad) as a row over the modes.
     pub(crate) twist: Option<Row>,
+    /// An off-centre strike: the torsion shear stress (Pa) at sections (m) as rows over the
+    /// modes (`solve/modal.rs::torsion_shear_rows`).
+    pub(crate) torsion_shear: Vec<(f64, Row)>,
 }
 
 /// The field's precomputed rows.
@@ -155,8 +178,17 @@ struct FieldRecorder {
 impl ModalStress {
     /// The stress field of `shapes` of `beam`, struck as `setup` says.
     pub(crate) fn new(beam: &Beam, shapes: Vec<Mode>, setup: StressSetup) -> Self {
-        let StressSetup { position, thickness, width, plain, modes, residual, duration, twist } =
-            setup;
+        let StressSetup {
+            position,
+            thickness,
+            width,
+            plain,
+            modes,
+            residual,
+            duration,
+            twist,
+            torsion_shear,
+        } = setup;
         let length = beam.length();
         let scale = 1.0 / beam.mass().sqrt();
         let inertia = width * thickness.powi(3) / 12.0;
@@ -237,7 +269,11 @@ impl ModalStress {
                         p: correction[k] * section,
                     })
                     .collect(),
-                twist,
+                points: twist
+                    .map(|row| (PointKind::Twist, position, row))
+                    .into_iter()
+                    .chain(torsion_shear.into_iter().map(|(x, r)| (PointKind::TorsionShear, x, r)))
+                    .collect(),
             },
         );
         Self {
@@ -339,9 +375,13 @@ impl ModalStress {
         if w > self.peaks.seen_displacement.0 {
             self.peaks.seen_displacement = (w, t);
         }
-        let twist = self.peaks.supports.get(self.peaks.support_count).map(|r| r.value(force, q));
-        if let Some(theta) = twist.filter(|th| th.abs() > self.peaks.seen_twist.0) {
-            self.peaks.seen_twist = (theta.abs(), t);
+        let count = self.peaks.support_count;
+        let points: Vec<f64> =
+            self.peaks.supports[count..].iter().map(|r| r.value(force, q).abs()).collect();
+        for (p, value) in self.peaks.points.iter_mut().zip(&points) {
+            if *value > p.seen.0 {
+                p.seen = (*value, t);
+            }
         }
         if !(last || t - self.last_full >= self.full_spacing) {
             return;
@@ -352,7 +392,7 @@ impl ModalStress {
         let values: Vec<f64> = [w]
             .into_iter()
             .chain(self.stresses[..supports].iter().copied())
-            .chain(twist.map(|t| t.abs()))
+            .chain(points.iter().copied())
             .collect();
         // A whole-grid instant: the grid with the modes the last stretch chose (with all of
         // them, its values are the field's), then the stretch since the last such instant,
@@ -365,7 +405,7 @@ impl ModalStress {
         let best: Vec<f64> = [self.envelope.best().0.abs(), self.peaks.seen_displacement.0]
             .into_iter()
             .chain(self.envelope.supports().iter().map(|s| s.1))
-            .chain(twist.map(|_| self.peaks.seen_twist.0))
+            .chain(self.peaks.points.iter().map(|p| p.seen.0))
             .collect();
         let Peaks {
             data,
@@ -590,12 +630,12 @@ impl ModalStress {
         for (k, found) in supports.iter().enumerate() {
             self.envelope.raise_support(k, found.value.abs(), found.t);
         }
-        if let Some(row) = self.peaks.supports.get(count) {
-            let (max, time) = self.peaks.seen_twist;
-            let seen = Peak { value: max, x: self.position, t: time, bound: max };
-            let field = modal_peak::Field::Magnitude(row, self.position, count);
-            self.peaks.twist_peak =
-                Some(modal_peak::search(&self.peaks.data, &mut kept, &field, seen));
+        let Peaks { data, supports: rows, points, .. } = &mut self.peaks;
+        for (k, (p, row)) in points.iter_mut().zip(&rows[count..]).enumerate() {
+            let (max, time) = p.seen;
+            let seen = Peak { value: max, x: p.x, t: time, bound: max };
+            let field = modal_peak::Field::Magnitude(row, p.x, count + k);
+            p.peak = Some(modal_peak::search(data, &mut kept, &field, seen));
         }
         self.peaks.trajectory.kept = kept;
         self.peaks.stress_peak = Some(peak);
@@ -624,8 +664,9 @@ struct PeakSetup<'a> {
     corrections: &'a [f64],
     /// Each support's stress row.
     supports: Vec<Row>,
-    /// The struck section's twist row, for an off-centre strike.
-    twist: Option<Row>,
+    /// The one-point fields besides the supports' stresses (an off-centre strike's twist of
+    /// the struck section and torsion shear at sections): what, where, the row.
+    points: Vec<(PointKind, f64, Row)>,
 }
 
 impl Peaks {
@@ -637,9 +678,15 @@ impl Peaks {
         static_q: &[f64],
         setup: PeakSetup<'_>,
     ) -> Self {
-        let PeakSetup { modes, residual, spacing, corrections, mut supports, twist } = setup;
+        let PeakSetup { modes, residual, spacing, corrections, mut supports, points } = setup;
         let support_count = supports.len();
-        supports.extend(twist);
+        let points = points
+            .into_iter()
+            .map(|(kind, x, row)| {
+                supports.push(row);
+                PointSearch { kind, x, seen: (0.0, 0.0), peak: None }
+            })
+            .collect();
         let bound = |k: i32| -> Vec<f64> {
             shapes.iter().map(|m| section * scale * m.shape.curvature_bound(k)).collect()
         };
@@ -667,12 +714,11 @@ impl Peaks {
             displacement,
             supports,
             support_count,
+            points,
             seen_displacement: (0.0, 0.0),
-            seen_twist: (0.0, 0.0),
             stress_peak: None,
             displacement_peak: None,
             support_peaks: Vec::new(),
-            twist_peak: None,
         }
     }
 
@@ -698,7 +744,7 @@ impl Peaks {
         (!all.is_empty()).then(|| {
             format!(
                 "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e} for the stress, {:.0e} at a point)",
-                if self.twist_peak.is_some() { " and the struck section's largest twist" } else { "" },
+                self.point_names(),
                 modal_peak::PEAK_TOLERANCE,
                 modal_peak::POINT_TOLERANCE
             )
@@ -716,8 +762,39 @@ impl Peaks {
         out.extend(
             self.support_peaks.iter().map(|p| (format!("the stress at x = {} m", p.x), gap(p))),
         );
-        out.extend(self.twist_peak.iter().map(|p| ("the largest twist".to_string(), gap(p))));
+        for p in &self.points {
+            let name = match p.kind {
+                PointKind::Twist => "the largest twist".to_string(),
+                PointKind::TorsionShear => format!("the torsion shear at x = {} m", p.x),
+            };
+            out.extend(p.peak.iter().map(|found| (name.clone(), gap(found))));
+        }
         out
+    }
+
+    /// What the note adds for the one-point fields besides the supports' stresses.
+    fn point_names(&self) -> String {
+        let has = |kind| self.points.iter().any(|p| p.kind == kind && p.peak.is_some());
+        let mut out = String::new();
+        if has(PointKind::Twist) {
+            out.push_str(", the struck section's largest twist");
+        }
+        if has(PointKind::TorsionShear) {
+            out.push_str(", the torsion shear at the supports that hold the twist and on each side of the struck section (the places the static torque is largest; not searched elsewhere along the beam)");
+        }
+        out
+    }
+
+    /// The largest of `kind`'s searches: magnitude, where (m), when (s).
+    fn largest(&self, kind: PointKind) -> Option<(f64, f64, f64)> {
+        self.points
+            .iter()
+            .filter(|p| p.kind == kind)
+            .filter_map(|p| p.peak.map(|found| (found.value.abs(), p.x, found.t)))
+            .fold(None, |best, this| match best {
+                Some(b) if b.0 >= this.0 => Some(b),
+                _ => Some(this),
+            })
     }
 
     /// Warnings for searches that stopped at their budget short of their tolerance: the
@@ -760,7 +837,11 @@ impl BeamRecorder for ModalStress {
     }
 
     fn twist_peak(&self) -> Option<(f64, f64)> {
-        self.peaks.twist_peak.map(|p| (p.value.abs(), p.t))
+        self.peaks.largest(PointKind::Twist).map(|(max, _, t)| (max, t))
+    }
+
+    fn torsion_shear_peak(&self) -> Option<(f64, f64, f64)> {
+        self.peaks.largest(PointKind::TorsionShear)
     }
 
     fn search_note(&self) -> Option<String> {
@@ -861,6 +942,7 @@ mod tests {
             residual: 0.0,
             duration,
             twist: None,
+            torsion_shear: Vec::new(),
         };
         ModalStress::new(b, shapes, setup)
     }
@@ -954,6 +1036,7 @@ mod tests {
             residual: 0.0,
             duration: 1.0,
             twist: None,
+            torsion_shear: Vec::new(),
         };
         let mut s = ModalStress::new(&b, shapes, setup);
         let mode = &s.shapes[6];
@@ -1015,6 +1098,7 @@ mod tests {
             residual: 0.0,
             duration: 1e-3,
             twist: Some(Row { r: row, p: 0.0 }),
+            torsion_shear: Vec::new(),
         };
         let mut s = ModalStress::new(&b, shapes, setup);
         let (amplitude, phi) = (1e-3, 0.3);

@@ -59,6 +59,11 @@ pub(crate) trait BeamRecorder {
     fn twist_peak(&self) -> Option<(f64, f64)> {
         None
     }
+    /// The largest Saint-Venant shear stress of torsion (Pa), where (m) and when (s), for an
+    /// off-centre strike (after [`BeamRecorder::finish`]).
+    fn torsion_shear_peak(&self) -> Option<(f64, f64, f64)> {
+        None
+    }
     /// What the report's reasons say of how the maxima were found, if anything.
     fn search_note(&self) -> Option<String> {
         None
@@ -80,6 +85,8 @@ pub(crate) struct Recovered {
     pub(crate) displacement: (f64, f64),
     /// The struck section's largest twist (rad) and when (s), for an off-centre strike.
     pub(crate) twist: Option<(f64, f64)>,
+    /// The largest torsion shear stress (Pa), where (m) and when (s), for an off-centre strike.
+    pub(crate) torsion_shear: Option<(f64, f64, f64)>,
     /// How the maxima were found, for the report's reasons, and what could not be made
     /// certain, for its warnings.
     pub(crate) note: Option<String>,
@@ -155,9 +162,19 @@ impl<'a> Recorders<'a> {
         let displacement =
             self.beam.as_mut().map_or(displacement, |b| b.displacement_peak(displacement));
         let twist = self.beam.as_ref().and_then(|b| b.twist_peak());
+        let torsion_shear = self.beam.as_ref().and_then(|b| b.torsion_shear_peak());
         let note = self.beam.as_ref().and_then(|b| b.search_note());
         let warnings = self.beam.as_ref().map(|b| b.search_warnings()).unwrap_or_default();
         let field = self.beam.as_mut().and_then(|b| b.take_field());
-        Recovered { history: self.history, stress, field, displacement, twist, note, warnings }
+        Recovered {
+            history: self.history,
+            stress,
+            field,
+            displacement,
+            twist,
+            torsion_shear,
+            note,
+            warnings,
+        }
     }
 }
