@@ -7,7 +7,7 @@ prints. SI units throughout (s, m, N, Pa, J, kg), in the keys' names where they 
 
 A *scene* is a path to a TOML scene file (str or os.PathLike) or a dict with the file's tables
 and keys (``{"beam": {...}, "ball": {...}, "impact": {...}, "contact": {...}, "solver": {...}}``;
-see the README's scene reference). A scene the command line refuses raises ``ValueError`` with
+see docs/scene.md in the repository). A scene the command line refuses raises ``ValueError`` with
 its message, which names the key, the value and what is allowed.
 
 >>> import impact_beam as ib

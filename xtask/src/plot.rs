@@ -157,16 +157,7 @@ impl Chart<'_> {
         crate::files::write_atomic(&svg, text.as_bytes())?;
         let csv = dir.join(format!("{stem}.csv"));
         let mut f = crate::files::create(&csv)?;
-        let col = |label: &str| {
-            // Column names stay ASCII: "time (µs)" is "time_us".
-            label
-                .replace('µ', "u")
-                .replace([' ', '(', ')', '/'], "_")
-                .replace("__", "_")
-                .trim_matches('_')
-                .to_lowercase()
-        };
-        writeln!(f, "series,{},{}", col(self.x_label), col(self.y_label))?;
+        writeln!(f, "series,{},{}", column_name(self.x_label), column_name(self.y_label))?;
         for s in &self.series {
             for (x, y) in &s.points {
                 writeln!(f, "\"{}\",{x:.9e},{y:.9e}", s.label)?;
@@ -306,8 +297,33 @@ fn log_bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     }
 }
 
+/// An axis label as a CSV column name: ASCII, one field, units kept: "time (µs)" is
+/// "time_us", "stress, tension positive (MPa)" is "stress_tension_positive_mpa" (a comma in a
+/// name gave the header a field more than its rows), "5 %" is "5_pct".
+fn column_name(label: &str) -> String {
+    let mut name = label
+        .replace('µ', "u")
+        .replace('%', "pct")
+        .replace([' ', '(', ')', '/', ',', ';', '"'], "_");
+    while name.contains("__") {
+        name = name.replace("__", "_");
+    }
+    name.trim_matches('_').to_lowercase()
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_column_name_is_one_csv_field_with_its_unit() {
+        use super::column_name;
+        assert_eq!(column_name("time (µs)"), "time_us");
+        assert_eq!(column_name("stress, tension positive (MPa)"), "stress_tension_positive_mpa");
+        assert_eq!(
+            column_name("pulse duration, force above 5 % of its peak (µs)"),
+            "pulse_duration_force_above_5_pct_of_its_peak_us"
+        );
+    }
+
     use super::{decade_label, style, tick_label};
 
     #[test]

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 pub struct Scene {
     /// Name used in reports and file names.
     pub name: String,
-    /// The struck beam; exactly one of `beam` and `half_space`.
+    /// The struck beam; exactly one of `beam`, `half_space` and `structure`.
     pub beam: Option<BeamSpec>,
     /// A massive elastic block (no beam); exactly one of `beam`, `half_space` and `structure`.
     pub half_space: Option<HalfSpaceSpec>,
@@ -273,11 +273,11 @@ pub struct StructureSpringSpec {
     pub stiffness: [f64; 3],
 }
 
-/// A point mass on a beam (`[[beam.mass]]`).
+/// A point mass (`[[beam.mass]]`, `[[structure.mass]]`): a sensor, a tip mass.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MassSpec {
-    /// Where (m from x = 0).
+    /// Where (m): from x = 0 on a `[beam]`, the arc length of a node on a `[structure]`.
     #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Mass (kg).
@@ -355,8 +355,9 @@ pub struct ImpactSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: Option<f64>,
-    /// The ball's velocity direction on a `[structure]` (any length): normal to the struck
-    /// face (the section's thickness faces).
+    /// The ball's velocity direction on a `[structure]` (any length): normal to a face of the
+    /// struck section (a thickness face, normal E3, or a width face, normal E2; anything else
+    /// is refused naming them: no friction is modelled).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub direction: Option<[f64; 3]>,
     /// The strike's distance from the beam's centreline across its width (m; default 0, a

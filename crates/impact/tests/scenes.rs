@@ -464,6 +464,15 @@ fn a_field_that_would_not_fit_is_refused_with_its_size() {
     let e = Plan::new(&s).unwrap().with_field().unwrap_err().to_string();
     assert!(e.starts_with("solver.output_interval = 1e-9: too fine for a field"), "{e}");
     assert!(Plan::new(&scene("half-space-r10.toml")).unwrap().with_field().is_err());
+    // The fe field has a point a node: 20000 elements at 1e-5 s over 5 ms (about 2900
+    // instants) would hold 2.3e8 values, where the modal method's 66 points hold 7.7e5.
+    s.solver.output_interval = Some(1e-5);
+    assert!(Plan::new(&s).unwrap().with_field().is_ok());
+    s.solver.method = MethodName::Fe;
+    s.solver.modes = None;
+    s.solver.elements = Some(20_000);
+    let e = Plan::new(&s).unwrap().with_field().unwrap_err().to_string();
+    assert!(e.contains("x 20001 points x 4 quantities"), "{e}");
 }
 
 #[test]

@@ -166,21 +166,23 @@ pub struct Report {
     /// The beam's largest bending stress over the beam and the window; null on a half-space.
     pub bending_stress: Option<BendingStress>,
     /// The struck section's largest rotation about the beam's axis (rad, magnitude) for an
-    /// off-centre strike (`impact.offset`); null for a centred one.
+    /// off-centre strike (`impact.offset`) or the fe method's 3D beam; absent from the JSON
+    /// otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_twist: Option<f64>,
     /// When it happened (s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_twist_time: Option<f64>,
     /// The largest section rotation about its own axis anywhere on the beam or structure,
-    /// where and when (the fe method's 3D beam: at its nodes and accepted steps); null
-    /// otherwise.
+    /// where and when (the fe method's 3D beam: at its nodes and accepted steps); absent from
+    /// the JSON otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub largest_twist: Option<Twist>,
     /// The largest Saint-Venant shear stress of torsion (Pa), at the middle of the section's
     /// long side, k G t theta' (validation/REFERENCES.md 1.9), where (arc length of the
-    /// element's midpoint, m) and when (s): the fe method's 3D beam, at the elements' midpoints
-    /// and accepted steps; null otherwise.
+    /// section, m) and when (s): the fe method's 3D beam at the elements' midpoints and accepted
+    /// steps; the modal method (off-centre) at the ends that hold the twist and beside the
+    /// struck section, searched between instants; absent from the JSON otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub torsion_shear: Option<Twist>,
     /// Static stiffness of the beam at the impact point (N/m); null for a half-space or a

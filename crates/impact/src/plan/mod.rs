@@ -952,14 +952,20 @@ impl Plan {
         // counted as if the whole window were contact at worst a tenth of it.
         let instants = self.end_time / self.output_interval
             + 0.1 * self.end_time / (self.estimated_duration / 200.0);
-        let values = instants * (FIELD_POINTS + 1) as f64 * 4.0;
+        // The modal field's points: the ends of FIELD_POINTS intervals and the impact point;
+        // the fe field's: its nodes (those of the plan's mesh: a tolerance's finer meshes
+        // more).
+        let points = match &self.method {
+            Method::Fe(fe) => fe.nodes.len(),
+            _ => FIELD_POINTS + 2,
+        };
+        let values = instants * points as f64 * 4.0;
         if values > MAX_FIELD_VALUES {
             return Err(invalid(
                 "solver.output_interval",
                 show(self.output_interval),
                 &format!(
-                    "too fine for a field: {instants:.2e} instants x {} points x 4 quantities = {values:.2e} values ({:.1e} bytes), above {MAX_FIELD_VALUES:e}; a larger output interval or a shorter solver.end_time",
-                    FIELD_POINTS + 1,
+                    "too fine for a field: {instants:.2e} instants x {points} points x 4 quantities = {values:.2e} values ({:.1e} bytes), above {MAX_FIELD_VALUES:e}; a larger output interval or a shorter solver.end_time",
                     values * 8.0
                 ),
             ));
