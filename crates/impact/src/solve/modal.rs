@@ -139,7 +139,7 @@ struct Basis {
     /// mode-acceleration form: F offset (s_T(x) - sum_n Theta_n'(x) g_n / omega_n^2) +
     /// sum_n Theta_n'(x) q_n, s_T the static twist rate under a unit torque at the impact
     /// point (the plain series without a static solution, or where asked).
-    twist_rate: Vec<(f64, Row)>,
+    twist_rate: Vec<Section>,
 }
 
 /// The bending modes of `m` and, for an off-centre strike, the torsion modes up to the
@@ -196,6 +196,10 @@ fn point_modes(m: &crate::plan::ModalPlan) -> Result<Basis, ImpactError> {
     })
 }
 
+/// A one-point field at a section: where (m), which side of it (beside the struck section,
+/// where the static torque jumps: "" at a support) and its row over the modes.
+pub(crate) type Section = (f64, &'static str, Row);
+
 /// [`Basis::twist_rate`]: the rows at each held end and on each side of the impact point, in
 /// the basis' order: `twisting` the torsion modes (rigid first), `counts` the rigid and
 /// elastic bending modes and the rigid torsion modes.
@@ -205,20 +209,25 @@ fn twist_rate_rows(
     offset: f64,
     (twisting, (rigid_b, elastic_b, rigid_t)): (&[modal::TorsionMode], (usize, usize, usize)),
     t_scale: f64,
-) -> Vec<(f64, Row)> {
+) -> Vec<Section> {
     let (length, c) = (m.beam.length(), m.position);
     let (held_start, held_end) = torsion.held_ends();
     // Just beside c: the static torque's jump is between these (1e-12 of the length).
     let side = 1e-12 * length;
-    let sections: Vec<f64> =
-        [(held_start, 0.0), (c > 0.0, c - side), (c < length, c + side), (held_end, length)]
-            .into_iter()
-            .filter_map(|(keep, x)| keep.then_some(x))
-            .collect();
+    // (where the row is evaluated, where the report puts it, which side).
+    let sections: Vec<(f64, f64, &'static str)> = [
+        (held_start, 0.0, 0.0, ""),
+        (c > 0.0, c - side, c, " (toward x = 0)"),
+        (c < length, c + side, c, " (toward x = L)"),
+        (held_end, length, length, ""),
+    ]
+    .into_iter()
+    .filter_map(|(keep, x, at, which)| keep.then_some((x, at, which)))
+    .collect();
     let plain = m.plain_stress_series;
     sections
         .into_iter()
-        .map(|x| {
+        .map(|(x, at, which)| {
             let rate = |t: &modal::TorsionMode| t.rate(x) * t_scale;
             // Basis order: rigid bending, rigid torsion, elastic bending, elastic torsion.
             let r: Vec<f64> = std::iter::repeat_n(0.0, rigid_b)
@@ -237,7 +246,7 @@ fn twist_rate_rows(
                 }
                 None => 0.0,
             };
-            (x.clamp(0.0, length), Row { r, p })
+            (at, which, Row { r, p })
         })
         .collect()
 }
@@ -247,15 +256,16 @@ fn twist_rate_rows(
 /// the torsional rigidity over the rectangle's J).
 fn torsion_shear_rows(
     m: &crate::plan::ModalPlan,
-    rows: Vec<(f64, Row)>,
+    rows: Vec<Section>,
     (width, thickness): (f64, f64),
-) -> Vec<(f64, Row)> {
+) -> Vec<Section> {
     let Some((torsion, _)) = m.torsion() else { return Vec::new() };
     let (j, k) = modal::rectangle_torsion(width, thickness);
     let per_rate = k * torsion.rigidity() / j * width.min(thickness);
     rows.into_iter()
-        .map(|(x, row)| {
-            (x, Row { r: row.r.iter().map(|r| r * per_rate).collect(), p: row.p * per_rate })
+        .map(|(x, which, row)| {
+            let r = row.r.iter().map(|r| r * per_rate).collect();
+            (x, which, Row { r, p: row.p * per_rate })
         })
         .collect()
 }
@@ -1023,14 +1033,14 @@ mod tests {
             .collect();
         let torque = force * 0.01;
         let expected = torque / (0.291 * 0.025 * 0.005 * 0.005);
-        for ((x, row), static_torque) in rows.iter().zip([expected, expected, 0.0]) {
+        for ((x, _, row), static_torque) in rows.iter().zip([expected, expected, 0.0]) {
             let tau = row.value(force, &q);
             assert!(
                 (tau - static_torque).abs() <= 2e-3 * expected,
                 "x = {x}: {tau:e} Pa against {static_torque:e}"
             );
         }
-        let plain: f64 = rows[0].1.r.iter().zip(&q).map(|(r, q)| r * q).sum();
+        let plain: f64 = rows[0].2.r.iter().zip(&q).map(|(r, q)| r * q).sum();
         assert!((plain / expected - 1.0).abs() < 0.05, "plain series {plain:e} vs {expected:e}");
     }
 

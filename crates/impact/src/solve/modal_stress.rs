@@ -129,8 +129,8 @@ struct Peaks {
 enum PointKind {
     /// The struck section's twist (rad).
     Twist,
-    /// The Saint-Venant shear stress of torsion at a section (Pa).
-    TorsionShear,
+    /// The Saint-Venant shear stress of torsion at a section (Pa), and which side of it.
+    TorsionShear(&'static str),
 }
 
 /// A one-point field searched in time besides the supports' stresses.
@@ -163,7 +163,7 @@ pub(crate) struct StressSetup {
     pub(crate) twist: Option<Row>,
     /// An off-centre strike: the torsion shear stress (Pa) at sections (m) as rows over the
     /// modes (`solve/modal.rs::torsion_shear_rows`).
-    pub(crate) torsion_shear: Vec<(f64, Row)>,
+    pub(crate) torsion_shear: Vec<super::modal::Section>,
 }
 
 /// The field's precomputed rows.
@@ -272,7 +272,11 @@ impl ModalStress {
                 points: twist
                     .map(|row| (PointKind::Twist, position, row))
                     .into_iter()
-                    .chain(torsion_shear.into_iter().map(|(x, r)| (PointKind::TorsionShear, x, r)))
+                    .chain(
+                        torsion_shear
+                            .into_iter()
+                            .map(|(x, which, r)| (PointKind::TorsionShear(which), x, r)),
+                    )
                     .collect(),
             },
         );
@@ -765,7 +769,9 @@ impl Peaks {
         for p in &self.points {
             let name = match p.kind {
                 PointKind::Twist => "the largest twist".to_string(),
-                PointKind::TorsionShear => format!("the torsion shear at x = {} m", p.x),
+                PointKind::TorsionShear(which) => {
+                    format!("the torsion shear at x = {:.4} m{which}", p.x)
+                }
             };
             out.extend(p.peak.iter().map(|found| (name.clone(), gap(found))));
         }
@@ -774,22 +780,26 @@ impl Peaks {
 
     /// What the note adds for the one-point fields besides the supports' stresses.
     fn point_names(&self) -> String {
-        let has = |kind| self.points.iter().any(|p| p.kind == kind && p.peak.is_some());
+        let has = |shear: bool| {
+            let kind = |p: &PointSearch| matches!(p.kind, PointKind::TorsionShear(_)) == shear;
+            self.points.iter().any(|p| kind(p) && p.peak.is_some())
+        };
         let mut out = String::new();
-        if has(PointKind::Twist) {
+        if has(false) {
             out.push_str(", the struck section's largest twist");
         }
-        if has(PointKind::TorsionShear) {
+        if has(true) {
             out.push_str(", the torsion shear at the supports that hold the twist and on each side of the struck section (the places the static torque is largest; not searched elsewhere along the beam)");
         }
         out
     }
 
-    /// The largest of `kind`'s searches: magnitude, where (m), when (s).
-    fn largest(&self, kind: PointKind) -> Option<(f64, f64, f64)> {
+    /// The largest of the twist's (`shear` false) or the torsion shear's searches:
+    /// magnitude, where (m), when (s).
+    fn largest(&self, shear: bool) -> Option<(f64, f64, f64)> {
         self.points
             .iter()
-            .filter(|p| p.kind == kind)
+            .filter(|p| matches!(p.kind, PointKind::TorsionShear(_)) == shear)
             .filter_map(|p| p.peak.map(|found| (found.value.abs(), p.x, found.t)))
             .fold(None, |best, this| match best {
                 Some(b) if b.0 >= this.0 => Some(b),
@@ -837,11 +847,11 @@ impl BeamRecorder for ModalStress {
     }
 
     fn twist_peak(&self) -> Option<(f64, f64)> {
-        self.peaks.largest(PointKind::Twist).map(|(max, _, t)| (max, t))
+        self.peaks.largest(false).map(|(max, _, t)| (max, t))
     }
 
     fn torsion_shear_peak(&self) -> Option<(f64, f64, f64)> {
-        self.peaks.largest(PointKind::TorsionShear)
+        self.peaks.largest(true)
     }
 
     fn search_note(&self) -> Option<String> {
