@@ -25,6 +25,29 @@ fn loaded_cantilever(elements: usize) -> BeamModel {
         .expect("load")
 }
 
+/// The modes of a right-angle frame of the paper's strip (two 1.15 m legs of 256 elements,
+/// 3078 unknowns, clamped at one end) up to omega t_c = 20 for the paper's 40 us contact
+/// (5e5 rad/s): what a modal impact run on the frame needs (issue "Goldsmith's method on any
+/// beam structure": under a second).
+fn frame_modes(c: &mut Criterion) {
+    use simo_beam::{modes_below, Material, Mesh, Section, Support};
+    let steel = Material::new(2.1e11, 0.3, 7850.0).expect("steel");
+    let section = Section::rectangle(&steel, 0.025, 0.005).expect("section");
+    let leg = |a: Vector3<f64>, b: Vector3<f64>| {
+        Mesh::straight(a, b, 256, section, Vector3::z()).expect("leg")
+    };
+    let mesh = leg(Vector3::zeros(), Vector3::new(1.15, 0.0, 0.0))
+        .join(leg(Vector3::new(1.15, 0.0, 0.0), Vector3::new(1.15, 1.15, 0.0)))
+        .expect("frame");
+    let model = BeamModel::new(mesh).expect("model").support(0, Support::Clamped).expect("clamp");
+    let mut group = c.benchmark_group("simo_beam");
+    group.sample_size(10);
+    group.bench_function("modes_below_frame_512", |b| {
+        b.iter(|| modes_below(&model, 5e5).expect("modes"))
+    });
+    group.finish();
+}
+
 fn element(c: &mut Criterion) {
     let model = paper_cantilever(8).expect("mesh");
     let e = model.mesh().elements[3];
@@ -175,5 +198,5 @@ fn planar(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, element, assembly, statics, comparison_run, planar);
+criterion_group!(benches, element, assembly, statics, comparison_run, planar, frame_modes);
 criterion_main!(benches);

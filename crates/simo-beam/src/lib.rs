@@ -59,6 +59,7 @@
 //! the large-deflection tip of validation/REFERENCES.md 3.3.
 
 pub mod benchmarks;
+mod eigen;
 mod element;
 mod error;
 mod mesh;
@@ -75,7 +76,10 @@ pub use element::{Element, Strains};
 pub use error::BeamError;
 pub use mesh::Mesh;
 pub use model::{BeamModel, BeamState, Load, Profile, Support};
-pub use modes::{bending_frequencies, natural_frequencies, natural_modes, planar_modes, Mode};
+pub use modes::{
+    bending_frequencies, modes_below, natural_frequencies, natural_modes, planar_modes,
+    planar_modes_below, Mode,
+};
 pub use planar::{PlanarBeam, PlanarState};
 pub use section::{Material, Section, SHEAR_FACTOR_CIRCLE, SHEAR_FACTOR_RECTANGLE};
 pub use statics::{solve_static, StaticOptions, StaticSolution};

@@ -1,0 +1,170 @@
+//! The banded Lanczos modal solver (`simo_beam::modes_below`, crates/simo-beam/src/eigen.rs)
+//! against the dense one and against closed forms (validation/REFERENCES.md 1.10).
+#![allow(clippy::unwrap_used)] // a test stops on a bad fixture
+
+use hht::{Model, NewtonWeights, Triplets};
+use nalgebra::Vector3;
+use simo_beam::{modes_below, natural_modes, BeamModel, Material, Mesh, Section, Support};
+
+const E: f64 = 2.1e11;
+const RHO: f64 = 7850.0;
+
+/// A straight steel strip along x, `b` wide (along y) and `t` thick (along z), on `n` elements.
+fn strip(n: usize, (b, t, l): (f64, f64, f64)) -> BeamModel {
+    let section = Section::rectangle(&Material::new(E, 0.3, RHO).unwrap(), b, t).unwrap();
+    let mesh =
+        Mesh::straight(Vector3::zeros(), Vector3::new(l, 0.0, 0.0), n, section, Vector3::z())
+            .unwrap();
+    BeamModel::new(mesh).unwrap()
+}
+
+/// Whether a mode bends across the thickness (most of its shape in z and the rotation about y).
+fn bends_across(model: &BeamModel, shape: &faer::Col<f64>) -> bool {
+    let nodes = model.mesh().positions.len();
+    let (mut bending, mut total) = (0.0, 0.0);
+    for node in 0..nodes {
+        for k in 0..6 {
+            if let Some(i) = model.dof(node, k) {
+                total += shape[i] * shape[i];
+                if k == 2 || k == 4 {
+                    bending += shape[i] * shape[i];
+                }
+            }
+        }
+    }
+    bending > 0.5 * total
+}
+
+/// `K` and `M` of `model` at rest, as triplets.
+fn matrices(model: &BeamModel) -> (Triplets, Triplets) {
+    let n = model.ndof();
+    let q = model.reference_state();
+    let zero = faer::Col::<f64>::zeros(n);
+    let mut k = Triplets::new();
+    model.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), NewtonWeights::stiffness(), &mut k);
+    let mut m = Triplets::new();
+    model.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), NewtonWeights::mass(), &mut m);
+    (k, m)
+}
+
+/// `A x` for the symmetric part of `a`.
+fn times(a: &Triplets, x: &faer::Col<f64>) -> Vec<f64> {
+    let mut y = vec![0.0; x.nrows()];
+    for (r, c, v) in a.iter() {
+        y[r] += 0.5 * v * x[c];
+        y[c] += 0.5 * v * x[r];
+    }
+    y
+}
+
+#[test]
+fn the_banded_lanczos_modes_are_the_dense_solver_s() {
+    // The paper's strip (25 x 5 mm, 1.15 m) clamped at x = 0 on 40 elements (240 unknowns):
+    // every mode below 2e5 rad/s (bending both ways, torsion, extension) as the dense inverted
+    // solution counts them, the frequencies within 1e-8 (each solution's round-off is about
+    // 1e-9 on the first mode, whose stiffness is 1e-12 of the strip's stiffest), each shape an
+    // eigenvector to 1e-8 (|K phi - lambda M phi| / |lambda M phi|; the dense solution's own
+    // shapes near 8e4 rad/s are off by up to 2e-4 by that measure), M-orthonormal to 1e-8 (modes of different spectrum slices are orthogonal as far as they are exact), and
+    // the first 20 the dense solution's to 1e-6 (up to sign).
+    let model = strip(40, (0.025, 0.005, 1.15)).support(0, Support::Clamped).unwrap();
+    let omega_max = 2e5;
+    let lanczos = modes_below(&model, omega_max).unwrap();
+    let all = natural_modes(&model, model.ndof()).unwrap();
+    let dense: Vec<_> = all.iter().filter(|m| m.omega <= omega_max).collect();
+    assert_eq!(lanczos.len(), dense.len());
+    assert!(lanczos.len() > 60, "{} modes test little", lanczos.len());
+    let (k, m) = matrices(&model);
+    let m_shapes: Vec<Vec<f64>> = lanczos.iter().map(|a| times(&m, &a.shape)).collect();
+    for (i, (a, b)) in lanczos.iter().zip(dense).enumerate() {
+        assert!((a.omega / b.omega - 1.0).abs() < 1e-8, "mode {i}: {} vs {}", a.omega, b.omega);
+        let lambda = a.omega * a.omega;
+        let k_phi = times(&k, &a.shape);
+        let residual: f64 = k_phi
+            .iter()
+            .zip(&m_shapes[i])
+            .map(|(x, y)| (x - lambda * y).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let scale: f64 = m_shapes[i].iter().map(|y| (lambda * y).powi(2)).sum::<f64>().sqrt();
+        assert!(residual <= 1e-8 * scale, "mode {i}: residual {:e}", residual / scale);
+        for (j, mj) in m_shapes.iter().enumerate() {
+            let product: f64 = a.shape.iter().zip(mj).map(|(x, y)| x * y).sum();
+            let expected = if i == j { 1.0 } else { 0.0 };
+            assert!(
+                (product - expected).abs() < 1e-10,
+                "modes {i}, {j}: phi^T M phi = {product:e}"
+            );
+        }
+        if i < 20 {
+            let dot: f64 = a.shape.iter().zip(b.shape.iter()).map(|(x, y)| x * y).sum();
+            let sign = if dot < 0.0 { -1.0 } else { 1.0 };
+            let size = b.shape.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let gap = a
+                .shape
+                .iter()
+                .zip(b.shape.iter())
+                .fold(0.0f64, |g, (x, y)| g.max((sign * x - y).abs()));
+            assert!(gap < 1e-6 * size, "mode {i}: shape differs by {gap:e} of {size:e}");
+        }
+    }
+}
+
+#[test]
+fn a_free_beam_s_six_rigid_body_modes_are_counted_by_a_tolerance() {
+    // Free-free: three translations and three rotations at omega = 0 (reported exactly 0: below
+    // the stiffness' round-off, 1e-13 of its largest K_ii / M_ii), then the elastic modes; the first bending across the thickness at
+    // (4.7300408)^2 sqrt(EI / rho A) / L^2 within 1e-3 on 40 elements.
+    let (b, t, l) = (0.025, 0.005, 1.15);
+    let model = strip(40, (b, t, l));
+    let modes = modes_below(&model, 200.0).unwrap();
+    let rigid = modes.iter().filter(|m| m.omega == 0.0).count();
+    assert_eq!(rigid, 6, "{:?}", modes.iter().map(|m| m.omega).collect::<Vec<_>>());
+    let first = modes.iter().find(|m| m.omega > 0.0 && bends_across(&model, &m.shape)).unwrap();
+    let exact =
+        4.730_040_7_f64.powi(2) * (E * b * t.powi(3) / 12.0 / (RHO * b * t)).sqrt() / (l * l);
+    assert!((first.omega / exact - 1.0).abs() < 1e-3, "{} vs {exact}", first.omega);
+}
+
+#[test]
+fn a_tip_mass_gives_its_characteristic_roots_at_the_element_s_order() {
+    // A thin strip (25 x 1 mm, 1 m: shear and rotary inertia move its lowest modes by < 1e-5)
+    // clamped at x = 0 with a tip mass equal to its own (mu = 1): lambda^2 = omega L^2
+    // sqrt(rho A / EI) = 1.557298, 16.25009, 50.89584 (Blevins, table 8-8; validation/
+    // REFERENCES.md 1.10). The 3D beam on 128, 256 and 512 elements (3078 unknowns, beyond the
+    // dense solver): within 1e-4 at 512, and the mesh's share of the error (the differences of
+    // successive meshes; the rest is the rod's shear and rotary inertia) falling about
+    // fourfold a halving (second order).
+    let (b, t, l) = (0.025, 0.001, 1.0);
+    let exact = [1.557_297_9, 16.250_085_2, 50.895_842_8];
+    let scale = l * l * (RHO * b * t / (E * b * t.powi(3) / 12.0)).sqrt();
+    let lambda2 = |n: usize| -> Vec<f64> {
+        let model = strip(n, (b, t, l))
+            .support(0, Support::Clamped)
+            .unwrap()
+            .attach_mass(n, RHO * b * t * l, 0.0)
+            .unwrap();
+        let modes = modes_below(&model, 55.0 / scale).unwrap();
+        modes.iter().filter(|m| bends_across(&model, &m.shape)).map(|m| m.omega * scale).collect()
+    };
+    let (coarse, middle, fine) = (lambda2(128), lambda2(256), lambda2(512));
+    assert_eq!(fine.len(), 3, "{fine:?}");
+    for k in 0..3 {
+        assert!((fine[k] / exact[k] - 1.0).abs() < 1e-4, "mode {k}: {} vs {}", fine[k], exact[k]);
+        // The first mode's mesh error is below 1e-7 already at 128 elements: its differences are
+        // round-off's, not the mesh's.
+        let order = (coarse[k] - middle[k]) / (middle[k] - fine[k]);
+        if k > 0 {
+            assert!((3.5..4.5).contains(&order), "mode {k}: successive differences fall {order}x");
+        }
+    }
+}
+
+#[test]
+fn a_cutoff_that_is_not_a_frequency_is_refused() {
+    let model = strip(4, (0.025, 0.005, 1.15)).support(0, Support::Clamped).unwrap();
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = modes_below(&model, bad).unwrap_err().to_string();
+        assert!(e.contains("cutoff"), "{bad}: {e}");
+    }
+    assert!(modes_below(&model, 1e-3).unwrap().is_empty());
+}
