@@ -377,7 +377,7 @@ fn lanczos(
         basis.push(qj);
         mbasis.push(mqj);
         alpha.push(a);
-        // Full reorthogonalisation, twice (the three-term recurrence is its first pass); M w
+        // Full reorthogonalisation (classical Gram-Schmidt twice), M w
         // then computed afresh (updated along, it drifts from M times the w left, by more
         // than that w once the Krylov space nears an invariant one).
         hht::fast::run(Reorthogonalise { basis: &basis, mbasis: &mbasis, w: &mut w });
