@@ -395,13 +395,9 @@ pub enum LawName {
 }
 
 impl LawName {
-    /// The name as a scene file writes it.
+    /// The name as a scene file writes it (its entry in [`LawName::NAMES`]).
     pub fn as_str(self) -> &'static str {
-        match self {
-            LawName::Hertz => "hertz",
-            LawName::HuntCrossley => "hunt-crossley",
-            LawName::Thornton => "thornton",
-        }
+        Self::NAMES.iter().find(|(_, law, _)| *law == self).map_or("", |(name, ..)| name)
     }
 }
 
@@ -561,5 +557,32 @@ impl Scene {
         toml::Value::Table(table)
             .try_into()
             .map_err(|e: toml::de::Error| ImpactError::Parse(e.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn every_named_choice_reads_back_by_its_name_and_refuses_others_listing_them() {
+        // The one table of each choice is what the parser reads, what `LawName::as_str`
+        // writes and what the schema lists.
+        for (name, law, _) in LawName::NAMES {
+            assert_eq!(LawName::try_from(toml::Value::String((*name).into())).unwrap(), *law);
+            assert_eq!(law.as_str(), *name);
+        }
+        for (name, support, _) in SupportName::NAMES {
+            assert_eq!(
+                SupportName::try_from(toml::Value::String((*name).into())).unwrap(),
+                *support
+            );
+        }
+        let e = FeModelName::try_from(toml::Value::String("2d".into())).unwrap_err();
+        assert_eq!(e, "\"2d\" is not one of \"planar\", \"3d\"");
+        let schema = serde_json::to_value(Scene::schema()).unwrap();
+        let methods = &schema["$defs"]["MethodName"]["enum"];
+        assert_eq!(methods, &serde_json::json!(["auto", "modal", "fe"]));
     }
 }
