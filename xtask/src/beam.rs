@@ -1,16 +1,25 @@
 //! `cargo xtask beam SCENE.toml`: a beam under prescribed loads (no ball), static or dynamic;
-//! the tracked node's history and the final shape as CSV, and a chart of the tracked node.
+//! the tracked node's history and the final shape as CSV, and a chart of the tracked node; with
+//! `--modes-below OMEGA`, the beam's natural modes below OMEGA (rad/s) as well.
 
 use crate::files::{create, read_input, say, OutDir};
 use crate::plot::{Chart, Series};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use simo_beam::scene::{AnalysisName, BeamScene};
+use std::io::Write;
 use std::path::Path;
 
-pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
+pub(crate) fn run(
+    path: &Path,
+    out: Option<&Path>,
+    modes_below: Option<f64>,
+) -> anyhow::Result<bool> {
     let text = read_input(path, "scene file")?;
     let scene = BeamScene::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
+    if let Some(omega) = modes_below.filter(|w| !(w.is_finite() && *w > 0.0)) {
+        anyhow::bail!("--modes-below {omega}: must be a finite frequency greater than 0 (rad/s)");
+    }
     // The folder is named and proven writable before the run.
     let dir = OutDir::create(&crate::files::out_dir("beam", &scene.name, out)?)?;
     let bar = ProgressBar::new(1000);
@@ -100,5 +109,31 @@ pub(crate) fn run(path: &Path, out: Option<&Path>) -> anyhow::Result<bool> {
         "wrote {}/{{history,shape,tracked-displacement,final-shape}}.csv and the two .svg",
         dir.display()
     )?;
+    if let Some(omega) = modes_below {
+        modes(&scene, omega, dir).with_context(|| format!("in {}", path.display()))?;
+    }
     Ok(true)
+}
+
+/// The beam's natural modes below `omega` (rad/s), linearised about its undeformed
+/// configuration without loads: `modes.csv` (`mode, omega_rad_s, frequency_hz`; a rigid-body
+/// mode at 0) and the first few printed.
+fn modes(scene: &BeamScene, omega: f64, dir: &Path) -> anyhow::Result<()> {
+    let modes = scene.modes_below(omega)?;
+    let mut csv = create(&dir.join("modes.csv"))?;
+    writeln!(csv, "mode,omega_rad_s,frequency_hz")?;
+    for (k, m) in modes.iter().enumerate() {
+        writeln!(csv, "{},{:.9e},{:.9e}", k + 1, m.omega, m.omega / std::f64::consts::TAU)?;
+    }
+    csv.finish()?;
+    let first: Vec<String> =
+        modes.iter().take(6).map(|m| format!("{:.4}", m.omega / std::f64::consts::TAU)).collect();
+    say!(
+        "{} natural mode(s) below {omega:e} rad/s (the unloaded beam, linearised): {}{} Hz; wrote {}",
+        modes.len(),
+        first.join(", "),
+        if modes.len() > 6 { ", ..." } else { "" },
+        dir.join("modes.csv").display()
+    )?;
+    Ok(())
 }

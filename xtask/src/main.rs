@@ -103,6 +103,10 @@ enum Command {
         /// Output folder; default target/beam/NAME.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Also write the beam's natural modes below this angular frequency (rad/s), of the
+        /// unloaded beam linearised about its undeformed shape, to modes.csv.
+        #[arg(long, value_name = "OMEGA")]
+        modes_below: Option<f64>,
     },
     /// Run a scene over a grid of values of its keys, in parallel: sweep.csv (one row a point,
     /// the report's scalars with units) and sweep.svg; or merge the shards of a sweep.
@@ -176,7 +180,7 @@ fn main() -> std::process::ExitCode {
         Command::Accuracy { scene, out, quick, resume, limit } => {
             accuracy::run(&scene, out.as_deref(), quick, resume, limit)
         }
-        Command::Beam { scene, out } => beam::run(&scene, out.as_deref()),
+        Command::Beam { scene, out, modes_below } => beam::run(&scene, out.as_deref(), modes_below),
         Command::Sweep { scene, set, log, shard, merge, out, resume, limit } => {
             match (scene, merge.is_empty()) {
                 (Some(scene), true) => sweep::run(&sweep::Request {

@@ -768,6 +768,25 @@ fn rotation_vector(q: &UnitQuaternion<f64>, reference: &UnitQuaternion<f64>) -> 
 }
 
 impl BeamScene {
+    /// The natural modes of the scene's beam, linearised about its undeformed configuration
+    /// without its loads, with `omega <= omega_max` (rad/s), ascending
+    /// ([`crate::modes_below`]: banded shift-invert Lanczos, the count by Sylvester's inertia).
+    ///
+    /// # Errors
+    /// `InvalidField` naming `omega_max` for a cutoff that is not finite and positive; the
+    /// scene's own errors; [`BeamError::Eigen`] from the solver.
+    pub fn modes_below(&self, omega_max: f64) -> Result<Vec<crate::Mode>, SceneError> {
+        if !(omega_max.is_finite() && omega_max > 0.0) {
+            return Err(SceneError::InvalidField {
+                field: "omega_max".into(),
+                value: show(omega_max),
+                allowed: "must be a finite frequency greater than 0 (rad/s)".into(),
+            });
+        }
+        let (model, _) = self.build()?;
+        Ok(crate::modes_below(&model, omega_max)?)
+    }
+
     /// The JSON Schema of a beam scene file (draft 2020-12), from the types the parser reads
     /// (`cargo xtask schema` writes it to docs/beam-scene.schema.json).
     pub fn schema() -> schemars::Schema {

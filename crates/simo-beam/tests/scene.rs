@@ -324,3 +324,19 @@ force = [0.0, 0.0, -1.0]
         .to_string();
     assert!(err.contains("segment[1].section.thickness"), "{err}");
 }
+
+#[test]
+fn a_beam_scene_s_modes_are_its_cantilever_s() {
+    // Mattiasson's cantilever (EI = 1 N m^2 both ways, rho A = 1 kg/m by default, L = 1 m,
+    // 64 elements): its lowest bending frequency 1.8751041^2 sqrt(EI / rho A) / L^2 =
+    // 3.5160 rad/s, double (the same stiffness both ways), within 5e-3 (the scene's default
+    // rotary inertia, 1e-3 of rho A, lowers it by about 1.8e-3). The loads play no part.
+    let s = scene("beam-mattiasson-k10.toml");
+    let modes = s.modes_below(5.0).unwrap();
+    assert_eq!(modes.len(), 2, "{:?}", modes.iter().map(|m| m.omega).collect::<Vec<_>>());
+    assert!((modes[1].omega / modes[0].omega - 1.0).abs() < 1e-10);
+    let exact = 1.875_104_1_f64.powi(2);
+    assert!((modes[0].omega / exact - 1.0).abs() < 5e-3, "{} vs {exact}", modes[0].omega);
+    let e = s.modes_below(-1.0).unwrap_err().to_string();
+    assert!(e.contains("omega_max = -1"), "{e}");
+}
