@@ -72,6 +72,12 @@ impl Band {
         }
     }
 
+    /// `K - sigma M` for `self` = K and `mass` = M (the same bandwidth).
+    fn shifted(&self, mass: &Band, sigma: f64) -> Band {
+        let a = self.a.iter().zip(&mass.a).map(|(k, m)| k - sigma * m).collect();
+        Band { n: self.n, kd: self.kd, a }
+    }
+
     /// `y = A x`: row `i`'s band times `x` and, mirrored, `x_i` times it into `y` (both on
     /// contiguous slices).
     fn mul(&self, x: &[f64], y: &mut [f64]) {
@@ -200,12 +206,7 @@ pub(crate) fn modes_below<M: Model>(
     stiffness.add_symmetric(&t, 1.0);
     let mut mass = Band::zeros(n, kd);
     mass.add_symmetric(&tm, 1.0);
-    // K - sigma M.
-    let shifted = |sigma: f64| Band {
-        n,
-        kd,
-        a: stiffness.a.iter().zip(&mass.a).map(|(k, m)| k - sigma * m).collect(),
-    };
+    let shifted = |sigma: f64| stiffness.shifted(&mass, sigma);
     if Ldlt::factor(&mass).map_or(true, |f| f.negatives() > 0) {
         return Err(BeamError::Eigen("the mass matrix is not positive definite".into()));
     }
@@ -302,18 +303,17 @@ fn refine(mode: &mut Mode, stiffness: &Band, mass: &Band) -> Result<(), BeamErro
     let (mut k_phi, mut m_phi) = (vec![0.0; n], vec![0.0; n]);
     stiffness.mul(&phi, &mut k_phi);
     mass.mul(&phi, &mut m_phi);
-    let residual = k_phi.iter().zip(&m_phi).map(|(k, m)| (k - lambda * m).powi(2)).sum::<f64>();
+    // |K phi - lambda M phi|^2 against RESIDUAL^2 |lambda M phi|^2 (of the first M phi: the
+    // shape's size stays one in M).
     let scale = m_phi.iter().map(|m| (lambda * m).powi(2)).sum::<f64>();
-    if lambda <= 0.0 || residual <= RESIDUAL * RESIDUAL * scale {
+    let small = |k_phi: &[f64], m_phi: &[f64]| {
+        let residual: f64 = k_phi.iter().zip(m_phi).map(|(k, m)| (k - lambda * m).powi(2)).sum();
+        residual <= RESIDUAL * RESIDUAL * scale
+    };
+    if lambda <= 0.0 || small(&k_phi, &m_phi) {
         return Ok(());
     }
-    let shift = lambda * (1.0 - 1e-6);
-    let shifted = Band {
-        n,
-        kd: stiffness.kd,
-        a: stiffness.a.iter().zip(&mass.a).map(|(k, m)| k - shift * m).collect(),
-    };
-    let factors = Ldlt::factor(&shifted)?;
+    let factors = Ldlt::factor(&stiffness.shifted(mass, lambda * (1.0 - 1e-6)))?;
     let mut phi = phi;
     for _ in 0..REFINEMENTS {
         let mut z = m_phi.clone();
@@ -326,9 +326,7 @@ fn refine(mode: &mut Mode, stiffness: &Band, mass: &Band) -> Result<(), BeamErro
         phi = z.iter().map(|v| v / sign).collect();
         m_phi = mz.iter().map(|v| v / sign).collect();
         stiffness.mul(&phi, &mut k_phi);
-        let residual: f64 =
-            k_phi.iter().zip(&m_phi).map(|(k, m)| (k - lambda * m).powi(2)).sum::<f64>();
-        if residual <= RESIDUAL * RESIDUAL * scale {
+        if small(&k_phi, &m_phi) {
             break;
         }
     }
@@ -349,7 +347,6 @@ fn lanczos(
     wanted: usize,
 ) -> Result<Vec<Mode>, BeamError> {
     let n = op.n;
-    let most = n;
     // Q and M Q, a column a Lanczos vector.
     let mut basis: Vec<Vec<f64>> = Vec::new();
     let mut mbasis: Vec<Vec<f64>> = Vec::new();
@@ -367,7 +364,7 @@ fn lanczos(
     let mut mr = vec![0.0; n];
     mass.mul(&r, &mut mr);
     let mut norm = dot(&r, &mr).sqrt();
-    let mut check = (2 * wanted + 10).min(most);
+    let mut check = (2 * wanted + 10).min(n);
     loop {
         let qj: Vec<f64> = r.iter().map(|v| v / norm).collect();
         let mqj: Vec<f64> = mr.iter().map(|v| v / norm).collect();
@@ -386,20 +383,20 @@ fn lanczos(
         hht::fast::run(Reorthogonalise { basis: &basis, mbasis: &mbasis, w: &mut w });
         mass.mul(&w, &mut mw);
         let b = dot(&w, &mw).max(0.0).sqrt();
-        let done = basis.len() >= most || b <= f64::EPSILON * a.abs();
+        let done = basis.len() >= n || b <= f64::EPSILON * a.abs();
         if basis.len() >= check || done {
-            if let Some(modes) = ritz(&basis, &alpha, &beta, b, (sigma, lower, upper), wanted)? {
-                return Ok(modes);
-            }
+            let found = match ritz(&basis, &alpha, &beta, b, (sigma, lower, upper), wanted)? {
+                Ok(modes) => return Ok(modes),
+                Err(found) => found,
+            };
             if done {
-                let found = ritz_count(&alpha, &beta, b, (sigma, lower, upper))?;
                 return Err(BeamError::Eigen(format!(
                     "Lanczos found {found} modes between {:e} and {:e} rad/s where the inertia count says {wanted}: a multiple eigenvalue one start vector does not see",
                     lower.max(0.0).sqrt(),
                     upper.sqrt()
                 )));
             }
-            check = (check + check / 2 + 10).min(most);
+            check = (check + check / 2 + 10).min(n);
         }
         beta.push(b);
         (r, mr, norm) = (w, mw, b);
@@ -457,22 +454,7 @@ fn in_slice(theta: f64, (sigma, lower, upper): (f64, f64, f64)) -> bool {
     theta != 0.0 && lambda > lower && lambda <= upper
 }
 
-/// How many converged Ritz values lie in the slice.
-fn ritz_count(
-    alpha: &[f64],
-    beta: &[f64],
-    last: f64,
-    slice: (f64, f64, f64),
-) -> Result<usize, BeamError> {
-    let (theta, s) = tridiagonal(alpha, beta)?;
-    let m = alpha.len();
-    Ok((0..m)
-        .filter(|&i| in_slice(theta[i], slice))
-        .filter(|&i| last * s[(m - 1, i)].abs() <= CONVERGED * theta[i].abs())
-        .count())
-}
-
-/// The slice's modes, ascending, if `wanted` of them have converged, else `None`.
+/// The slice's modes, ascending, if `wanted` of them have converged, else how many have.
 fn ritz(
     basis: &[Vec<f64>],
     alpha: &[f64],
@@ -480,7 +462,7 @@ fn ritz(
     last: f64,
     slice: (f64, f64, f64),
     wanted: usize,
-) -> Result<Option<Vec<Mode>>, BeamError> {
+) -> Result<Result<Vec<Mode>, usize>, BeamError> {
     let (theta, s) = tridiagonal(alpha, beta)?;
     let m = alpha.len();
     let sigma = slice.0;
@@ -489,25 +471,23 @@ fn ritz(
     let converged =
         below.iter().filter(|&&i| last * s[(m - 1, i)].abs() <= CONVERGED * theta[i].abs()).count();
     if converged < wanted || below.len() > converged {
-        return Ok(None);
+        return Ok(Err(converged));
     }
     let n = basis[0].len();
     // More than the count only by a Ritz value at the cutoff within rounding: the lowest.
-    Ok(Some(
-        below
-            .into_iter()
-            .take(wanted)
-            .map(|i| {
-                let lambda = sigma + 1.0 / theta[i];
-                let mut shape = Col::<f64>::zeros(n);
-                for (k, qk) in basis.iter().enumerate() {
-                    let c = s[(k, i)];
-                    for (v, q) in shape.iter_mut().zip(qk) {
-                        *v += c * q;
-                    }
+    Ok(Ok(below
+        .into_iter()
+        .take(wanted)
+        .map(|i| {
+            let lambda = sigma + 1.0 / theta[i];
+            let mut shape = Col::<f64>::zeros(n);
+            for (k, qk) in basis.iter().enumerate() {
+                let c = s[(k, i)];
+                for (v, q) in shape.iter_mut().zip(qk) {
+                    *v += c * q;
                 }
-                Mode { omega: lambda.max(0.0).sqrt(), shape }
-            })
-            .collect(),
-    ))
+            }
+            Mode { omega: lambda.max(0.0).sqrt(), shape }
+        })
+        .collect()))
 }

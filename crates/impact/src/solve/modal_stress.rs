@@ -115,6 +115,8 @@ struct Peaks {
     /// The one-point fields after the supports' stresses: what, where, the largest seen and
     /// the search's result.
     points: Vec<PointSearch>,
+    /// Their magnitudes at the last observed instant (kept: no allocation an instant).
+    point_values: Vec<f64>,
 
     /// The largest displacement observed (m) and when (s).
     seen_displacement: (f64, f64),
@@ -380,9 +382,11 @@ impl ModalStress {
             self.peaks.seen_displacement = (w, t);
         }
         let count = self.peaks.support_count;
-        let points: Vec<f64> =
-            self.peaks.supports[count..].iter().map(|r| r.value(force, q).abs()).collect();
-        for (p, value) in self.peaks.points.iter_mut().zip(&points) {
+        let rows = self.peaks.supports[count..].iter();
+        for ((p, value), row) in
+            self.peaks.points.iter_mut().zip(&mut self.peaks.point_values).zip(rows)
+        {
+            *value = row.value(force, q).abs();
             if *value > p.seen.0 {
                 p.seen = (*value, t);
             }
@@ -396,7 +400,7 @@ impl ModalStress {
         let values: Vec<f64> = [w]
             .into_iter()
             .chain(self.stresses[..supports].iter().copied())
-            .chain(points.iter().copied())
+            .chain(self.peaks.point_values.iter().copied())
             .collect();
         // A whole-grid instant: the grid with the modes the last stretch chose (with all of
         // them, its values are the field's), then the stretch since the last such instant,
@@ -684,7 +688,7 @@ impl Peaks {
     ) -> Self {
         let PeakSetup { modes, residual, spacing, corrections, mut supports, points } = setup;
         let support_count = supports.len();
-        let points = points
+        let points: Vec<PointSearch> = points
             .into_iter()
             .map(|(kind, x, row)| {
                 supports.push(row);
@@ -718,6 +722,7 @@ impl Peaks {
             displacement,
             supports,
             support_count,
+            point_values: vec![0.0; points.len()],
             points,
             seen_displacement: (0.0, 0.0),
             stress_peak: None,
