@@ -62,7 +62,7 @@ fn a_strike_off_the_structure_or_not_normal_to_a_face_is_refused_by_name() {
         (&[("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.0, 0.0]")], "impact.direction"),
         (&[("at = 0.9 ", "at = 1.2 ")], "impact.at"),
         (&[("at = 0.9 ", "position = 0.9 ")], "impact.position"),
-        (&[("method = \"fe\"", "method = \"modal\"")], "fe method on its 3D beam"),
+        (&[("method = \"fe\"", "method = \"modal\"\nmodes = 64")], "solver.modes"),
         (&[("method = \"fe\"", "method = \"fe\"\nelement_size = 0.01")], "segments' `elements`"),
         (
             &[("end = [0.5, 0.5, 0.0]", "start = [0.6, 0.0, 0.0]\nend = [0.5, 0.5, 0.0]")],

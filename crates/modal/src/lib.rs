@@ -27,6 +27,12 @@
 //! its static twist, and [`rectangle_torsion`], the exact torsion constant of a rectangle: what
 //! an off-centre strike adds to the bending modes (validation/REFERENCES.md 1.9).
 //!
+//! **Any basis.** [`SiteModes`]: the kept modes at a contact site with the site's static
+//! flexibility (the residual flexibility is their difference), and [`Recovery`]: quantities
+//! linear in the motion read from the modal coordinates and the force, mode-acceleration
+//! form. What the impact coupling needs of a basis, whether this crate's analytic uniform beam
+//! or modes computed from a finite-element model of a structure (`simo_beam::modes_below`).
+//!
 //! **Units.** SI: m, kg, s, N; modal coordinates in m sqrt(kg).
 //!
 //! ```
@@ -50,6 +56,7 @@ mod duhamel;
 mod error;
 mod propagate;
 mod shape;
+mod site;
 mod support;
 mod timoshenko;
 mod torsion;
@@ -59,5 +66,6 @@ pub use duhamel::duhamel_series;
 pub use error::ModalError;
 pub use propagate::{Hold, ModalState, OneStep, PointModes, Transition};
 pub use shape::ModeShape;
+pub use site::{Recovery, SiteModes};
 pub use support::Support;
 pub use torsion::{rectangle_torsion, Torsion, TorsionMode};

@@ -215,17 +215,21 @@ pub(crate) fn modes_below<M: Model>(
     if wanted == 0 {
         return Ok(Vec::new());
     }
+    // The stiffness' round-off: a rigid-body mode's computed eigenvalue is about eps times
+    // the largest K_ii / M_ii (measured: 1e-5 on the paper's free strip, where that is 7e10).
+    let ratio = (0..n).map(|i| stiffness.at(i, i) / mass.at(i, i)).fold(0.0, f64::max);
     // The lowest slice starts below zero: a free structure's rigid-body modes are then inside
-    // it, not on its edge. A millionth of the cutoff.
-    let floor = -1e-6 * lambda_max;
+    // it, not on its edge. As little below as the round-off allows (a thousand times the
+    // rigid modes' threshold, at most a millionth of the cutoff): the lowest mode's
+    // eigenvalue is sigma + 1/theta, and a shift far below it cancels its digits (at a
+    // millionth of a cutoff of 1e9 rad/s, the first mode of a 6-element frame came out 1.5e-7
+    // off, and its share of the static flexibility 3e-7, a residual flexibility's whole size).
+    let floor = -(1e3 * RIGID * ratio).min(1e-6 * lambda_max);
     if Ldlt::factor(&shifted(floor))?.negatives() > 0 {
         return Err(BeamError::Eigen(
             "the stiffness has a negative eigenvalue: the configuration is unstable".into(),
         ));
     }
-    // The stiffness' round-off: a rigid-body mode's computed eigenvalue is about eps times
-    // the largest K_ii / M_ii (measured: 1e-5 on the paper's free strip, where that is 7e10).
-    let ratio = (0..n).map(|i| stiffness.at(i, i) / mass.at(i, i)).fold(0.0, f64::max);
     let count = |lambda: f64| -> Result<usize, BeamError> {
         Ok(Ldlt::factor(&shifted(lambda))?.negatives())
     };

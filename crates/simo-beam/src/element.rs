@@ -224,6 +224,45 @@ impl Element {
         f
     }
 
+    /// The derivative of the strains `[Gamma; K]` with respect to `[dx1, th1, dx2, th2]` at a
+    /// configuration (the rotations updated as `Lambda_i exp(th_i^)`, as for
+    /// [`Element::force_and_tangent`]), exact by the same dual numbers: at the reference it
+    /// turns a linear mode's nodal motion into its section strains (the modal method on a
+    /// finite-element basis recovers stresses with it).
+    pub fn strain_jacobian(
+        &self,
+        x: [&Vector3<f64>; 2],
+        r: [&UnitQuaternion<f64>; 2],
+    ) -> SMatrix<f64, 6, 12> {
+        type D = DualSVec64<12>;
+        let seed = |i: usize| -> D {
+            let mut e = SVector::<f64, 12>::zeros();
+            e[i] = 1.0;
+            DualVec::new(0.0, num_dual::Derivative::some(e))
+        };
+        let p: [D; 12] = std::array::from_fn(seed);
+        let x1 = x[0].map(D::from) + Vector3::new(p[0], p[1], p[2]);
+        let x2 = x[1].map(D::from) + Vector3::new(p[6], p[7], p[8]);
+        let half: D = cst(0.5);
+        let turn = |r: &UnitQuaternion<f64>, o: &UnitQuaternion<f64>, k: usize| {
+            quaternion_to::<D>(r)
+                * Quaternion::new(D::from(1.0), p[k] * half, p[k + 1] * half, p[k + 2] * half)
+                * quaternion_to::<D>(o)
+        };
+        let q1 = turn(r[0], &self.offsets[0], 3);
+        let q2 = turn(r[1], &self.offsets[1], 9);
+        let (s, ..) = self.kinematics(&x1, &x2, &q1, &q2);
+        let mut jacobian = SMatrix::<f64, 6, 12>::zeros();
+        for (i, value) in s.gamma.iter().chain(s.kappa.iter()).enumerate() {
+            if let Some(row) = value.eps.0.as_ref() {
+                for j in 0..12 {
+                    jacobian[(i, j)] = row[j];
+                }
+            }
+        }
+        jacobian
+    }
+
     /// Internal force and its exact derivative with respect to `[dx1, th1, dx2, th2]`, where
     /// the rotations are updated as `Lambda_i exp(th_i^)`.
     pub fn force_and_tangent(

@@ -173,3 +173,36 @@ fn the_update_exponential_is_the_rotation_of_its_vector() {
         assert!(error < 2e-16, "phi {phi:?}: error {error:e}");
     }
 }
+
+#[test]
+fn the_strain_jacobian_is_the_derivative_of_the_strains() {
+    // Central differences of the six strains along each variation, on the curved, deformed
+    // element, once with a corner offset on its end frames: step 1e-6 (m, rad), truncation
+    // O(h^2) ~ 1e-12, round-off eps |K| / h ~ 1e-10 (curvatures of order 1/m): 1e-7 absolute
+    // against entries of order 1 (Gamma) and 1/l0 = 10 (K).
+    let (mut e, x, r) = setup();
+    for offset in [None, Some(Vector3::new(0.2, -0.4, 0.7))] {
+        if let Some(o) = offset {
+            e.offsets = [UnitQuaternion::identity(), UnitQuaternion::from_scaled_axis(o)];
+        }
+        let jacobian = e.strain_jacobian([&x[0], &x[1]], [&r[0], &r[1]]);
+        let strains = |x: &[Vector3<f64>; 2], r: &[UnitQuaternion<f64>; 2]| {
+            let s = e.strains([&x[0], &x[1]], [&r[0], &r[1]]);
+            [s.gamma[0], s.gamma[1], s.gamma[2], s.kappa[0], s.kappa[1], s.kappa[2]]
+        };
+        for j in 0..12 {
+            let h = 1e-6;
+            let (xp, rp) = perturbed(&x, &r, j, h);
+            let (xm, rm) = perturbed(&x, &r, j, -h);
+            let (sp, sm) = (strains(&xp, &rp), strains(&xm, &rm));
+            for i in 0..6 {
+                let fd = (sp[i] - sm[i]) / (2.0 * h);
+                assert!(
+                    (jacobian[(i, j)] - fd).abs() < 1e-7,
+                    "strain {i}, variation {j}: {} vs {fd} (offset {offset:?})",
+                    jacobian[(i, j)]
+                );
+            }
+        }
+    }
+}

@@ -131,6 +131,14 @@ impl FePlan {
         self.nodes.len() - 1
     }
 
+    /// The struck element and the impact point's local coordinate on it (0 at its first
+    /// node, 1 at its second): the first element whose end is at or beyond the point.
+    pub(crate) fn impact_site(&self) -> (usize, f64) {
+        let nodes = &self.nodes;
+        let i = nodes.windows(2).position(|w| self.position <= w[1]).unwrap_or(0);
+        (i, (self.position - nodes[i]) / (nodes[i + 1] - nodes[i]))
+    }
+
     /// Node positions along the beam (m), from 0 to L.
     pub fn nodes(&self) -> &[f64] {
         &self.nodes

@@ -19,7 +19,8 @@ pub use fe::{
     FePlan, FE_ALPHA, FE_ELEMENTS_PER_WAVELENGTH, FE_FREE_STEP_RATIO, FE_GROWTH, FE_LADDER_END,
     FE_LADDER_START, FE_SAMPLES_PER_PULSE,
 };
-pub use modal::{ModalPlan, MODAL_LADDER_END, MODE_CUTOFF};
+pub use modal::{ModalBasis, ModalPlan, MODAL_LADDER_END, MODE_CUTOFF};
+pub use structure::FeBasis;
 pub use theory::{MIN_SLENDERNESS, MIN_WAVELENGTH, NEGLIGIBLE_CORRECTION, NOTABLE_CORRECTION};
 
 use crate::error::{bounded, invalid, not_negative, positive, range, show, ImpactError};
@@ -675,7 +676,10 @@ fn contact_step(
 /// The first elastic mode's period (s) of the plan's beam.
 fn first_period(method: &Method) -> Option<f64> {
     let beam = match method {
-        Method::Modal(m) => &m.beam,
+        Method::Modal(m) => match &m.basis {
+            ModalBasis::Analytic(beam) => beam,
+            ModalBasis::Fe(fe) => return fe.fe.first_period(),
+        },
         Method::Fe(fe) => return fe.first_period(),
         Method::HalfSpace => return None,
     };
@@ -801,6 +805,15 @@ impl Plan {
             }
             Struck::HalfSpace => half_space(s, &mut reasons)?,
             Struck::Beam(beam) => beam_method(scene, beam, &pulse, &mut reasons, &mut warnings)?,
+            Struck::Structure(st) if s.method == MethodName::Modal => {
+                reasons.push("method modal, as asked".into());
+                Method::Modal(structure::modal_plan(
+                    scene,
+                    st,
+                    &pulse,
+                    (&mut reasons, &mut warnings),
+                )?)
+            }
             Struck::Structure(st) => Method::Fe(structure::plan(
                 scene,
                 st,
@@ -841,7 +854,10 @@ impl Plan {
         }
 
         let (modes, elements, beam_theory) = match &method {
-            Method::Modal(m) => (m.modes, 0, Some(theory::name(&m.beam))),
+            Method::Modal(m) => match &m.basis {
+                ModalBasis::Analytic(beam) => (m.modes, 0, Some(theory::name(beam))),
+                ModalBasis::Fe(basis) => (0, basis.elements(), None),
+            },
             Method::Fe(fe) => (0, fe.elements(), None),
             Method::HalfSpace => (0, 0, None),
         };

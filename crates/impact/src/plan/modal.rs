@@ -11,12 +11,21 @@ pub const MODAL_LADDER_END: usize = 8192;
 /// (validation/REFERENCES.md 6.4): the force pulse does not excite faster modes.
 pub const MODE_CUTOFF: f64 = 20.0;
 
-/// A beam modelled by its first modes, struck at one point.
+/// Where a modal plan's modes come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModalBasis {
+    /// A uniform `[beam]`'s analytic modes (exact).
+    Analytic(modal::Beam),
+    /// A `[structure]`'s modes computed from its 3D finite-element beam.
+    Fe(Box<super::structure::FeBasis>),
+}
+
+/// A beam or structure modelled by its first modes, struck at one point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModalPlan {
-    /// The beam.
-    pub(crate) beam: modal::Beam,
-    /// Impact point (m) from x = 0.
+    /// Where the modes come from.
+    pub(crate) basis: ModalBasis,
+    /// Impact point (m) from x = 0 (along the segments on a structure).
     pub(crate) position: f64,
     /// Modal damping ratio of every elastic mode (-).
     pub(crate) damping: f64,
@@ -42,9 +51,12 @@ pub struct ModalPlan {
 }
 
 impl ModalPlan {
-    /// The beam.
-    pub fn beam(&self) -> &modal::Beam {
-        &self.beam
+    /// The uniform beam of an analytic basis; `None` on a structure's fe basis.
+    pub fn beam(&self) -> Option<&modal::Beam> {
+        match &self.basis {
+            ModalBasis::Analytic(beam) => Some(beam),
+            ModalBasis::Fe(_) => None,
+        }
     }
 
     /// Impact point (m) from x = 0.
@@ -52,15 +64,21 @@ impl ModalPlan {
         self.position
     }
 
-    /// Number of bending modes (the torsion modes of an off-centre strike come with them).
+    /// Number of bending modes (the torsion modes of an off-centre strike come with them); 0
+    /// on an fe basis, whose modes are all those below its cutoff, counted when it runs.
     pub fn modes(&self) -> usize {
         self.modes
     }
 
     /// The static flexibility of the struck face at the impact point (m/N): bending plus
-    /// offset^2 times the twist under a unit torque; `None` for a free-free beam.
+    /// offset^2 times the twist under a unit torque, or a structure's static solve; `None` for
+    /// a free body.
     pub fn static_flexibility(&self) -> Option<f64> {
-        let bending = self.beam.static_flexibility(self.position)?;
+        let beam = match &self.basis {
+            ModalBasis::Analytic(beam) => beam,
+            ModalBasis::Fe(fe) => return fe.static_flexibility(),
+        };
+        let bending = beam.static_flexibility(self.position)?;
         match &self.torsion {
             Some((t, e)) => Some(bending + e * e * t.static_flexibility(self.position)?),
             None => Some(bending),
@@ -115,7 +133,7 @@ pub(super) fn plan(
         let tolerance = super::checked_tolerance(tolerance)?;
         reasons.push(format!("modes from {needed} (omega t_c <= {MODE_CUTOFF}), doubled until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (the estimated error of the finer is a third of their difference: Richardson at second order, where the paper's tip converges at about third order in the modes)"));
         return Ok(ModalPlan {
-            beam,
+            basis: ModalBasis::Analytic(beam),
             position,
             damping,
             modes: needed,
@@ -141,7 +159,7 @@ pub(super) fn plan(
         }
     };
     Ok(ModalPlan {
-        beam,
+        basis: ModalBasis::Analytic(beam),
         position,
         damping,
         modes,

@@ -3,7 +3,7 @@
 //! the 3D beam.
 
 use super::fe::{FePlan, Steps};
-use super::{offset, Pulse};
+use super::{offset, ModalBasis, ModalPlan, Pulse, MODE_CUTOFF};
 use crate::error::{invalid, not_negative, ImpactError};
 use crate::scene::{FeModelName, MethodName, Scene, StructureSpec};
 use crate::solve::Face;
@@ -32,6 +32,13 @@ pub(crate) struct StructurePlan {
 }
 
 impl StructurePlan {
+    /// The unknowns and weights whose sum is the struck face's height along `up` at `site`
+    /// (element, local coordinate), `offset` (m) across it (see
+    /// [`crate::solve::face_rows`]).
+    pub(crate) fn face_rows(&self, site: (usize, f64), offset: f64) -> Vec<(usize, f64)> {
+        crate::solve::face_rows(&self.model, (self.up, self.face, offset), site)
+    }
+
     /// The fe plan of the same strike with every segment's `elements` times `factor`.
     ///
     /// # Errors
@@ -47,7 +54,7 @@ impl StructurePlan {
         let spec = scene.structure.clone().ok_or_else(|| {
             ImpactError::Inconsistent("a structure's plan without its [structure]".into())
         })?;
-        plan(&scene, &spec, pulse, (&mut Vec::new(), &mut Vec::new()))
+        build(&scene, &spec, pulse, (&mut Vec::new(), &mut Vec::new()))
     }
 }
 
@@ -92,19 +99,16 @@ pub(super) fn plan(
     (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
 ) -> Result<FePlan, ImpactError> {
     let s = &scene.solver;
-    if s.method == MethodName::Modal
-        || s.modes.is_some()
+    if s.modes.is_some()
         || s.residual_flexibility.is_some()
         || s.plain_stress_series.is_some()
         || s.beam_theory.is_some()
         || s.adaptive_step.is_some()
         || s.energy_tolerance.is_some()
     {
-        return Err(ImpactError::Inconsistent("a [structure] runs by the fe method on its 3D beam: the modal method's modes are a uniform beam's (Goldsmith's method on structures is not built yet); give solver.method = \"fe\" or \"auto\", without modes, residual_flexibility, plain_stress_series, beam_theory, adaptive_step or energy_tolerance".into()));
+        return Err(ImpactError::Inconsistent("solver.modes, residual_flexibility, plain_stress_series, beam_theory, adaptive_step and energy_tolerance belong to the modal method (solver.method = \"modal\" on a [structure]); the fe method takes none of them".into()));
     }
-    if s.elements.is_some() || s.element_size.is_some() {
-        return Err(ImpactError::Inconsistent("a [structure]'s mesh is its segments' `elements`: solver.elements and element_size do not apply (give more elements per segment, or solver.tolerance)".into()));
-    }
+    checked_mesh_keys(s)?;
     let tolerance = s.tolerance.map(super::checked_tolerance).transpose()?;
     if let Some(tolerance) = tolerance {
         reasons.push(format!("every segment's elements doubled until two successive runs agree within solver.tolerance = {tolerance} on every significant contact and the largest displacement (second-order Richardson estimate of the finer's error), then the steps as for a beam"));
@@ -114,6 +118,135 @@ pub(super) fn plan(
             "solver.fe_model = \"planar\" with a [structure]: a structure takes the 3D beam".into(),
         ));
     }
+    let fe = build(scene, spec, pulse, (reasons, warnings))?;
+    Steps::new(s, pulse)?.reasons(s, pulse.duration, reasons);
+    Ok(FePlan { tolerance, ..fe })
+}
+
+/// A structure's mesh is its segments' `elements`.
+fn checked_mesh_keys(s: &crate::scene::SolverSpec) -> Result<(), ImpactError> {
+    if s.elements.is_some() || s.element_size.is_some() {
+        return Err(ImpactError::Inconsistent("a [structure]'s mesh is its segments' `elements`: solver.elements and element_size do not apply (give more elements per segment, or solver.tolerance)".into()));
+    }
+    Ok(())
+}
+
+/// The modal method's plan on a structure (Goldsmith's method on a finite-element basis):
+/// the 3D beam of [`plan`], its modes kept up to [`MODE_CUTOFF`] over the estimated contact
+/// duration (computed when the plan runs), and the site's static flexibility by a static
+/// solve, whose excess over the kept modes' share is in series with the contact by default.
+pub(super) fn modal_plan(
+    scene: &Scene,
+    spec: &StructureSpec,
+    pulse: &Pulse,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) -> Result<ModalPlan, ImpactError> {
+    let s = &scene.solver;
+    if s.modes.is_some() || s.beam_theory.is_some() {
+        return Err(ImpactError::Inconsistent("solver.modes and beam_theory belong to the modal method on a uniform [beam]: a [structure]'s modes are its 3D finite-element beam's (shear and rotary inertia), all below omega t_c = 20 for the estimated contact duration; give solver.tolerance to refine them".into()));
+    }
+    checked_mesh_keys(s)?;
+    let tolerance = s.tolerance.map(super::checked_tolerance).transpose()?;
+    let fe = build(scene, spec, pulse, (reasons, warnings))?;
+    let basis = FeBasis::new(fe, MODE_CUTOFF / pulse.duration)?;
+    let static_flexibility = basis.static_flexibility();
+    let residual_flexibility = s.residual_flexibility.unwrap_or(static_flexibility.is_some());
+    if residual_flexibility && static_flexibility.is_none() {
+        return Err(ImpactError::Inconsistent("solver.residual_flexibility needs a held structure: a free one has no static flexibility (inertia relief is not built)".into()));
+    }
+    let plain_stress_series = s.plain_stress_series.unwrap_or(false);
+    reasons.push(format!(
+        "Goldsmith's method on the structure's own modes: every mode of its 3D beam linearised at rest (its masses, springs and supports; consistent mass) with omega <= {:.4e} rad/s (omega t_c <= {MODE_CUTOFF}), by shift-invert Lanczos on a banded factorisation (counted by Sylvester's inertia), mass-normalised; the site's gain is the struck face's motion along the strike (bending plus offset x twist)",
+        basis.cutoff
+    ));
+    if residual_flexibility {
+        reasons.push(format!("residual flexibility{}: the site's static flexibility by a static solve of the 3D beam less the kept modes' share, in series with the contact; the strains' quasi-static share likewise (mode-acceleration method)", if s.residual_flexibility.is_some() { ", as asked" } else { " (default on a structure: the mesh's highest modes are its least accurate, the static solve is exact to the mesh)" }));
+    } else if static_flexibility.is_none() {
+        reasons.push("no residual flexibility: the structure is free (no static flexibility; inertia relief is not built), so the modes alone converge".into());
+    }
+    if let Some(tolerance) = tolerance {
+        reasons.push(format!("every segment's elements and the modes' cutoff doubled together until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (the finer's error a third of their difference: Richardson at second order)"));
+    }
+    reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress at each element's midpoint (positions are arc lengths), from the modes' section strains plus the static solve's for the truncated ones, at every recorded instant (about 200 a contact, one an output interval in free flight): not searched between them; the twist likewise at every node".into());
+    Ok(ModalPlan {
+        basis: ModalBasis::Fe(Box::new(basis)),
+        position: scene.impact.at.unwrap_or(0.0),
+        damping: 0.0,
+        modes: 0,
+        tolerance,
+        residual_flexibility,
+        plain_stress_series,
+        twin: None,
+        torsion: None,
+    })
+}
+
+/// A structure's modal basis as planned: its 3D beam and strike (the fe method's plan) and
+/// the cutoff; the static flexibility at the site is solved when planned, the modes when run
+/// (`solve::modal`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FeBasis {
+    pub(crate) fe: FePlan,
+    /// Modes are kept up to this angular frequency (rad/s).
+    pub(crate) cutoff: f64,
+    /// The site's static flexibility (m/N), `None` for a free structure.
+    static_flexibility: Option<f64>,
+}
+
+impl FeBasis {
+    /// The basis of `fe`'s structure up to `cutoff` (rad/s), with the site's static
+    /// flexibility.
+    ///
+    /// # Errors
+    /// `Inconsistent` if `fe` holds no structure.
+    pub(crate) fn new(fe: FePlan, cutoff: f64) -> Result<Self, ImpactError> {
+        let st = fe
+            .structure
+            .as_ref()
+            .ok_or_else(|| ImpactError::Inconsistent("an fe basis without its structure".into()))?;
+        let rows = st.face_rows(fe.impact_site(), fe.offset);
+        let static_flexibility = crate::solve::static_response(&st.model, &rows).map(|(f, _)| f);
+        Ok(Self { fe, cutoff, static_flexibility })
+    }
+
+    /// The site's static flexibility (m/N), `None` for a free structure.
+    pub fn static_flexibility(&self) -> Option<f64> {
+        self.static_flexibility
+    }
+
+    /// The same basis on every segment's elements times `factor`, with the cutoff times
+    /// `factor` (a rung of the tolerance's ladder).
+    ///
+    /// # Errors
+    /// From rebuilding the structure (not expected: it was built once).
+    pub(crate) fn refined(&self, factor: usize) -> Result<Self, ImpactError> {
+        let st =
+            self.fe.structure.as_ref().ok_or_else(|| {
+                ImpactError::Inconsistent("an fe basis without its structure".into())
+            })?;
+        Self::new(st.refined(factor)?, self.cutoff * factor as f64)
+    }
+
+    /// Each segment's elements (the basis' mesh).
+    pub(crate) fn elements(&self) -> usize {
+        self.fe.elements()
+    }
+
+    /// The structure's length along its segments (m).
+    pub(crate) fn length(&self) -> f64 {
+        self.fe.nodes.last().copied().unwrap_or(0.0) - self.fe.nodes.first().copied().unwrap_or(0.0)
+    }
+}
+
+/// The 3D beam of `spec` and the strike on it, as `scene.impact` says (the steps are the
+/// caller's).
+fn build(
+    scene: &Scene,
+    spec: &StructureSpec,
+    pulse: &Pulse,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) -> Result<FePlan, ImpactError> {
+    let s = &scene.solver;
     let impact = &scene.impact;
     if impact.position.is_some() {
         return Err(ImpactError::Inconsistent("impact.position belongs to a [beam]; a [structure] takes impact.at (the arc length along its segments, m) and impact.direction (the ball's velocity)".into()));
@@ -247,8 +380,9 @@ pub(super) fn plan(
         if face == Face::Thickness { "thickness" } else { "width" },
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
-    reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths) and every accepted step; the twist is read at every node".into());
-    steps.reasons(s, pulse.duration, reasons);
+    if s.method != MethodName::Modal {
+        reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths) and every accepted step; the twist is read at every node".into());
+    }
     let Steps { alpha, samples, free_time_step, .. } = steps;
     Ok(FePlan {
         material,
@@ -262,7 +396,7 @@ pub(super) fn plan(
         free_time_step,
         samples_per_pulse: samples,
         approach_scale: pulse.max_approach,
-        tolerance,
+        tolerance: None,
         attachments: Vec::new(),
         three_d: true,
         offset,

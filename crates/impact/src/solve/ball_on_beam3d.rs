@@ -109,6 +109,35 @@ impl Face {
 }
 
 /// The skew matrix of `v`: `skew(v) w = v x w`.
+/// [`BallOnBeam3d::facing`] of `beam` struck against `face` along `-up`.
+fn facing(beam: &BeamModel, (up, face): (Vector3<f64>, Face), e: usize) -> f64 {
+    let node = beam.mesh().elements[e].nodes[0];
+    let (normal, _) = face.axes();
+    let n = beam.mesh().frames[node].to_rotation_matrix().into_inner().column(normal).into_owned();
+    let side = if n.dot(&up) < 0.0 { -1.0 } else { 1.0 };
+    side * face.twist_sign()
+}
+
+/// The unknowns and weights whose sum is the struck face's height along `up` at `(i, xi)`
+/// (element, local coordinate) of `beam`, `offset` (m) across the face: the two nodes'
+/// translations along `up`, interpolated linearly, and their rotations about the section axis
+/// times the offset (small rotation; the rotation unknowns are material, about E1).
+pub(crate) fn face_rows(
+    beam: &BeamModel,
+    (up, face, offset): (Vector3<f64>, Face, f64),
+    (i, xi): (usize, f64),
+) -> Vec<(usize, f64)> {
+    let e = offset * facing(beam, (up, face), i);
+    [(i, 1.0 - xi), (i + 1, xi)]
+        .into_iter()
+        .flat_map(|(node, w)| {
+            [(node, 0, w * up.x), (node, 1, w * up.y), (node, 2, w * up.z), (node, 3, e * w)]
+        })
+        .filter(|(_, _, w)| *w != 0.0)
+        .filter_map(|(node, k, w)| beam.dof(node, k).map(|d| (d, w)))
+        .collect()
+}
+
 fn skew<T: nalgebra::RealField + Copy>(v: &Vector3<T>) -> Matrix3<T> {
     Matrix3::new(T::zero(), -v.z, v.y, v.z, T::zero(), -v.x, -v.y, v.x, T::zero())
 }
@@ -233,19 +262,16 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         self.up
     }
 
+    /// The faces struck.
+    pub fn face(&self) -> Face {
+        self.face
+    }
+
     /// How a twist moves the struck point along `up`, per unit offset and twist: the face's
     /// sign (see [`Face::twist_sign`]) times +1 where its normal (of element `e`'s first node at
     /// rest) points along `up`, -1 where against it.
     pub(crate) fn facing(&self, e: usize) -> f64 {
-        let node = self.beam.mesh().elements[e].nodes[0];
-        let (normal, _) = self.face.axes();
-        let n = self.beam.mesh().frames[node]
-            .to_rotation_matrix()
-            .into_inner()
-            .column(normal)
-            .into_owned();
-        let side = if n.dot(&self.up) < 0.0 { -1.0 } else { 1.0 };
-        side * self.face.twist_sign()
+        facing(&self.beam, (self.up, self.face), e)
     }
 
     /// Node `node`'s section rotation about its axis from its reference frame (rad): the

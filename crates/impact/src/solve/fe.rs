@@ -206,8 +206,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         model.launch(plan.speed, &mut v);
         let state = integrator.initial_state(&model, 0.0, q, v).map_err(|e| fail(0.0, e))?;
         let approach = model.approach(&state.q);
-        let i = target.nodes.windows(2).position(|w| target.position <= w[1]).unwrap_or(0);
-        let xi = (target.position - target.nodes[i]) / (target.nodes[i + 1] - target.nodes[i]);
+        let (i, xi) = target.impact_site();
         let face_rows = model.face_rows((i, xi));
         Ok(Self {
             plan,

@@ -98,7 +98,7 @@ impl FeStress {
     }
 
     /// Adds the field of configuration `q` with section strains `strains` at `t` (s), if asked.
-    fn record_field(&mut self, t: f64, q: &PlanarState, strains: &[(f64, f64, f64)]) {
+    pub(crate) fn record_field(&mut self, t: f64, q: &PlanarState, strains: &[(f64, f64, f64)]) {
         let Some(field) = &mut self.field else { return };
         field.push_instant(t);
         let element = |e: usize| {

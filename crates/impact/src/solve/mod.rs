@@ -10,6 +10,7 @@
 mod ball_on_beam;
 mod ball_on_beam3d;
 mod fe;
+mod fe_basis;
 mod fe_stress;
 mod modal;
 mod modal_peak;
@@ -19,7 +20,9 @@ mod refine;
 mod struck;
 
 pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};
+pub(crate) use ball_on_beam3d::face_rows;
 pub use ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig, Face};
+pub(crate) use struck::static_response;
 
 use crate::error::ImpactError;
 use crate::outcome::Outcome;
@@ -97,7 +100,7 @@ fn measure_theory(
     let modes = out.report.plan.modes;
     let mut other = plan.clone();
     other.method = Method::Modal(crate::plan::ModalPlan {
-        beam: timoshenko,
+        basis: crate::plan::ModalBasis::Analytic(timoshenko),
         modes,
         tolerance: None,
         twin: None,

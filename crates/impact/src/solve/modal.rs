@@ -19,7 +19,7 @@ use crate::error::ImpactError;
 use crate::events::{ContactRecorder, Illinois};
 use crate::law::WithLaw;
 use crate::outcome::{static_stiffness, Contact, Ending, Energy, History, Outcome, Report, Sample};
-use crate::plan::{Method, Plan, FINEST_LEVEL, LARGE_DEFLECTION};
+use crate::plan::{Method, ModalBasis, ModalPlan, Plan, FINEST_LEVEL, LARGE_DEFLECTION};
 use hertz::ContactLaw;
 use modal::{Hold, ModalState, Mode, OneStep, PointModes, Transition};
 use std::rc::Rc;
@@ -147,11 +147,11 @@ struct Basis {
 /// free twist), then the elastic bending modes, then the elastic torsion modes. A torsion
 /// mode's gain is offset x Theta(c) / sqrt(rho Ip L): the face at the offset moves by
 /// w + offset x twist (small rotation).
-fn point_modes(m: &crate::plan::ModalPlan) -> Result<Basis, ImpactError> {
-    let bending = m.beam.modes(m.modes)?;
-    let scale = 1.0 / m.beam.mass().sqrt();
+fn point_modes(m: &crate::plan::ModalPlan, beam: &modal::Beam) -> Result<Basis, ImpactError> {
+    let bending = beam.modes(m.modes)?;
+    let scale = 1.0 / beam.mass().sqrt();
     let Some((torsion, offset)) = m.torsion() else {
-        let modes = PointModes::new(&m.beam, &bending, m.position, m.damping)?;
+        let modes = PointModes::new(beam, &bending, m.position, m.damping)?;
         return Ok(Basis { modes, shapes: bending, twist: None, twist_rate: Vec::new() });
     };
     let top = bending.iter().fold(0.0, |a: f64, b| a.max(b.omega));
@@ -160,7 +160,7 @@ fn point_modes(m: &crate::plan::ModalPlan) -> Result<Basis, ImpactError> {
     let rigid_t = twisting.iter().take_while(|t| t.omega <= 0.0).count();
     let t_scale = 1.0 / torsion.mass().sqrt();
     let absent =
-        |omega: f64| Mode { beta_l: 0.0, omega, shape: modal::ModeShape::absent(m.beam.length()) };
+        |omega: f64| Mode { beta_l: 0.0, omega, shape: modal::ModeShape::absent(beam.length()) };
     // (mode, gain, twist row entry) in the basis' order.
     let bend = |b: &Mode| (*b, b.shape.value(m.position) * scale, 0.0);
     let twist = |t: &modal::TorsionMode| {
@@ -187,7 +187,8 @@ fn point_modes(m: &crate::plan::ModalPlan) -> Result<Basis, ImpactError> {
         torsion.static_flexibility(m.position).map_or(0.0, |f| offset * (f - kept).max(0.0));
     let modes = PointModes::from_parts(omega, vec![m.damping; all.len()], gain)?;
     let counts = (rigid_b, bending.len() - rigid_b, rigid_t);
-    let twist_rate = twist_rate_rows(m, torsion, offset, (&twisting, counts), t_scale);
+    let twist_rate =
+        twist_rate_rows(m, beam.length(), (torsion, offset), (&twisting, counts), t_scale);
     Ok(Basis {
         modes,
         shapes: all.into_iter().map(|a| a.0).collect(),
@@ -205,12 +206,12 @@ pub(crate) type Section = (f64, &'static str, Row);
 /// elastic bending modes and the rigid torsion modes.
 fn twist_rate_rows(
     m: &crate::plan::ModalPlan,
-    torsion: &modal::Torsion,
-    offset: f64,
+    length: f64,
+    (torsion, offset): (&modal::Torsion, f64),
     (twisting, (rigid_b, elastic_b, rigid_t)): (&[modal::TorsionMode], (usize, usize, usize)),
     t_scale: f64,
 ) -> Vec<Section> {
-    let (length, c) = (m.beam.length(), m.position);
+    let c = m.position;
     let (held_start, held_end) = torsion.held_ends();
     // Just beside c: the static torque's jump is between these (1e-12 of the length).
     let side = 1e-12 * length;
@@ -270,6 +271,50 @@ fn torsion_shear_rows(
         .collect()
 }
 
+/// What a solver steps and reads of a basis: its modes at the impact point, the residual
+/// flexibility in series with the contact (m/N, 0 if not taken) and the beam's recovery.
+type Stepped<'a> = (PointModes, f64, Option<Box<dyn BeamRecorder + 'a>>);
+
+/// A uniform beam's analytic basis: its modes at the impact point (bending, and torsion off
+/// the centre), the residual flexibility where the plan takes it (the beam tables' static
+/// flexibility less the kept modes' share, validation/REFERENCES.md 1.4) and the stress
+/// recovery on its mode shapes.
+fn analytic<'a>(
+    plan: &Plan,
+    m: &crate::plan::ModalPlan,
+    beam: &modal::Beam,
+) -> Result<Stepped<'a>, ImpactError> {
+    let basis = point_modes(m, beam)?;
+    let site = modal::SiteModes::new(basis.modes, m.static_flexibility())?;
+    let residual = if m.residual_flexibility { site.residual_flexibility() } else { None };
+    let residual = residual.unwrap_or(0.0);
+    let modes = site.modes().clone();
+    let Some((thickness, width)) = plan.thickness.zip(plan.width) else {
+        return Ok((modes, residual, None));
+    };
+    let setup = StressSetup {
+        position: m.position,
+        thickness,
+        width,
+        plain: m.plain_stress_series,
+        modes: modes.clone(),
+        residual,
+        duration: plan.estimated_duration,
+        twist: basis.twist.map(|(mut row, residual_twist)| {
+            if m.residual_flexibility {
+                row.p = residual_twist;
+            }
+            row
+        }),
+        torsion_shear: torsion_shear_rows(m, basis.twist_rate, (width, thickness)),
+    };
+    let mut stress = ModalStress::new(beam, basis.shapes, setup);
+    if plan.field {
+        stress.record_field();
+    }
+    Ok((modes, residual, Some(Box::new(stress))))
+}
+
 /// 0, 1, 2, 3, 4, 6, 8, 12, 16, ... (powers of two and 1.5 times them) below n, then n.
 fn horizon_splits(n: usize) -> Vec<usize> {
     let mut splits = vec![0, 1, 2];
@@ -297,51 +342,22 @@ fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
 
 impl<'a, L: ContactLaw> Solver<'a, L> {
     fn new(plan: &'a Plan, law: &'a L, progress: Progress<'a>) -> Result<Self, ImpactError> {
-        let (modes, shapes, twist, twist_rate) = match &plan.method {
-            Method::Modal(m) => {
-                let basis = point_modes(m)?;
-                (basis.modes, Some(basis.shapes), basis.twist, basis.twist_rate)
-            }
+        let (modes, residual, stress) = match &plan.method {
+            Method::Modal(m) => match &m.basis {
+                ModalBasis::Analytic(beam) => analytic(plan, m, beam)?,
+                ModalBasis::Fe(basis) => {
+                    let fe = super::fe_basis::site(m, basis, plan.field)?;
+                    let residual =
+                        if m.residual_flexibility { fe.site.residual_flexibility() } else { None };
+                    let recorder = Box::new(fe.recorder) as Box<dyn BeamRecorder + 'a>;
+                    (fe.site.modes().clone(), residual.unwrap_or(0.0), Some(recorder))
+                }
+            },
             Method::HalfSpace | Method::Fe(_) => {
-                (PointModes::from_parts(vec![], vec![], vec![])?, None, None, Vec::new())
+                (PointModes::from_parts(vec![], vec![], vec![])?, 0.0, None)
             }
         };
         let n = modes.len();
-        // The mode-acceleration method's quasi-static part: what the truncated modes would
-        // add to the point's static compliance (validation/REFERENCES.md 1.4).
-        let residual = match &plan.method {
-            Method::Modal(m) if m.residual_flexibility => {
-                let total = m.static_flexibility().unwrap_or(0.0);
-                (total - modes.static_flexibility()).max(0.0)
-            }
-            _ => 0.0,
-        };
-        let stress = match (&plan.method, shapes, plan.thickness.zip(plan.width)) {
-            (Method::Modal(m), Some(shapes), Some((thickness, width))) => {
-                let setup = StressSetup {
-                    position: m.position,
-                    thickness,
-                    width,
-                    plain: m.plain_stress_series,
-                    modes: modes.clone(),
-                    residual,
-                    duration: plan.estimated_duration,
-                    twist: twist.map(|(mut row, residual_twist)| {
-                        if m.residual_flexibility {
-                            row.p = residual_twist;
-                        }
-                        row
-                    }),
-                    torsion_shear: torsion_shear_rows(m, twist_rate, (width, thickness)),
-                };
-                let mut s = ModalStress::new(&m.beam, shapes, setup);
-                if plan.field {
-                    s.record_field();
-                }
-                Some(s)
-            }
-            _ => None,
-        };
         let damped = modes.damping_ratio().iter().any(|z| *z > 0.0);
         let inv_omega =
             modes.omega().iter().map(|w| if *w > 0.0 { 1.0 / w } else { 0.0 }).collect();
@@ -367,7 +383,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 ),
                 progress,
                 plan.end_time,
-                stress.map(|s| Box::new(s) as Box<dyn BeamRecorder + 'a>),
+                stress,
             ),
             contact_steps: vec![None; FINEST_LEVEL + 1],
             free_steps: Vec::new(),
@@ -937,6 +953,16 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         let recovered = self.recorders.finish(plan.beam_yield_stress, self.max_displacement);
         self.max_displacement = recovered.displacement;
         let mut summary = plan.summary.clone();
+        if let Method::Modal(ModalPlan { basis: ModalBasis::Fe(basis), .. }) = &plan.method {
+            let top = self.modes.omega().last().copied().unwrap_or(0.0);
+            summary.modes = self.modes.len();
+            summary.reasons.push(format!(
+                "{} modes of the {}-element structure below the cutoff (the highest {top:.4e} rad/s: omega t_c = {:.1})",
+                self.modes.len(),
+                basis.elements(),
+                top * plan.estimated_duration
+            ));
+        }
         summary.reasons.extend(recovered.note);
         warnings.extend(recovered.warnings);
         if let Some((twist, _)) = recovered.twist.filter(|t| t.0 > SMALL_TWIST) {
@@ -947,7 +973,10 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         }
         let static_stiffness = match &plan.method {
             Method::Modal(m) => {
-                let length = m.beam.length();
+                let length = match &m.basis {
+                    ModalBasis::Analytic(beam) => beam.length(),
+                    ModalBasis::Fe(fe) => fe.length(),
+                };
                 if self.max_displacement.0 > LARGE_DEFLECTION * length {
                     warnings.push(format!(
                         "the largest displacement {:.4} m is {:.0} % of the beam length: small-deflection (modal) theory is exceeded",
@@ -981,7 +1010,9 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 wall_time: clock.elapsed().as_secs_f64(),
                 bending_stress: recovered.stress,
                 twist: recovered.twist,
-                largest_twist: None,
+                largest_twist: recovered
+                    .largest_twist
+                    .map(|(max, position, time)| crate::outcome::Twist { max, position, time }),
                 torsion_shear: recovered
                     .torsion_shear
                     .map(|(max, position, time)| crate::outcome::Twist { max, position, time }),
@@ -1020,7 +1051,7 @@ mod tests {
             .replace("position = 1.15", "position = 1.10");
         let plan = Plan::new(&Scene::from_toml(&text).unwrap()).unwrap();
         let Method::Modal(m) = &plan.method else { panic!("modal expected") };
-        let basis = point_modes(m).unwrap();
+        let basis = point_modes(m, m.beam().unwrap()).unwrap();
         let rows = torsion_shear_rows(m, basis.twist_rate.clone(), (0.025, 0.005));
         let xs: Vec<f64> = rows.iter().map(|r| r.0).collect();
         assert_eq!(xs.len(), 3, "the clamp and each side of the struck section: {xs:?}");
@@ -1195,9 +1226,9 @@ mod brute_force {
         let reported = report.bending_stress.unwrap();
 
         let Method::Modal(m) = &plan.method else { panic!("modal expected") };
-        let beam = m.beam;
+        let beam = m.beam().unwrap();
         let shapes = beam.modes(m.modes).unwrap();
-        let modes = PointModes::new(&beam, &shapes, m.position, m.damping).unwrap();
+        let modes = PointModes::new(beam, &shapes, m.position, m.damping).unwrap();
         let scale = 1.0 / beam.mass().sqrt();
         let (h, b) = (plan.thickness.unwrap(), plan.width.unwrap());
         let section = beam.flexural_rigidity() * 0.5 * h / (b * h * h * h / 12.0);

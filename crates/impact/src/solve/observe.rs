@@ -59,6 +59,11 @@ pub(crate) trait BeamRecorder {
     fn twist_peak(&self) -> Option<(f64, f64)> {
         None
     }
+    /// The largest twist of any section (rad), where (m) and when (s), where the recovery
+    /// reads every node's (a structure's modes).
+    fn largest_twist_peak(&self) -> Option<(f64, f64, f64)> {
+        None
+    }
     /// The largest Saint-Venant shear stress of torsion (Pa), where (m) and when (s), for an
     /// off-centre strike (after [`BeamRecorder::finish`]).
     fn torsion_shear_peak(&self) -> Option<(f64, f64, f64)> {
@@ -85,6 +90,8 @@ pub(crate) struct Recovered {
     pub(crate) displacement: (f64, f64),
     /// The struck section's largest twist (rad) and when (s), for an off-centre strike.
     pub(crate) twist: Option<(f64, f64)>,
+    /// The largest twist of any section (rad), where (m) and when (s), if read.
+    pub(crate) largest_twist: Option<(f64, f64, f64)>,
     /// The largest torsion shear stress (Pa), where (m) and when (s), for an off-centre strike.
     pub(crate) torsion_shear: Option<(f64, f64, f64)>,
     /// How the maxima were found, for the report's reasons, and what could not be made
@@ -162,6 +169,7 @@ impl<'a> Recorders<'a> {
         let displacement =
             self.beam.as_mut().map_or(displacement, |b| b.displacement_peak(displacement));
         let twist = self.beam.as_ref().and_then(|b| b.twist_peak());
+        let largest_twist = self.beam.as_ref().and_then(|b| b.largest_twist_peak());
         let torsion_shear = self.beam.as_ref().and_then(|b| b.torsion_shear_peak());
         let note = self.beam.as_ref().and_then(|b| b.search_note());
         let warnings = self.beam.as_ref().map(|b| b.search_warnings()).unwrap_or_default();
@@ -172,6 +180,7 @@ impl<'a> Recorders<'a> {
             field,
             displacement,
             twist,
+            largest_twist,
             torsion_shear,
             note,
             warnings,

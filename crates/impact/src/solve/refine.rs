@@ -32,7 +32,8 @@ use super::Progress;
 use crate::error::ImpactError;
 use crate::outcome::{Outcome, Report};
 use crate::plan::{
-    FePlan, Method, ModalPlan, Plan, FE_LADDER_END, FE_LADDER_START, MODAL_LADDER_END,
+    FeBasis, FePlan, Method, ModalBasis, ModalPlan, Plan, FE_LADDER_END, FE_LADDER_START,
+    MODAL_LADDER_END,
 };
 
 /// Runs `target` on doubling uniform meshes until the estimated relative error of the finer
@@ -132,7 +133,11 @@ pub(super) fn run_modal(
     // from 512 to 2048 modes) but not yet at the ladder's first rungs, where a third of the
     // difference was measured to claim 3 times too little (1.8e-4 against 5.2e-4 on the
     // chattering tip).
-    let share = match target.beam.theory() {
+    let beam = match &target.basis {
+        ModalBasis::Analytic(beam) => beam,
+        ModalBasis::Fe(basis) => return run_fe_basis(plan, target, basis, tolerance, progress),
+    };
+    let share = match beam.theory() {
         ::modal::Theory::EulerBernoulli => 1.0 / 3.0,
         ::modal::Theory::Timoshenko => 1.0,
     };
@@ -144,6 +149,32 @@ pub(super) fn run_modal(
     })?;
     out.0.report.plan.modes = out.1;
     Ok(out.0)
+}
+
+/// A structure's modal basis to a tolerance: every segment's elements and the modes' cutoff
+/// doubled together (the mesh's modes converge at the element's second order, and the cutoff
+/// keeps the same share of them) until two runs agree, up to [`FE_LADDER_END`] elements.
+fn run_fe_basis(
+    plan: &Plan,
+    target: &ModalPlan,
+    basis: &FeBasis,
+    tolerance: f64,
+    progress: Progress<'_>,
+) -> Result<Outcome, ImpactError> {
+    let start = basis.elements();
+    let end = FE_LADDER_END.max(start);
+    let ladder = Ladder { start, end, unit: "elements", share: 1.0 / 3.0 };
+    let (out, _) = ladder.climb(tolerance, |elements| {
+        let mut step = plan.clone();
+        let refined = basis.refined(elements / start)?;
+        step.method = Method::Modal(ModalPlan {
+            basis: ModalBasis::Fe(Box::new(refined)),
+            tolerance: None,
+            ..target.clone()
+        });
+        plan.law.with(ModalRun { plan: &step, progress })
+    })?;
+    Ok(out)
 }
 
 /// Resolutions start, 2 start, 4 start, ... up to `end`.

@@ -83,6 +83,25 @@ pub(crate) type OutOfPlane = (f64, f64, f64);
 /// static solve a run). `None` if the model is not held (a singular `K`) or the flexibility
 /// is not positive.
 fn static_flexibility_of<M: Model>(model: &M, q: &M::Config, rows: &[(usize, f64)]) -> Option<f64> {
+    static_solve(model, q, rows).map(|(flexibility, _)| flexibility)
+}
+
+/// The static flexibility (m/N) of a 3D beam at rest at the face rows `rows` and its
+/// displacement under a unit force along the strike (`-rows`: the force pushes the face along
+/// the ball's velocity); `None` where it is not held.
+pub(crate) fn static_response(
+    beam: &simo_beam::BeamModel,
+    rows: &[(usize, f64)],
+) -> Option<(f64, faer::Col<f64>)> {
+    static_solve(beam, &beam.reference_state(), rows).map(|(f, u)| (f, -u))
+}
+
+/// [`static_flexibility_of`] and the displacement `K^-1 rows` it reads.
+fn static_solve<M: Model>(
+    model: &M,
+    q: &M::Config,
+    rows: &[(usize, f64)],
+) -> Option<(f64, faer::Col<f64>)> {
     let n = model.ndof();
     let zero = faer::Col::<f64>::zeros(n);
     let mut k = hht::Triplets::new();
@@ -96,7 +115,7 @@ fn static_flexibility_of<M: Model>(model: &M, q: &M::Config, rows: &[(usize, f64
     }
     let u = lu.solve(&f, 0.0).ok()?;
     let flexibility: f64 = rows.iter().map(|(i, w)| w * u[*i]).sum();
-    (flexibility.is_finite() && flexibility > 0.0).then_some(flexibility)
+    (flexibility.is_finite() && flexibility > 0.0).then_some((flexibility, u))
 }
 
 /// Linear interpolation at `xi` between two nodes' values.
@@ -235,16 +254,8 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     }
     /// The translation rows of the two nodes along `up`, and their rotation about the section
     /// axis times the offset (the angular velocities are material, about E1).
-    fn face_rows(&self, (i, xi): (usize, f64)) -> Vec<(usize, f64)> {
-        let (up, e) = (self.up(), self.offset() * self.facing(i));
-        [(i, 1.0 - xi), (i + 1, xi)]
-            .into_iter()
-            .flat_map(|(node, w)| {
-                [(node, 0, w * up.x), (node, 1, w * up.y), (node, 2, w * up.z), (node, 3, e * w)]
-            })
-            .filter(|(_, _, w)| *w != 0.0)
-            .filter_map(|(node, k, w)| self.beam().dof(node, k).map(|d| (d, w)))
-            .collect()
+    fn face_rows(&self, site: (usize, f64)) -> Vec<(usize, f64)> {
+        super::ball_on_beam3d::face_rows(self.beam(), (self.up(), self.face(), self.offset()), site)
     }
     /// The two nodes' sections' rotation about their axis from their reference frames,
     /// interpolated: the angle that turns E2 toward E3.

@@ -1,0 +1,364 @@
+//! Goldsmith's method on a structure: the modes of its 3D finite-element beam seen from the
+//! contact site, and the recovery of its strains, twists and field from them.
+//!
+//! The structure's beam (`plan::FeBasis`: its masses, springs and supports) linearised at rest
+//! gives K phi = omega^2 M phi; every mode with omega up to the plan's cutoff is solved by
+//! `simo_beam::modes_below` (shift-invert Lanczos on a banded factorisation, mass-normalised,
+//! rigid-body modes counted by a tolerance). A mode's gain at the site is the struck face's
+//! motion along the ball's velocity per unit modal coordinate: g_n = -r . phi_n with r the face
+//! rows (the two nodes' translations along `up`, interpolated, plus the offset times their
+//! twist). The site's static flexibility f = r . K^-1 r is a static solve of the same beam,
+//! and what it exceeds the kept modes' share sum g_n^2 / omega_n^2 by is the residual
+//! flexibility (validation/REFERENCES.md 1.4).
+//!
+//! Recovery: each element's section strains at its midpoint are linear in the nodal motion at
+//! rest (`simo_beam::Element::strain_jacobian`), so each mode has its strains, and the
+//! mode-acceleration form adds the static solve's strains under the force for the truncated
+//! modes ([`modal::Recovery`]). The stress and the Saint-Venant shear are then the fe method's
+//! (`FeStress`, the struck face's worst corner), the twist each node's rotation about its
+//! axis. They are evaluated at every recorded instant (about 200 a contact, one an output
+//! interval in free flight), not searched between them: the maxima are the fe method's kind
+//! (values the field takes at those instants), not the analytic basis' certified ones.
+
+use super::fe_stress::FeStress;
+use super::observe::{BeamRecorder, BeamView, Instant};
+use crate::error::ImpactError;
+use crate::outcome::{BendingStress, Field};
+use crate::plan::{FeBasis, ModalPlan};
+use faer::Col;
+use hht::Model;
+use modal::{PointModes, Recovery, SiteModes};
+use simo_beam::{BeamModel, PlanarState};
+
+/// The modes of a structure at its contact site and their recovery.
+pub(super) struct FeSite {
+    pub(super) site: SiteModes,
+    pub(super) recorder: FeRecovery,
+}
+
+/// Solves the basis of `basis` as `m` plans it: its modes, gains, residual flexibility and the
+/// recovery's rows; `field` also records the field along the arc length.
+///
+/// # Errors
+/// `Inconsistent` naming what to change when the eigen-solver fails or finds no mode below the
+/// cutoff; the modal crate's errors for a non-finite value.
+pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite, ImpactError> {
+    let fe = &basis.fe;
+    let st = fe
+        .structure
+        .as_ref()
+        .ok_or_else(|| ImpactError::Inconsistent("an fe basis without its structure".into()))?;
+    let model = &st.model;
+    let modes = simo_beam::modes_below(model, basis.cutoff).map_err(|e| {
+        ImpactError::Inconsistent(format!(
+            "the structure's modes up to omega = {:.4e} rad/s could not be solved ({e}); give solver.method = \"fe\", or fewer elements per segment",
+            basis.cutoff
+        ))
+    })?;
+    if modes.is_empty() {
+        return Err(ImpactError::Inconsistent(format!(
+            "the structure has no mode below omega = {:.4e} rad/s (omega t_c = 20 for the estimated contact duration): the contact is over before the structure moves; strike it by solver.method = \"fe\"",
+            basis.cutoff
+        )));
+    }
+    let site_rows = st.face_rows(fe.impact_site(), fe.offset);
+    let gain: Vec<f64> = modes
+        .iter()
+        .map(|mode| -site_rows.iter().map(|(i, w)| w * mode.shape[*i]).sum::<f64>())
+        .collect();
+    let omega: Vec<f64> = modes.iter().map(|mode| mode.omega).collect();
+    let point = PointModes::from_parts(omega, vec![m.damping; modes.len()], gain)?;
+    let static_flexibility = super::static_response(model, &site_rows).map(|(f, _)| f);
+    // The truncated modes' share, solved from the load with the kept modes taken out (see
+    // `SiteModes::with_residual`): r' = r - M Phi Phi^T r = r + M sum_n phi_n g_n.
+    let truncated = static_flexibility.and_then(|_| {
+        let mut kept = Col::<f64>::zeros(model.ndof());
+        for (mode, g) in modes.iter().zip(point.gain()) {
+            kept += &mode.shape * *g;
+        }
+        let mut deflated = mass_times(model, &kept);
+        for (i, w) in &site_rows {
+            deflated[*i] += w;
+        }
+        let rows: Vec<(usize, f64)> = deflated.iter().copied().enumerate().collect();
+        super::static_response(model, &rows)
+    });
+    let residual = static_flexibility.map(|_| truncated.as_ref().map_or(0.0, |(r, _)| *r));
+    let site = SiteModes::with_residual(point, static_flexibility, residual)?;
+    let static_u = truncated.map(|(_, u)| u).filter(|_| !m.plain_stress_series);
+    let sections = &st.sections;
+    let recorder = FeRecovery::new(
+        model,
+        (&modes, site.modes(), static_u.as_ref()),
+        sections,
+        (&fe.nodes, fe.impact_site()),
+        (st.up, field),
+    )?;
+    Ok(FeSite { site, recorder })
+}
+
+/// M v for the beam at rest (its consistent mass and point masses), from the tangent's mass
+/// part, symmetrised as the eigen-solver takes it.
+fn mass_times(model: &BeamModel, v: &Col<f64>) -> Col<f64> {
+    let n = model.ndof();
+    let zero = Col::<f64>::zeros(n);
+    let mut t = hht::Triplets::new();
+    let at_rest = model.reference_state();
+    let weights = hht::NewtonWeights::mass();
+    model.tangent(0.0, &at_rest, zero.as_ref(), zero.as_ref(), weights, &mut t);
+    let mut out = Col::<f64>::zeros(n);
+    for (r, c, x) in t.iter() {
+        out[r] += 0.5 * x * v[c];
+        out[c] += 0.5 * x * v[r];
+    }
+    out
+}
+
+/// The rows of one quantity per mode (and, with `static_u`, its value under the unit static
+/// force carried by the truncated modes), from a linear functional of the nodal unknowns.
+struct RowBuilder<'a> {
+    modes: &'a [simo_beam::Mode],
+    static_u: Option<&'a Col<f64>>,
+    rows: Vec<f64>,
+    statics: Vec<f64>,
+}
+
+impl RowBuilder<'_> {
+    /// Adds the quantity `read` of a vector over the unknowns.
+    fn push(&mut self, read: impl Fn(&Col<f64>) -> f64) {
+        self.rows.extend(self.modes.iter().map(|mode| read(&mode.shape)));
+        if let Some(u) = self.static_u {
+            self.statics.push(read(u));
+        }
+    }
+
+    fn finish(self, point: &PointModes) -> Result<Recovery, ImpactError> {
+        let statics = self.static_u.map(|_| self.statics.as_slice());
+        Ok(Recovery::new(point, self.rows, statics)?)
+    }
+}
+
+/// A structure's strains, stress, twist and field from its modes.
+pub(super) struct FeRecovery {
+    /// Per element: extension, twist rate, the curvatures about E2 and E3.
+    strains: Recovery,
+    /// Per node: its rotation about its axis (rad); then the struck section's, interpolated.
+    twists: Recovery,
+    /// Per node, when the field is asked: the displacement along `up` and the rotation about
+    /// E2 (the planar view's z and -theta).
+    field_rows: Option<Recovery>,
+    stress: FeStress,
+    /// Per element: E (w/2) (Pa m) for the lateral curvature, k G t (Pa m) for the twist rate.
+    lateral_per_curvature: Vec<f64>,
+    shear_per_rate: Vec<f64>,
+    /// Node arc lengths (m).
+    nodes: Vec<f64>,
+    // Work space, kept: no allocation an instant.
+    values: Vec<f64>,
+    section_strains: Vec<(f64, f64, f64)>,
+    lateral: Vec<f64>,
+    twist_values: Vec<f64>,
+    field_values: Vec<f64>,
+    view: PlanarState,
+    /// The struck section's largest twist (rad) and when (s); the largest anywhere, at which
+    /// node and when; the largest torsion shear (Pa), in which element and when.
+    max_twist: (f64, f64),
+    largest_twist: (f64, usize, f64),
+    max_shear: (f64, usize, f64),
+}
+
+impl FeRecovery {
+    fn new(
+        model: &BeamModel,
+        (modes, point, static_u): (&[simo_beam::Mode], &PointModes, Option<&Col<f64>>),
+        sections: &[[f64; 4]],
+        (nodes, (struck, xi)): (&[f64], (usize, f64)),
+        (up, field): (nalgebra::Vector3<f64>, bool),
+    ) -> Result<Self, ImpactError> {
+        let mesh = model.mesh();
+        let reference = model.reference_state();
+        let local = |v: &Col<f64>, element: &simo_beam::Element| {
+            let mut u = nalgebra::SVector::<f64, 12>::zeros();
+            for (end, node) in element.nodes.into_iter().enumerate() {
+                for k in 0..6 {
+                    if let Some(d) = model.dof(node, k) {
+                        u[6 * end + k] = v[d];
+                    }
+                }
+            }
+            u
+        };
+        let unknown =
+            |v: &Col<f64>, node: usize, k: usize| model.dof(node, k).map_or(0.0, |d| v[d]);
+        let builder = || RowBuilder { modes, static_u, rows: Vec::new(), statics: Vec::new() };
+        let mut strains = builder();
+        for element in &mesh.elements {
+            let [a, b] = element.nodes;
+            let jacobian = element.strain_jacobian(
+                [&reference.positions[a], &reference.positions[b]],
+                [&reference.rotations[a], &reference.rotations[b]],
+            );
+            // Gamma_1, K_1, K_2, K_3.
+            for row in [0, 3, 4, 5] {
+                let j = jacobian.row(row).into_owned();
+                strains.push(|v| j.dot(&local(v, element).transpose()));
+            }
+        }
+        let mut twists = builder();
+        for node in 0..mesh.positions.len() {
+            twists.push(|v| unknown(v, node, 3));
+        }
+        twists.push(|v| (1.0 - xi) * unknown(v, struck, 3) + xi * unknown(v, struck + 1, 3));
+        let field_rows = if field {
+            let mut rows = builder();
+            for node in 0..mesh.positions.len() {
+                rows.push(|v| (0..3).map(|k| up[k] * unknown(v, node, k)).sum());
+                rows.push(|v| unknown(v, node, 4));
+            }
+            Some(rows.finish(point)?)
+        } else {
+            None
+        };
+        let free = (simo_beam::Support::Free, simo_beam::Support::Free);
+        let [e0, _, _, t0] = sections[0];
+        let mut stress = FeStress::new(nodes, free, e0, t0).with_sections(
+            sections.iter().map(|[e, _, w, t]| (*e, 0.5 * t, e * w * t.powi(3) / 12.0)).collect(),
+        );
+        if field {
+            stress = stress.with_field(nodes, sections[0][2]);
+        }
+        let elements = mesh.elements.len();
+        let strains = strains.finish(point)?;
+        let twists = twists.finish(point)?;
+        Ok(Self {
+            values: vec![0.0; strains.len()],
+            twist_values: vec![0.0; twists.len()],
+            field_values: vec![0.0; field_rows.as_ref().map_or(0, Recovery::len)],
+            strains,
+            twists,
+            field_rows,
+            stress,
+            lateral_per_curvature: sections.iter().map(|[e, _, w, _]| 0.5 * e * w).collect(),
+            shear_per_rate: sections
+                .iter()
+                .map(|[_, g, w, t]| modal::rectangle_torsion(*w, *t).1 * g * w.min(*t))
+                .collect(),
+            nodes: nodes.to_vec(),
+            section_strains: vec![(0.0, 0.0, 0.0); elements],
+            lateral: vec![0.0; elements],
+            view: PlanarState { x: nodes.to_vec(), z: Vec::new(), theta: Vec::new() },
+            max_twist: (0.0, 0.0),
+            largest_twist: (0.0, 0, 0.0),
+            max_shear: (0.0, 0, 0.0),
+        })
+    }
+}
+
+impl BeamRecorder for FeRecovery {
+    fn observe(&mut self, at: &Instant<'_>) {
+        let BeamView::Modal { q, force, .. } = at.beam else { return };
+        self.strains.evaluate(q, force, &mut self.values);
+        for (e, s) in self.values.chunks_exact(4).enumerate() {
+            let [extension, twist_rate, k2, k3] = [s[0], s[1], s[2], s[3]];
+            // The planar beam's (extension, shear, curvature), its curvature -K2 (as the fe
+            // method's 3D beam hands them over); the lateral bending adds at the worst corner.
+            self.section_strains[e] = (extension, 0.0, -k2);
+            self.lateral[e] = self.lateral_per_curvature[e] * k3.abs();
+            let tau = self.shear_per_rate[e] * twist_rate.abs();
+            if tau > self.max_shear.0 {
+                self.max_shear = (tau, e, at.t);
+            }
+        }
+        self.stress.observe_strains(at.t, &self.section_strains, &self.lateral);
+        self.twists.evaluate(q, force, &mut self.twist_values);
+        let (struck, nodes) = self.twist_values.split_last().unwrap_or((&0.0, &[]));
+        if struck.abs() > self.max_twist.0 {
+            self.max_twist = (struck.abs(), at.t);
+        }
+        for (node, twist) in nodes.iter().enumerate() {
+            if twist.abs() > self.largest_twist.0 {
+                self.largest_twist = (twist.abs(), node, at.t);
+            }
+        }
+        if let (Some(rows), Some(_)) = (&self.field_rows, &at.sample) {
+            rows.evaluate(q, force, &mut self.field_values);
+            self.view.z = self.field_values.iter().step_by(2).copied().collect();
+            self.view.theta = self.field_values.iter().skip(1).step_by(2).map(|r| -r).collect();
+            self.stress.record_field(at.t, &self.view, &self.section_strains);
+        }
+    }
+
+    fn finish(&mut self, yield_stress: Option<f64>) -> BendingStress {
+        self.stress.finish(yield_stress)
+    }
+
+    fn twist_peak(&self) -> Option<(f64, f64)> {
+        Some(self.max_twist)
+    }
+
+    fn largest_twist_peak(&self) -> Option<(f64, f64, f64)> {
+        let (max, node, time) = self.largest_twist;
+        Some((max, self.nodes[node], time))
+    }
+
+    fn torsion_shear_peak(&self) -> Option<(f64, f64, f64)> {
+        let (max, e, time) = self.max_shear;
+        Some((max, 0.5 * (self.nodes[e] + self.nodes[e + 1]), time))
+    }
+
+    fn take_field(&mut self) -> Option<Field> {
+        self.stress.take_field()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::plan::{Method, ModalBasis, Plan};
+    use crate::Scene;
+
+    /// validation/scenes/frame-impact.toml by the modal method, `elements` a member, with
+    /// `edits` (text replaced).
+    fn frame(elements: usize, edits: &[(&str, &str)]) -> Plan {
+        let mut text = include_str!("../../../../validation/scenes/frame-impact.toml")
+            .replace("method = \"fe\"", "method = \"modal\"")
+            .replace("elements = 40", &format!("elements = {elements}"));
+        for (from, to) in edits {
+            assert!(text.contains(from), "{from}");
+            text = text.replace(from, to);
+        }
+        Plan::new(&Scene::from_toml(&text).unwrap()).unwrap()
+    }
+
+    fn basis(plan: &Plan) -> (&ModalPlan, &FeBasis) {
+        let Method::Modal(m) = &plan.method else { panic!("modal expected") };
+        let ModalBasis::Fe(basis) = &m.basis else { panic!("fe basis expected") };
+        (m, basis)
+    }
+
+    #[test]
+    fn every_mode_s_share_is_the_static_solve_s_flexibility() {
+        // The frame at 3 elements a member (36 unknowns) with every mode kept (cutoff far above
+        // the mesh's highest): sum g_n^2 / omega_n^2 over all modes is r . K^-1 r exactly
+        // (K^-1 = Phi Omega^-2 Phi^T for mass-normalised modes), so the residual flexibility is
+        // round-off: 1e-10 of the flexibility (the eigen-solver's residuals are ~1e-12). Struck
+        // off the centre line (offset x twist in the gain) and between nodes.
+        let plan = frame(
+            3,
+            &[("at = 0.9 ", "at = 0.85 "), ("gravity = false", "gravity = false\noffset = 0.01")],
+        );
+        let (m, planned) = basis(&plan);
+        let mut all = planned.clone();
+        all.cutoff = 1e9;
+        let site = site(m, &all, false).unwrap();
+        assert_eq!(site.site.modes().len(), 36);
+        let flexibility = site.site.static_flexibility().unwrap();
+        let share = site.site.modes().static_flexibility();
+        assert!((share / flexibility - 1.0).abs() < 1e-10, "{share:e} vs {flexibility:e}");
+        // At the plan's cutoff the residual is what the modes left out hold, and positive.
+        let kept = super::site(m, planned, false).unwrap();
+        assert!(kept.site.modes().len() < 36);
+        assert!(kept.site.residual_flexibility().unwrap() > 0.0);
+    }
+}
