@@ -419,7 +419,7 @@ fn beam_method(
     let use_fe = match s.method {
         MethodName::Modal if !attachments.is_empty() => {
             return Err(ImpactError::Inconsistent(
-                "[[beam.mass]] and [[beam.spring]] need solver.method = \"fe\": the modal method's modes are the uniform beam's (Goldsmith's method on a beam that carries masses and springs is not built yet)".into(),
+                "[[beam.mass]] and [[beam.spring]] need solver.method = \"fe\": a [beam]'s modal method takes the uniform beam's analytic modes; to run a beam that carries masses and springs by the modal method, describe it as a [structure] (one segment, its [[structure.mass]] and [[structure.spring]]): its modes are then computed from its finite elements".into(),
             ));
         }
         MethodName::Auto if !attachments.is_empty() => {
