@@ -15,8 +15,8 @@ pub struct Scene {
     /// A massive elastic block (no beam); exactly one of `beam`, `half_space` and `structure`.
     pub half_space: Option<HalfSpaceSpec>,
     /// A structure of beams (segments, straight or arcs, meeting at rigid joints; supports at
-    /// arc lengths): the fe method's 3D beam; exactly one of `beam`, `half_space` and
-    /// `structure`.
+    /// arc lengths): the fe method's 3D beam, or (`solver.method = "modal"`) Goldsmith's method
+    /// on that beam's own modes; exactly one of `beam`, `half_space` and `structure`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub structure: Option<StructureSpec>,
     /// The striking ball.
@@ -491,7 +491,8 @@ pub struct SolverSpec {
     /// Modal method: put the truncated modes' static compliance at the impact point (the
     /// beam's static flexibility minus the kept modes' share) in series with the contact, as
     /// the mode-acceleration method does: the modes above the cutoff answer the force
-    /// quasi-statically. Default false.
+    /// quasi-statically. Default false on a `[beam]` (true with `tolerance`), true on a held
+    /// `[structure]`.
     #[schemars(extend("default" = false))]
     pub residual_flexibility: Option<bool>,
     /// Modal method: recover the bending stress by the plain modal series

@@ -151,9 +151,9 @@ pub(super) fn run_modal(
     Ok(out.0)
 }
 
-/// A structure's modal basis to a tolerance: every segment's elements and the modes' cutoff
-/// doubled together (the mesh's modes converge at the element's second order, and the cutoff
-/// keeps the same share of them) until two runs agree, up to [`FE_LADDER_END`] elements.
+/// A structure's modal basis to a tolerance: every segment's elements doubled at the same
+/// cutoff (the mesh's modes converge at the element's second order) until two runs agree, up
+/// to [`FE_LADDER_END`] elements.
 fn run_fe_basis(
     plan: &Plan,
     target: &ModalPlan,
