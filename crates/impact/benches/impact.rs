@@ -2,13 +2,16 @@
 //! with 256 modes on uniform steps, and gravity off: the scipy peer's case), its
 //! first contact with 256 modes, the same scene with the finite-element method (default graded
 //! mesh; first contact only, and 5 ms; 256 equal elements over 1 ms, gravity off, the peer
-//! comparison), and the half-space closed-form case.
+//! comparison), the frame of validation/scenes/frame-impact.toml over 2 ms by the modal method
+//! on its own modes (eigen-solution included) and by the fe method, and the half-space
+//! closed-form case.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use impact::{simulate, Scene};
 
 const PAPER: &str = include_str!("../../../validation/scenes/paper-tip.toml");
+const FRAME: &str = include_str!("../../../validation/scenes/frame-impact.toml");
 const HALF_SPACE: &str = include_str!("../../../validation/scenes/half-space-r10.toml");
 
 fn scenes(c: &mut Criterion) {
@@ -63,6 +66,13 @@ fn scenes(c: &mut Criterion) {
     group.bench_function("fe paper tip 1.05 ms 512 equal elements", |b| {
         b.iter(|| simulate(&chatter))
     });
+    // A structure by Goldsmith's method on its 3D beam's modes (80 elements, 240 modes below
+    // omega t_c = 20; the eigen-solution two thirds of it) and by the fe method, same mesh.
+    let fe_frame = Scene::from_toml(FRAME).expect("valid scene");
+    let mut modal_frame = fe_frame.clone();
+    modal_frame.solver.method = impact::MethodName::Modal;
+    group.bench_function("frame 2 ms modal fe basis", |b| b.iter(|| simulate(&modal_frame)));
+    group.bench_function("frame 2 ms fe", |b| b.iter(|| simulate(&fe_frame)));
     let hs = Scene::from_toml(HALF_SPACE).expect("valid scene");
     group.bench_function("half-space", |b| b.iter(|| simulate(&hs)));
     group.finish();
