@@ -418,9 +418,11 @@ fn beam_method(
     let large = deflection > LARGE_DEFLECTION * length;
     let use_fe = match s.method {
         MethodName::Modal if !attachments.is_empty() => {
-            return Err(ImpactError::Inconsistent(
-                "[[beam.mass]] and [[beam.spring]] need solver.method = \"fe\": a [beam]'s modal method takes the uniform beam's analytic modes; to run a beam that carries masses and springs by the modal method, describe it as a [structure] (one segment, its [[structure.mass]] and [[structure.spring]]): its modes are then computed from its finite elements".into(),
-            ));
+            reasons.push("method modal, as asked, on the beam's own modes: it carries point masses or springs, so its modes are computed from its finite elements (the [structure] it is: one member, a node at each attachment and at the impact point), not the uniform beam's analytic ones".into());
+            let (lowered, spec) = structure::lowered(scene, beam, position, pulse)?;
+            let mut plan = structure::modal_plan(&lowered, &spec, pulse, (reasons, warnings))?;
+            plan.damping = damping;
+            return Ok(Method::Modal(plan));
         }
         MethodName::Auto if !attachments.is_empty() => {
             reasons.push("method fe (auto): the beam carries point masses or springs, and the modal method's modes are the uniform beam's".into());

@@ -181,6 +181,87 @@ pub(super) fn modal_plan(
     })
 }
 
+/// A `[beam]` that carries masses or springs, written as the `[structure]` it is (one straight
+/// member along x, struck on its thickness face from +z, a node at each attachment and at the
+/// impact point), for the modal method on its finite-element basis. The mesh: elements of at
+/// most an eighth of the bending wavelength at the cutoff (omega t_c = 20) and at most L / 64.
+///
+/// # Errors
+/// `Inconsistent` for a rotational spring (the fe basis' springs are translational: it needs
+/// `solver.method = "fe"`).
+pub(super) fn lowered(
+    scene: &Scene,
+    beam: &crate::scene::BeamSpec,
+    position: f64,
+    pulse: &Pulse,
+) -> Result<(Scene, StructureSpec), ImpactError> {
+    if let Some(k) =
+        beam.springs.iter().position(|s| s.rotational_stiffness.is_some_and(|r| r > 0.0))
+    {
+        return Err(ImpactError::Inconsistent(format!("beam.spring[{k}].rotational_stiffness on a [beam] by the modal method: its modes would come from the beam's finite elements, whose springs are translational only; give solver.method = \"fe\"")));
+    }
+    let length = beam.length;
+    let area = beam.width * beam.thickness;
+    let ei = beam.youngs_modulus * beam.width * beam.thickness.powi(3) / 12.0;
+    let cutoff = MODE_CUTOFF / pulse.duration;
+    let wavenumber = (beam.density * area * cutoff * cutoff / ei).powf(0.25);
+    let size = (2.0 * std::f64::consts::PI / wavenumber / 8.0).min(length / 64.0);
+    // The pieces between the ends, the attachments and the impact point.
+    let mut cuts: Vec<f64> =
+        beam.masses.iter().map(|m| m.at).chain(beam.springs.iter().map(|s| s.at)).collect();
+    cuts.extend([0.0, position, length]);
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * length);
+    let mut segments = Vec::new();
+    for (k, w) in cuts.windows(2).enumerate() {
+        segments.push(simo_beam::scene::SegmentSpec {
+            start: (k == 0).then_some([0.0, 0.0, 0.0]),
+            end: Some([w[1], 0.0, 0.0]),
+            centre: None,
+            normal: None,
+            angle_degrees: None,
+            thickness_direction: None,
+            elements: ((w[1] - w[0]) / size).ceil().max(1.0) as usize,
+            section: None,
+        });
+    }
+    let [first, last] = beam.support.ends();
+    let supports = [(0.0, first), (length, last)]
+        .into_iter()
+        .filter(|(_, kind)| *kind != Support::Free)
+        .map(|(at, kind)| simo_beam::scene::SupportSpec { at, kind })
+        .collect();
+    let spec = StructureSpec {
+        section: simo_beam::scene::SectionSpec {
+            youngs_modulus: Some(beam.youngs_modulus),
+            poisson_ratio: Some(beam.poisson_ratio),
+            density: Some(beam.density),
+            width: Some(beam.width),
+            thickness: Some(beam.thickness),
+            ..Default::default()
+        },
+        segments,
+        supports,
+        yield_stress: beam.yield_stress,
+        masses: beam.masses.clone(),
+        springs: beam
+            .springs
+            .iter()
+            .map(|s| crate::scene::StructureSpringSpec {
+                at: s.at,
+                stiffness: [0.0, 0.0, s.stiffness],
+            })
+            .collect(),
+    };
+    let mut lowered = scene.clone();
+    lowered.beam = None;
+    lowered.structure = Some(spec.clone());
+    lowered.impact.position = None;
+    lowered.impact.at = Some(position);
+    lowered.impact.direction = Some([0.0, 0.0, -1.0]);
+    Ok((lowered, spec))
+}
+
 /// A structure's modal basis as planned: its 3D beam and strike (the fe method's plan) and
 /// the cutoff; the static flexibility at the site is solved when planned, the modes when run
 /// (`solve::modal`).
