@@ -15,7 +15,8 @@ pub const REFERENCE_TOLERANCE: f64 = 1e-3;
 /// `elements`, sorted, once each, leaving out a resolution the scene's own run already has.
 ///
 /// # Errors
-/// `Study` for a scene without a beam (a half-space has one model only).
+/// `Study` for a scene without a beam (a half-space has one model only; a structure's
+/// resolution is its segments' elements).
 pub fn runs(
     scene: &Scene,
     modes: &[usize],
@@ -23,7 +24,7 @@ pub fn runs(
 ) -> Result<Vec<(String, Scene)>, ImpactError> {
     if scene.beam.is_none() {
         return Err(ImpactError::Study(
-            "compare needs a [beam] scene (a [half_space] has one model only)".into(),
+            "compare needs a [beam] scene (a [half_space] has one model only; a [structure]'s resolution is its segments' `elements`, not the modes and equal elements compare sets: run it with solver.method = \"modal\" and \"fe\" by simulate)".into(),
         ));
     }
     let fe = |n: Option<usize>| variant(scene, MethodName::Fe, n);
