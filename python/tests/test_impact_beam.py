@@ -103,6 +103,25 @@ def test_a_structure_reports_as_the_command_line_does():
     assert got["torsion_shear"]["max"] > 0
 
 
+def test_a_structure_by_its_own_modes_meets_the_fe_method(tmp_path):
+    # The same frame by Goldsmith's method on its 3D beam's modes (validation/REFERENCES.md
+    # 1.13): the first contact within 1e-3 of the fe method's (measured 1.5e-4), the same
+    # static stiffness (one static solve of the same mesh), the command line's report.
+    scene = scene_dict(SCENES / "frame-impact.toml")
+    scene["solver"]["method"] = "modal"
+    modal = ib.simulate(scene).report
+    fe = ib.simulate(SCENES / "frame-impact.toml").report
+    assert modal["plan"]["method"] == "modal" and modal["plan"]["modes"] > 200
+    first, reference = modal["contacts"][0], fe["contacts"][0]
+    assert first["peak_force"] == pytest.approx(reference["peak_force"], rel=1e-3)
+    assert first["duration"] == pytest.approx(reference["duration"], rel=1e-3)
+    assert modal["static_stiffness"] == pytest.approx(fe["static_stiffness"], rel=1e-9)
+    path = tmp_path / "frame-modal.toml"
+    path.write_text((SCENES / "frame-impact.toml").read_text().replace('method = "fe"', 'method = "modal"'))
+    stdout, _ = cli("simulate", path, "--json")
+    assert timeless(modal) == timeless(json.loads(stdout))
+
+
 def test_a_simulation_prints_its_headline_not_its_arrays():
     run = ib.simulate(TIP)
     text = repr(run)

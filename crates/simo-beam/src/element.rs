@@ -68,6 +68,36 @@ fn quaternion_to<T: RealField + Copy>(q: &UnitQuaternion<f64>) -> Quaternion<T> 
     Quaternion::new(cst(q.w), cst(q.i), cst(q.j), cst(q.k))
 }
 
+/// Twelve dual directions, one a variation of `[dx1, th1, dx2, th2]`.
+type Dual12 = DualSVec64<12>;
+
+/// The configuration `(x, r)` seeded with its twelve variations: the positions plus `dx_i`, the
+/// rotations times `exp(th_i^)` to first order, `q (1, th/2)` (unit only to first order, which
+/// is all a first derivative sees).
+#[allow(clippy::type_complexity)]
+fn seeded(
+    x: [&Vector3<f64>; 2],
+    r: [&UnitQuaternion<f64>; 2],
+) -> (Vector3<Dual12>, Vector3<Dual12>, Quaternion<Dual12>, Quaternion<Dual12>) {
+    let seed = |i: usize| -> Dual12 {
+        let mut e = SVector::<f64, 12>::zeros();
+        e[i] = 1.0;
+        DualVec::new(0.0, num_dual::Derivative::some(e))
+    };
+    let p: [Dual12; 12] = std::array::from_fn(seed);
+    let half: Dual12 = cst(0.5);
+    let turn = |r: &UnitQuaternion<f64>, k: usize| {
+        quaternion_to::<Dual12>(r)
+            * Quaternion::new(Dual12::from(1.0), p[k] * half, p[k + 1] * half, p[k + 2] * half)
+    };
+    (
+        x[0].map(Dual12::from) + Vector3::new(p[0], p[1], p[2]),
+        x[1].map(Dual12::from) + Vector3::new(p[6], p[7], p[8]),
+        turn(r[0], 3),
+        turn(r[1], 9),
+    )
+}
+
 impl Element {
     /// Builds the element between reference nodes (positions `x`, rotations `r`).
     pub fn new(
@@ -234,23 +264,9 @@ impl Element {
         x: [&Vector3<f64>; 2],
         r: [&UnitQuaternion<f64>; 2],
     ) -> SMatrix<f64, 6, 12> {
-        type D = DualSVec64<12>;
-        let seed = |i: usize| -> D {
-            let mut e = SVector::<f64, 12>::zeros();
-            e[i] = 1.0;
-            DualVec::new(0.0, num_dual::Derivative::some(e))
-        };
-        let p: [D; 12] = std::array::from_fn(seed);
-        let x1 = x[0].map(D::from) + Vector3::new(p[0], p[1], p[2]);
-        let x2 = x[1].map(D::from) + Vector3::new(p[6], p[7], p[8]);
-        let half: D = cst(0.5);
-        let turn = |r: &UnitQuaternion<f64>, o: &UnitQuaternion<f64>, k: usize| {
-            quaternion_to::<D>(r)
-                * Quaternion::new(D::from(1.0), p[k] * half, p[k + 1] * half, p[k + 2] * half)
-                * quaternion_to::<D>(o)
-        };
-        let q1 = turn(r[0], &self.offsets[0], 3);
-        let q2 = turn(r[1], &self.offsets[1], 9);
+        let (x1, x2, q1, q2) = seeded(x, r);
+        let q1 = q1 * quaternion_to::<Dual12>(&self.offsets[0]);
+        let q2 = q2 * quaternion_to::<Dual12>(&self.offsets[1]);
         let (s, ..) = self.kinematics(&x1, &x2, &q1, &q2);
         let mut jacobian = SMatrix::<f64, 6, 12>::zeros();
         for (i, value) in s.gamma.iter().chain(s.kappa.iter()).enumerate() {
@@ -270,22 +286,7 @@ impl Element {
         x: [&Vector3<f64>; 2],
         r: [&UnitQuaternion<f64>; 2],
     ) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
-        type D = DualSVec64<12>;
-        let seed = |i: usize| -> D {
-            let mut e = SVector::<f64, 12>::zeros();
-            e[i] = 1.0;
-            DualVec::new(0.0, num_dual::Derivative::some(e))
-        };
-        let p: [D; 12] = std::array::from_fn(seed);
-        let x1 = x[0].map(D::from) + Vector3::new(p[0], p[1], p[2]);
-        let x2 = x[1].map(D::from) + Vector3::new(p[6], p[7], p[8]);
-        let half: D = cst(0.5);
-        // Lambda exp(th^) to first order: q (1, th/2). Unit only to first order, which is all a
-        // first derivative sees.
-        let q1 = quaternion_to::<D>(r[0])
-            * Quaternion::new(D::from(1.0), p[3] * half, p[4] * half, p[5] * half);
-        let q2 = quaternion_to::<D>(r[1])
-            * Quaternion::new(D::from(1.0), p[9] * half, p[10] * half, p[11] * half);
+        let (x1, x2, q1, q2) = seeded(x, r);
         let f = self.force_generic(&x1, &x2, &q1, &q2);
         let mut value = SVector::<f64, 12>::zeros();
         let mut tangent = SMatrix::<f64, 12, 12>::zeros();

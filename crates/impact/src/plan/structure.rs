@@ -134,7 +134,8 @@ fn checked_mesh_keys(s: &crate::scene::SolverSpec) -> Result<(), ImpactError> {
 /// The modal method's plan on a structure (Goldsmith's method on a finite-element basis):
 /// the 3D beam of [`plan`], its modes kept up to [`MODE_CUTOFF`] over the estimated contact
 /// duration (computed when the plan runs), and the site's static flexibility by a static
-/// solve, whose excess over the kept modes' share is in series with the contact by default.
+/// solve; the truncated modes' share (solved from the deflated load when it runs) is in series
+/// with the contact by default.
 pub(super) fn modal_plan(
     scene: &Scene,
     spec: &StructureSpec,
