@@ -956,7 +956,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         let mut summary = plan.summary.clone();
         if let Method::Modal(ModalPlan { basis: ModalBasis::Fe(basis), .. }) = &plan.method {
             let top = self.modes.omega().last().copied().unwrap_or(0.0);
-            summary.modes = self.modes.len();
+            (summary.modes, summary.elements) = (self.modes.len(), basis.elements());
             summary.reasons.push(format!(
                 "{} modes of the {}-element structure below the cutoff (the highest {top:.4e} rad/s: omega t_c = {:.1})",
                 self.modes.len(),
