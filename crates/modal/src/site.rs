@@ -73,6 +73,11 @@ impl SiteModes {
         &self.modes
     }
 
+    /// The kept modes, taken out (what a solver steps).
+    pub fn into_modes(self) -> PointModes {
+        self.modes
+    }
+
     /// The site's static flexibility (m/N), `None` for a free body.
     pub fn static_flexibility(&self) -> Option<f64> {
         self.static_flexibility
@@ -167,13 +172,6 @@ impl Recovery {
         assert!(out.len() == count && q.len() == self.modes, "one value a row and one a mode");
         pulp::Arch::new().dispatch(Evaluate { recovery: self, q, force, out });
     }
-
-    /// Quantity `k` alone (see [`Recovery::evaluate`]).
-    pub fn value(&self, k: usize, q: &[f64], force: f64) -> f64 {
-        let count = self.force.len();
-        let r = self.columns.iter().skip(k).step_by(count);
-        r.zip(q).map(|(r, q)| r * q).sum::<f64>() + self.force[k] * force
-    }
 }
 
 /// [`Recovery::evaluate`]'s loops, compiled for the processor's widest vectors (pulp): one
@@ -236,10 +234,9 @@ mod tests {
             .unwrap_or_else(|e| panic!("{e}"));
         let q = [0.1, 0.2, 0.3];
         let expected = 0.1 + 0.4 + 0.9 + 0.5 * 2.0;
-        assert!((rows.value(0, &q, 2.0) - expected).abs() < 1e-15);
         let mut out = [0.0];
         rows.evaluate(&q, 2.0, &mut out);
-        assert!((out[0] - rows.value(0, &q, 2.0)).abs() < 1e-15);
+        assert!((out[0] - expected).abs() < 1e-15);
         assert!(Recovery::new(&modes, vec![1.0, 2.0], None).is_err());
         assert!(Recovery::new(&modes, vec![1.0, 2.0, f64::NAN], None).is_err());
         assert!(Recovery::new(&modes, vec![1.0, 2.0, 3.0], Some(&[1.0, 2.0])).is_err());

@@ -161,7 +161,7 @@ pub(super) fn modal_plan(
         basis.cutoff
     ));
     if residual_flexibility {
-        reasons.push(format!("residual flexibility{}: the site's static flexibility by a static solve of the 3D beam less the kept modes' share, in series with the contact; the strains' quasi-static share likewise (mode-acceleration method)", if s.residual_flexibility.is_some() { ", as asked" } else { " (default on a structure: the mesh's highest modes are its least accurate, the static solve is exact to the mesh)" }));
+        reasons.push(format!("residual flexibility{}: the truncated modes' static compliance at the site, solved from the load with the kept modes taken out (r' K^-1 r', r' = r - M Phi Phi^T r: a difference of the static flexibility and the modes' share would be round-off), in series with the contact; the strains' quasi-static share from the same solve (mode-acceleration method)", if s.residual_flexibility.is_some() { ", as asked" } else { " (default on a structure: the mesh's highest modes are its least accurate, the static solve is exact to the mesh)" }));
     } else if static_flexibility.is_none() {
         reasons.push("no residual flexibility: the structure is free (no static flexibility; inertia relief is not built), so the modes alone converge".into());
     }

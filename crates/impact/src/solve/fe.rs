@@ -14,7 +14,7 @@
 
 use super::ball_on_beam::{BallOnBeam, BallOnBeamConfig};
 use super::ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig};
-use super::fe_stress::FeStress;
+use super::fe_stress::{out_of_plane_factors, FeStress};
 use super::observe::{BeamView, Instant, Recorders};
 use super::struck::Struck;
 use super::Progress;
@@ -170,23 +170,14 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         }
         let sections = target.element_sections();
         if let Some(st) = &target.structure {
-            let each = st
-                .sections
-                .iter()
-                .map(|[e, _, w, t]| (*e, 0.5 * t, e * w * t.powi(3) / 12.0))
-                .collect();
-            stress = stress.with_sections(each);
+            stress = stress.with_sections(&st.sections);
         }
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
         let mut out_of_plane = vec![(0.0, 0.0, 0.0); target.elements()];
         model.section_strains(&q, &mut strains, &mut out_of_plane);
         let lateral = if target.three_d { vec![0.0; target.elements()] } else { Vec::new() };
         stress.observe_strains(0.0, &strains, &lateral);
-        let lateral_per_curvature = sections.iter().map(|[e, _, w, _]| 0.5 * e * w).collect();
-        let shear_per_rate = sections
-            .iter()
-            .map(|[_, g, w, t]| modal::rectangle_torsion(*w, *t).1 * g * w.min(*t))
-            .collect();
+        let (lateral_per_curvature, shear_per_rate) = out_of_plane_factors(&sections);
         let scheme = Scheme::hht(target.alpha)
             .map_err(|source| ImpactError::Integrator { t: 0.0, source })?;
         // The beam's tangent changes little from step to step (small rotations): a Newton

@@ -20,7 +20,7 @@
 //! interval in free flight), not searched between them: the maxima are the fe method's kind
 //! (values the field takes at those instants), not the analytic basis' certified ones.
 
-use super::fe_stress::FeStress;
+use super::fe_stress::{out_of_plane_factors, FeStress};
 use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::error::ImpactError;
 use crate::outcome::{BendingStress, Field};
@@ -68,7 +68,8 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
         .collect();
     let omega: Vec<f64> = modes.iter().map(|mode| mode.omega).collect();
     let point = PointModes::from_parts(omega, vec![m.damping; modes.len()], gain)?;
-    let static_flexibility = super::static_response(model, &site_rows).map(|(f, _)| f);
+    // Solved once, when planned.
+    let static_flexibility = basis.static_flexibility();
     // The truncated modes' share, solved from the load with the kept modes taken out (see
     // `SiteModes::with_residual`): r' = r - M Phi Phi^T r = r + M sum_n phi_n g_n.
     let truncated = static_flexibility.and_then(|_| {
@@ -142,13 +143,17 @@ impl RowBuilder<'_> {
 pub(super) struct FeRecovery {
     /// Per element: extension, twist rate, the curvatures about E2 and E3.
     strains: Recovery,
-    /// Per node: its rotation about its axis (rad); then the struck section's, interpolated.
+    /// Per node: its rotation about its axis (rad).
     twists: Recovery,
+    /// The struck element and the impact point's local coordinate on it: the struck section's
+    /// twist is its nodes', interpolated.
+    struck: (usize, f64),
     /// Per node, when the field is asked: the displacement along `up` and the rotation about
     /// E2 (the planar view's z and -theta).
     field_rows: Option<Recovery>,
     stress: FeStress,
-    /// Per element: E (w/2) (Pa m) for the lateral curvature, k G t (Pa m) for the twist rate.
+    /// Per element: E (w/2) (Pa m) for the lateral curvature, k G t (Pa m) for the twist rate
+    /// (`out_of_plane_factors`).
     lateral_per_curvature: Vec<f64>,
     shear_per_rate: Vec<f64>,
     /// Node arc lengths (m).
@@ -208,7 +213,6 @@ impl FeRecovery {
         for node in 0..mesh.positions.len() {
             twists.push(|v| unknown(v, node, 3));
         }
-        twists.push(|v| (1.0 - xi) * unknown(v, struck, 3) + xi * unknown(v, struck + 1, 3));
         let field_rows = if field {
             let mut rows = builder();
             for node in 0..mesh.positions.len() {
@@ -221,15 +225,14 @@ impl FeRecovery {
         };
         let free = (simo_beam::Support::Free, simo_beam::Support::Free);
         let [e0, _, _, t0] = sections[0];
-        let mut stress = FeStress::new(nodes, free, e0, t0).with_sections(
-            sections.iter().map(|[e, _, w, t]| (*e, 0.5 * t, e * w * t.powi(3) / 12.0)).collect(),
-        );
+        let mut stress = FeStress::new(nodes, free, e0, t0).with_sections(sections);
         if field {
             stress = stress.with_field(nodes, sections[0][2]);
         }
         let elements = mesh.elements.len();
         let strains = strains.finish(point)?;
         let twists = twists.finish(point)?;
+        let (lateral_per_curvature, shear_per_rate) = out_of_plane_factors(sections);
         Ok(Self {
             values: vec![0.0; strains.len()],
             twist_values: vec![0.0; twists.len()],
@@ -237,12 +240,10 @@ impl FeRecovery {
             strains,
             twists,
             field_rows,
+            struck: (struck, xi),
             stress,
-            lateral_per_curvature: sections.iter().map(|[e, _, w, _]| 0.5 * e * w).collect(),
-            shear_per_rate: sections
-                .iter()
-                .map(|[_, g, w, t]| modal::rectangle_torsion(*w, *t).1 * g * w.min(*t))
-                .collect(),
+            lateral_per_curvature,
+            shear_per_rate,
             nodes: nodes.to_vec(),
             section_strains: vec![(0.0, 0.0, 0.0); elements],
             lateral: vec![0.0; elements],
@@ -271,19 +272,25 @@ impl BeamRecorder for FeRecovery {
         }
         self.stress.observe_strains(at.t, &self.section_strains, &self.lateral);
         self.twists.evaluate(q, force, &mut self.twist_values);
-        let (struck, nodes) = self.twist_values.split_last().unwrap_or((&0.0, &[]));
+        let (e, xi) = self.struck;
+        let struck = (1.0 - xi) * self.twist_values[e] + xi * self.twist_values[e + 1];
         if struck.abs() > self.max_twist.0 {
             self.max_twist = (struck.abs(), at.t);
         }
-        for (node, twist) in nodes.iter().enumerate() {
+        for (node, twist) in self.twist_values.iter().enumerate() {
             if twist.abs() > self.largest_twist.0 {
                 self.largest_twist = (twist.abs(), node, at.t);
             }
         }
         if let (Some(rows), Some(_)) = (&self.field_rows, &at.sample) {
             rows.evaluate(q, force, &mut self.field_values);
-            self.view.z = self.field_values.iter().step_by(2).copied().collect();
-            self.view.theta = self.field_values.iter().skip(1).step_by(2).map(|r| -r).collect();
+            let (z, theta) = (&mut self.view.z, &mut self.view.theta);
+            z.clear();
+            theta.clear();
+            for pair in self.field_values.chunks_exact(2) {
+                z.push(pair[0]);
+                theta.push(-pair[1]);
+            }
             self.stress.record_field(at.t, &self.view, &self.section_strains);
         }
     }

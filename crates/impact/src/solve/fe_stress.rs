@@ -91,9 +91,11 @@ impl FeStress {
         self
     }
 
-    /// Each element's own (E (Pa), h/2 (m), EI (N m^2)): a structure whose members differ.
-    pub(crate) fn with_sections(mut self, sections: Vec<(f64, f64, f64)>) -> Self {
-        self.sections = sections;
+    /// Each element's own section, `[E, G, width, thickness]` (Pa, Pa, m, m): a structure whose
+    /// members differ.
+    pub(crate) fn with_sections(mut self, sections: &[[f64; 4]]) -> Self {
+        self.sections =
+            sections.iter().map(|[e, _, w, t]| (*e, 0.5 * t, e * w * t.powi(3) / 12.0)).collect();
         self
     }
 
@@ -149,6 +151,19 @@ impl FeStress {
         }
         self.envelope.observe(t, &self.stresses);
     }
+}
+
+/// Per element `[E, G, width, thickness]`, what turns the 3D beam's strains out of its plane
+/// into stresses at the struck face's worst corner: E w/2 (Pa m) a lateral curvature, and
+/// k G t (Pa m) a twist rate into the largest Saint-Venant shear stress (k of the rectangle,
+/// t its thinner side).
+pub(crate) fn out_of_plane_factors(sections: &[[f64; 4]]) -> (Vec<f64>, Vec<f64>) {
+    let lateral = sections.iter().map(|[e, _, w, _]| 0.5 * e * w).collect();
+    let shear = sections
+        .iter()
+        .map(|[_, g, w, t]| modal::rectangle_torsion(*w, *t).1 * g * w.min(*t))
+        .collect();
+    (lateral, shear)
 }
 
 impl BeamRecorder for FeStress {

@@ -277,6 +277,13 @@ fn torsion_shear_rows(
 /// flexibility in series with the contact (m/N, 0 if not taken) and the beam's recovery.
 type Stepped<'a> = (PointModes, f64, Option<Box<dyn BeamRecorder + 'a>>);
 
+/// The residual flexibility (m/N) in series with the contact: the site's, where the plan takes
+/// it and the body is held; else 0.
+fn residual_taken(m: &ModalPlan, site: &modal::SiteModes) -> f64 {
+    let residual = if m.residual_flexibility { site.residual_flexibility() } else { None };
+    residual.unwrap_or(0.0)
+}
+
 /// A uniform beam's analytic basis: its modes at the impact point (bending, and torsion off
 /// the centre), the residual flexibility where the plan takes it (the beam tables' static
 /// flexibility less the kept modes' share, validation/REFERENCES.md 1.4) and the stress
@@ -288,9 +295,8 @@ fn analytic<'a>(
 ) -> Result<Stepped<'a>, ImpactError> {
     let basis = point_modes(m, beam)?;
     let site = modal::SiteModes::new(basis.modes, m.static_flexibility())?;
-    let residual = if m.residual_flexibility { site.residual_flexibility() } else { None };
-    let residual = residual.unwrap_or(0.0);
-    let modes = site.modes().clone();
+    let residual = residual_taken(m, &site);
+    let modes = site.into_modes();
     let Some((thickness, width)) = plan.thickness.zip(plan.width) else {
         return Ok((modes, residual, None));
     };
@@ -349,10 +355,9 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 ModalBasis::Analytic(beam) => analytic(plan, m, beam)?,
                 ModalBasis::Fe(basis) => {
                     let fe = super::fe_basis::site(m, basis, plan.field)?;
-                    let residual =
-                        if m.residual_flexibility { fe.site.residual_flexibility() } else { None };
+                    let residual = residual_taken(m, &fe.site);
                     let recorder = Box::new(fe.recorder) as Box<dyn BeamRecorder + 'a>;
-                    (fe.site.modes().clone(), residual.unwrap_or(0.0), Some(recorder))
+                    (fe.site.into_modes(), residual, Some(recorder))
                 }
             },
             Method::HalfSpace | Method::Fe(_) => {
