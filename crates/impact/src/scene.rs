@@ -170,6 +170,23 @@ named_choice!(
     ]
 );
 
+named_choice!(
+    ModalBasisName,
+    "The modal method's modes.",
+    [
+        (
+            "analytic",
+            Analytic,
+            "the uniform beam's analytic modes (Euler-Bernoulli or Timoshenko, with Saint-Venant torsion off the centreline): a `[beam]` without masses or springs"
+        ),
+        (
+            "fe",
+            Fe,
+            "the structure's own modes, from its 3D finite-element beam linearised at rest (masses, springs, supports, steps, corners)"
+        ),
+    ]
+);
+
 impl SupportName {
     /// How the beam's two ends (x = 0, x = L) are held: the one table of what each name means
     /// (the modal method's analytic supports follow from it too).
@@ -449,6 +466,16 @@ pub enum FeModelName {
     ThreeD,
 }
 
+/// Where the modal method's modes come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", try_from = "toml::Value")]
+pub enum ModalBasisName {
+    /// The uniform beam's analytic modes.
+    Analytic,
+    /// The structure's own modes from its finite elements.
+    Fe,
+}
+
 /// Beam theories of the modal method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", try_from = "toml::Value")]
@@ -473,6 +500,11 @@ pub struct SolverSpec {
     /// chosen by the plan (Timoshenko unless shear and rotary inertia change nothing the
     /// contact excites). The fe beam always has shear and rotary inertia.
     pub beam_theory: Option<TheoryName>,
+    /// Where the modal method's modes come from: `analytic` (a uniform `[beam]`) or `fe` (the
+    /// 3D finite-element beam's own modes); default analytic on a `[beam]` without masses or
+    /// springs, fe otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modal_basis: Option<ModalBasisName>,
     /// Simulated time (s) from first touch.
     #[schemars(range(min = 1e-12, max = 1e4), extend("x-unit" = "s"))]
     pub end_time: Option<f64>,

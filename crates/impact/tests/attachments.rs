@@ -156,7 +156,7 @@ fn a_mass_on_a_held_node_changes_nothing_and_a_sensor_closes_the_ledger() {
     // takes fe.
     let modal = Plan::new(&scene("clamped-free", sensor, "method = \"modal\"").unwrap()).unwrap();
     assert!(
-        modal.summary().reasons.iter().any(|r| r.contains("computed from its finite elements")),
+        modal.summary().reasons.iter().any(|r| r.contains("modes from the beam's finite elements")),
         "{modal:?}"
     );
     let auto = Plan::new(&scene("clamped-free", sensor, "").unwrap()).unwrap();

@@ -57,13 +57,17 @@ fn the_frame_is_as_stiff_as_its_members_in_series_and_its_ledger_closes() {
 
 #[test]
 fn a_strike_off_the_structure_or_not_normal_to_a_face_is_refused_by_name() {
-    let cases: [(&[(&str, &str)], &str); 8] = [
+    let cases: [(&[(&str, &str)], &str); 9] = [
         (&[("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.3, -1.0]")], "impact.direction"),
         (&[("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.0, 0.0]")], "impact.direction"),
         (&[("at = 0.9 ", "at = 1.2 ")], "impact.at"),
         (&[("at = 0.9 ", "position = 0.9 ")], "impact.position"),
         (&[("method = \"fe\"", "method = \"modal\"\nmodes = 64")], "solver.modes"),
         (&[("method = \"fe\"", "method = \"fe\"\nelement_size = 0.01")], "segments' `elements`"),
+        (
+            &[("method = \"fe\"", "method = \"modal\"\nmodal_basis = \"analytic\"")],
+            "solver.modal_basis = \"analytic\" with a [structure]",
+        ),
         (
             &[("end = [0.5, 0.5, 0.0]", "start = [0.6, 0.0, 0.0]\nend = [0.5, 0.5, 0.0]")],
             "structure.segment[1].start",

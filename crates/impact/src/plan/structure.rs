@@ -157,7 +157,7 @@ pub(super) fn modal_plan(
     }
     let plain_stress_series = s.plain_stress_series.unwrap_or(false);
     reasons.push(format!(
-        "Goldsmith's method on the structure's own modes: every mode of its 3D beam linearised at rest (its masses, springs and supports; consistent mass) with omega <= {:.4e} rad/s (omega t_c <= {MODE_CUTOFF}), by shift-invert Lanczos on a banded factorisation (counted by Sylvester's inertia), mass-normalised; the site's gain is the struck face's motion along the strike (bending plus offset x twist)",
+        "Goldsmith's method on the structure's own modes (solver.modal_basis = \"fe\"): every mode of its 3D beam linearised at rest (its masses, springs and supports; consistent mass) with omega <= {:.4e} rad/s (omega t_c <= {MODE_CUTOFF}), by shift-invert Lanczos on a banded factorisation (counted by Sylvester's inertia), mass-normalised; the site's gain is the struck face's motion along the strike (bending plus offset x twist)",
         basis.cutoff
     ));
     if residual_flexibility {

@@ -106,6 +106,9 @@ struct Solver<'a, L: ContactLaw> {
     accel_factor: Vec<f64>,
     /// Rigid-body modes (omega = 0), which come first.
     rigid_modes: usize,
+    /// On a finite-element basis: how many of its modes lie below the cutoff (the kept ones
+    /// are those that move the struck face).
+    modes_below: Option<usize>,
     /// The last step taken once or tried by the event search (see `approach_after`).
     event_step: OneStep,
     /// Work space of `safe_horizon` (|g| A per mode, and its sums per segment between
@@ -350,6 +353,7 @@ fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
 
 impl<'a, L: ContactLaw> Solver<'a, L> {
     fn new(plan: &'a Plan, law: &'a L, progress: Progress<'a>) -> Result<Self, ImpactError> {
+        let mut modes_below = None;
         let (modes, residual, stress) = match &plan.method {
             Method::Modal(m) => match &m.basis {
                 ModalBasis::Analytic(beam) => analytic(plan, m, beam)?,
@@ -357,6 +361,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                     let fe = super::fe_basis::site(m, basis, plan.field)?;
                     let residual = residual_taken(m, &fe.site);
                     let recorder = Box::new(fe.recorder) as Box<dyn BeamRecorder + 'a>;
+                    modes_below = Some(fe.below);
                     (fe.site.into_modes(), residual, Some(recorder))
                 }
             },
@@ -416,6 +421,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             inv_omega,
             accel_factor,
             rigid_modes,
+            modes_below,
             event_step: OneStep::default(),
             horizon_amplitude: Vec::with_capacity(n),
             horizon_scratch: Vec::new(),
@@ -962,11 +968,13 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         if let Method::Modal(ModalPlan { basis: ModalBasis::Fe(basis), .. }) = &plan.method {
             let top = self.modes.omega().last().copied().unwrap_or(0.0);
             (summary.modes, summary.elements) = (self.modes.len(), basis.elements());
+            let below = self.modes_below.unwrap_or(self.modes.len());
             summary.reasons.push(format!(
-                "{} modes of the {}-element structure below the cutoff (the highest {top:.4e} rad/s: omega t_c = {:.1})",
-                self.modes.len(),
+                "{below} modes of the {}-element structure below the cutoff (the highest kept {top:.4e} rad/s: omega t_c = {:.1}); {} of them move the struck face and are kept{}",
                 basis.elements(),
-                top * plan.estimated_duration
+                top * plan.estimated_duration,
+                self.modes.len(),
+                if below > self.modes.len() { format!(", the other {} (gain below 1e-9 of the largest: round-off) are never excited and are left out", below - self.modes.len()) } else { String::new() }
             ));
         }
         summary.reasons.extend(recovered.note);

@@ -6,7 +6,8 @@ use crate::scene::{MethodName, Scene};
 /// given, else at the scene's own resolution of that method (its modes or mesh, or its
 /// `solver.tolerance`). The other method's keys are dropped, so that any valid beam scene
 /// gives valid variants: the modal method's `modes`, `residual_flexibility`,
-/// `plain_stress_series`, `adaptive_step` and `energy_tolerance`; the fe method's `elements`, `element_size`, `alpha` and
+/// `plain_stress_series`, `adaptive_step`, `energy_tolerance`, `beam_theory` and
+/// `modal_basis`; the fe method's `elements`, `element_size`, `alpha` and
 /// `time_step`. A given resolution replaces `solver.tolerance` (which would choose its own)
 /// and a graded mesh. Shared keys (`end_time`, `samples_per_pulse`, `output_interval`) stay.
 ///
@@ -34,6 +35,7 @@ pub fn variant(scene: &Scene, method: MethodName, resolution: Option<usize>) -> 
             solver.adaptive_step = None;
             solver.energy_tolerance = None;
             solver.beam_theory = None;
+            solver.modal_basis = None;
             if resolution.is_some() {
                 solver.elements = resolution;
                 solver.element_size = None;
@@ -59,6 +61,7 @@ mod tests {
         modal.solver.residual_flexibility = Some(true);
         modal.solver.energy_tolerance = Some(1e-4);
         modal.solver.beam_theory = Some(crate::TheoryName::EulerBernoulli);
+        modal.solver.modal_basis = Some(crate::ModalBasisName::Analytic);
         let mut fe = variant(&modal, MethodName::Fe, None);
         fe.solver.alpha = Some(-0.1);
         fe.solver.element_size = Some(0.02);
