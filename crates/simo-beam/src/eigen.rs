@@ -178,6 +178,44 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// The stiffness and mass of `model` linearised at `q` as bands, and the largest diagonal
+/// ratio `K_ii / M_ii` (the scale of the stiffness' round-off: a rigid-body mode's computed
+/// eigenvalue is about eps times it; measured 1e-5 on the paper's free strip, where it is
+/// 7e10).
+///
+/// # Errors
+/// [`BeamError::Eigen`] for a mass matrix that is not positive definite.
+fn banded<M: Model>(model: &M, q: &M::Config) -> Result<(Band, Band, f64), BeamError> {
+    let n = model.ndof();
+    let zero = Col::<f64>::zeros(n);
+    let mut t = Triplets::new();
+    model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), NewtonWeights::stiffness(), &mut t);
+    let mut tm = Triplets::new();
+    model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), NewtonWeights::mass(), &mut tm);
+    let kd = half_bandwidth(&t).max(half_bandwidth(&tm));
+    let mut stiffness = Band::zeros(n, kd);
+    stiffness.add_symmetric(&t, 1.0);
+    let mut mass = Band::zeros(n, kd);
+    mass.add_symmetric(&tm, 1.0);
+    if Ldlt::factor(&mass).map_or(true, |f| f.negatives() > 0) {
+        return Err(BeamError::Eigen("the mass matrix is not positive definite".into()));
+    }
+    let ratio = (0..n).map(|i| stiffness.at(i, i) / mass.at(i, i)).fold(0.0, f64::max);
+    Ok((stiffness, mass, ratio))
+}
+
+/// How many rigid-body modes `model` linearised at `q` has: its eigenvalues below the
+/// round-off threshold [`RIGID`] x max `K_ii / M_ii` (those [`modes_below`] sets to omega = 0),
+/// counted by Sylvester's inertia. 0 for a held structure, 6 for a free body, between for a
+/// mechanism.
+///
+/// # Errors
+/// As [`banded`], and a shift that hits an eigenvalue exactly.
+pub(crate) fn rigid_body_modes<M: Model>(model: &M, q: &M::Config) -> Result<usize, BeamError> {
+    let (stiffness, mass, ratio) = banded(model, q)?;
+    Ok(Ldlt::factor(&stiffness.shifted(&mass, RIGID * ratio))?.negatives())
+}
+
 /// Every natural mode of `model` linearised at `q` with `omega <= omega_max` (rad/s),
 /// ascending, mass-normalised; see the module text.
 ///
@@ -195,29 +233,13 @@ pub(crate) fn modes_below<M: Model>(
             "the cutoff frequency must be finite and greater than 0 rad/s, not {omega_max}"
         )));
     }
-    let n = model.ndof();
-    let zero = Col::<f64>::zeros(n);
-    let mut t = Triplets::new();
-    model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), NewtonWeights::stiffness(), &mut t);
-    let mut tm = Triplets::new();
-    model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), NewtonWeights::mass(), &mut tm);
-    let kd = half_bandwidth(&t).max(half_bandwidth(&tm));
-    let mut stiffness = Band::zeros(n, kd);
-    stiffness.add_symmetric(&t, 1.0);
-    let mut mass = Band::zeros(n, kd);
-    mass.add_symmetric(&tm, 1.0);
+    let (stiffness, mass, ratio) = banded(model, q)?;
     let shifted = |sigma: f64| stiffness.shifted(&mass, sigma);
-    if Ldlt::factor(&mass).map_or(true, |f| f.negatives() > 0) {
-        return Err(BeamError::Eigen("the mass matrix is not positive definite".into()));
-    }
     let lambda_max = omega_max * omega_max;
     let wanted = Ldlt::factor(&shifted(lambda_max))?.negatives();
     if wanted == 0 {
         return Ok(Vec::new());
     }
-    // The stiffness' round-off: a rigid-body mode's computed eigenvalue is about eps times
-    // the largest K_ii / M_ii (measured: 1e-5 on the paper's free strip, where that is 7e10).
-    let ratio = (0..n).map(|i| stiffness.at(i, i) / mass.at(i, i)).fold(0.0, f64::max);
     // The lowest slice starts below zero: a free structure's rigid-body modes are then inside
     // it, not on its edge. As little below as the round-off allows (a thousand times the
     // rigid modes' threshold, at most a millionth of the cutoff): the lowest mode's
@@ -246,9 +268,14 @@ pub(crate) fn modes_below<M: Model>(
         modes.extend(lanczos(&op, &mass, (sigma, lower, upper), below_upper - below_lower)?);
     }
     for mode in &mut modes {
-        refine(mode, &stiffness, &mass)?;
+        // A rigid-body mode is left as Lanczos made it: inverse iteration at its round-off
+        // eigenvalue would mix it with the other rigid modes (their eigenvalues are all
+        // round-off), and the set would lose its M-orthogonality (a free frame's six modes then
+        // left 0.55 of the load they should take out whole).
         if mode.omega * mode.omega <= RIGID * ratio {
             mode.omega = 0.0;
+        } else {
+            refine(mode, &stiffness, &mass)?;
         }
     }
     Ok(modes)

@@ -112,6 +112,19 @@ pub fn modes_below(model: &BeamModel, omega_max: f64) -> Result<Vec<Mode>, BeamE
     crate::eigen::modes_below(&model, &q, omega_max)
 }
 
+/// How many rigid-body modes `model` has at rest (its loads cleared): 0 where its supports
+/// hold it, 6 for a free body, between for a mechanism (one pin leaves 3). Counted by
+/// Sylvester's inertia below the round-off threshold [`modes_below`] calls rigid (omega 0).
+///
+/// # Errors
+/// [`BeamError::Eigen`] for a mass matrix that is not positive definite.
+pub fn rigid_body_modes(model: &BeamModel) -> Result<usize, BeamError> {
+    let mut model = model.clone();
+    model.clear_loads();
+    let q = model.reference_state();
+    crate::eigen::rigid_body_modes(&model, &q)
+}
+
 /// [`modes_below`] for the planar beam.
 ///
 /// # Errors

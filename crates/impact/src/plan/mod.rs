@@ -460,7 +460,7 @@ fn beam_method(
             return Ok(Method::Modal(plan));
         }
         MethodName::Auto if !attachments.is_empty() => {
-            reasons.push("method fe (auto): the beam carries point masses or springs; the fe method models them on its graded mesh (on the paper's beam with a sensor and a spring, centred: 0.024 s against 0.63 s for the modal method on the beam's own modes, most of it their eigen-solution; solver.method = \"modal\" takes those)".into());
+            reasons.push("method fe (auto): the beam carries point masses or springs; the fe method models them on its graded mesh (on the paper's beam with a sensor and a spring, centred: 0.024 s against 0.43 s for the modal method on the beam's own modes, most of it their eigen-solution; solver.method = \"modal\" takes those)".into());
             true
         }
         MethodName::Fe => {

@@ -10,6 +10,9 @@ use crate::solve::Face;
 use nalgebra::Vector3;
 use simo_beam::{BeamModel, Support};
 
+/// A free body's rigid-body modes.
+pub(crate) const FREE_BODY: usize = 6;
+
 /// A face normal within this of the strike's direction (1 - |cos|) is the struck face.
 const NORMAL: f64 = 1e-6;
 
@@ -25,6 +28,9 @@ pub(crate) struct StructurePlan {
     pub(crate) half_depth: f64,
     /// Each element's section: E (Pa), G (Pa), width and thickness (m).
     pub(crate) sections: Vec<[f64; 4]>,
+    /// The rigid-body modes the supports leave free: 0 (held) or [`FREE_BODY`] (a mechanism
+    /// is refused by the modal method).
+    pub(crate) rigid_modes: usize,
     /// The scene and pulse it was made from, and its elements: a refinement rebuilds it with
     /// every segment's elements multiplied ([`StructurePlan::refined`]).
     source: Box<(Scene, Pulse)>,
@@ -67,6 +73,7 @@ impl PartialEq for StructurePlan {
             && self.half_depth.to_bits() == other.half_depth.to_bits()
             && self.sections == other.sections
             && self.base_elements == other.base_elements
+            && self.rigid_modes == other.rigid_modes
             && a.positions == b.positions
             && a.frames == b.frames
             && (0..a.positions.len())
@@ -151,19 +158,14 @@ pub(super) fn modal_plan(
     let fe = build(scene, spec, pulse, (reasons, warnings))?;
     let basis = FeBasis::new(fe, MODE_CUTOFF / pulse.duration)?;
     let static_flexibility = basis.static_flexibility();
-    let residual_flexibility = s.residual_flexibility.unwrap_or(static_flexibility.is_some());
-    if residual_flexibility && static_flexibility.is_none() {
-        return Err(ImpactError::Inconsistent("solver.residual_flexibility needs a held structure: a free one has no static flexibility (inertia relief is not built)".into()));
-    }
+    let residual_flexibility = s.residual_flexibility.unwrap_or(true);
     let plain_stress_series = s.plain_stress_series.unwrap_or(false);
     reasons.push(format!(
         "Goldsmith's method on the structure's own modes (solver.modal_basis = \"fe\"): every mode of its 3D beam linearised at rest (its masses, springs and supports; consistent mass) with omega <= {:.4e} rad/s (omega t_c <= {MODE_CUTOFF}), by shift-invert Lanczos on a banded factorisation (counted by Sylvester's inertia), mass-normalised; the site's gain is the struck face's motion along the strike (bending plus offset x twist)",
         basis.cutoff
     ));
     if residual_flexibility {
-        reasons.push(format!("residual flexibility{}: the truncated modes' static compliance at the site, solved from the load with the kept modes taken out (r' K^-1 r', r' = r - M Phi Phi^T r: a difference of the static flexibility and the modes' share would be round-off), in series with the contact; the strains' quasi-static share from the same solve (mode-acceleration method)", if s.residual_flexibility.is_some() { ", as asked" } else { " (default on a structure: the mesh's highest modes are its least accurate, the static solve is exact to the mesh)" }));
-    } else if static_flexibility.is_none() {
-        reasons.push("no residual flexibility: the structure is free (no static flexibility; inertia relief is not built), so the modes alone converge".into());
+        reasons.push(format!("residual flexibility{}: the truncated modes' static compliance at the site, solved from the load with the kept modes taken out (r' K^-1 r', r' = r - M Phi Phi^T r: a difference of the static flexibility and the modes' share would be round-off), in series with the contact; the strains' quasi-static share from the same solve (mode-acceleration method){}", if s.residual_flexibility.is_some() { ", as asked" } else { " (default on a structure: the mesh's highest modes are its least accurate, the static solve is exact to the mesh)" }, if static_flexibility.is_none() { "; the structure is free, so by inertia relief: r' is balanced by the rigid-body modes' inertia (they are among the kept ones) and solved with one node clamped, where a balanced load has no reaction (validation/REFERENCES.md 1.13)" } else { "" }));
     }
     if let Some(tolerance) = tolerance {
         reasons.push(format!("every segment's elements doubled (the modes' cutoff kept: the residual flexibility holds those above it) until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force, the largest displacement and the largest stress (the finer's error a third of their difference: Richardson at second order)"));
@@ -287,7 +289,9 @@ impl FeBasis {
             .as_ref()
             .ok_or_else(|| ImpactError::Inconsistent("an fe basis without its structure".into()))?;
         let rows = st.face_rows(fe.impact_site(), fe.offset);
-        let static_flexibility = crate::solve::static_response(&st.model, &rows).map(|(f, _)| f);
+        let static_flexibility = (st.rigid_modes == 0)
+            .then(|| crate::solve::static_response(&st.model, &rows).map(|(f, _)| f))
+            .flatten();
         Ok(Self { fe, cutoff, static_flexibility })
     }
 
@@ -468,6 +472,20 @@ fn build(
     if s.method != MethodName::Modal {
         reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths) and every accepted step; the twist is read at every node".into());
     }
+    // What the supports leave free: 0 rigid-body modes where they hold the structure, 6 for a
+    // free body; between, a mechanism. Counted once: no static stiffness without a hold (a
+    // static solve of a singular K gives a number, not a flexibility: 7e-8 N/m on the free
+    // frame before this was counted).
+    let rigid_modes = simo_beam::rigid_body_modes(&model)?;
+    let held = if supports.is_empty() { "no support".to_string() } else { supports.join(", ") };
+    if rigid_modes == FREE_BODY {
+        reasons.push(format!("the structure is a free body ({held}): its six rigid-body motions are free; it has no static stiffness"));
+    } else if rigid_modes > 0 {
+        if s.method == MethodName::Modal {
+            return Err(ImpactError::Inconsistent(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free, which the modal method would take linearised at rest; clamp a node, or pin it at more points (or strike it by solver.method = \"fe\", which follows large rotations)")));
+        }
+        warnings.push(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free; it has no static stiffness (no equivalent static force is reported)"));
+    }
     let Steps { alpha, samples, free_time_step, .. } = steps;
     Ok(FePlan {
         material,
@@ -494,6 +512,7 @@ fn build(
             half_depth,
             base_elements: sections.len(),
             sections,
+            rigid_modes,
             source: Box::new((scene.clone(), *pulse)),
         })),
     })

@@ -581,7 +581,12 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             .attachments
             .iter()
             .any(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0);
-        let flexibility = if sprung || self.target.structure.is_some() {
+        let flexibility = if let Some(st) = &self.target.structure {
+            // A free body or a mechanism has no static stiffness (see `StructurePlan`).
+            (st.rigid_modes == 0)
+                .then(|| self.model.static_flexibility(self.impact_element))
+                .flatten()
+        } else if sprung {
             self.model.static_flexibility(self.impact_element)
         } else {
             self.target.static_flexibility()

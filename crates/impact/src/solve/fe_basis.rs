@@ -84,22 +84,35 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
     let gain: Vec<f64> = modes.iter().map(gain_of).collect();
     let omega: Vec<f64> = modes.iter().map(|mode| mode.omega).collect();
     let point = PointModes::from_parts(omega, vec![m.damping; modes.len()], gain)?;
-    // Solved once, when planned.
-    let static_flexibility = basis.static_flexibility();
-    // The truncated modes' share, solved from the load with the kept modes taken out (see
-    // `SiteModes::with_residual`): r' = r - M Phi Phi^T r = r + M sum_n phi_n g_n.
-    let truncated = static_flexibility.and_then(|_| {
+    // The load r with the modes `which` takes taken out (see `SiteModes::with_residual`):
+    // r' = r - M Phi Phi^T r = r + M sum_n phi_n g_n, and its static response.
+    let free = st.rigid_modes > 0;
+    let deflated_response = |which: &dyn Fn(f64) -> bool| {
         let mut kept = Col::<f64>::zeros(model.ndof());
-        for (mode, g) in modes.iter().zip(point.gain()) {
+        for (mode, g) in modes.iter().zip(point.gain()).filter(|(mode, _)| which(mode.omega)) {
             kept += &mode.shape * *g;
         }
         let mut deflated = mass_times(model, &kept);
         for (i, w) in &site_rows {
             deflated[*i] += w;
         }
-        let rows: Vec<(usize, f64)> = deflated.iter().copied().enumerate().collect();
-        super::static_response(model, &rows)
-    });
+        if free {
+            relieved_response(model, &deflated)
+        } else {
+            let rows: Vec<(usize, f64)> = deflated.iter().copied().enumerate().collect();
+            super::static_response(model, &rows)
+        }
+    };
+    // Held: solved once, when planned. Free: by inertia relief, the load balanced by the
+    // rigid-body modes' inertia (all of them are kept: their gains are the largest) and the
+    // elastic response to it.
+    let static_flexibility = if free {
+        deflated_response(&|omega| omega == 0.0).map(|(f, _)| f)
+    } else {
+        basis.static_flexibility()
+    };
+    // The truncated modes' share, solved from the load with every kept mode taken out.
+    let truncated = static_flexibility.and_then(|_| deflated_response(&|_| true));
     let residual = static_flexibility.map(|_| truncated.as_ref().map_or(0.0, |(r, _)| *r));
     let site = SiteModes::with_residual(point, static_flexibility, residual)?;
     let static_u = truncated.map(|(_, u)| u).filter(|_| !m.plain_stress_series);
@@ -112,6 +125,29 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
         (st.up, field),
     )?;
     Ok(FeSite { site, recorder, below })
+}
+
+/// The static response of a free `model` to a balanced load `load` (no share along a
+/// rigid-body mode): solved with node 0 clamped, where such a load has no reaction, so that
+/// the clamped model's displacement solves K u = load (up to a rigid motion, which the
+/// load does no work on and no strain sees). As [`super::static_response`]: the work
+/// load . u and -u, over `model`'s unknowns.
+fn relieved_response(model: &BeamModel, load: &Col<f64>) -> Option<(f64, Col<f64>)> {
+    let held = model.clone().support(0, simo_beam::Support::Clamped).ok()?;
+    let nodes = model.mesh().positions.len();
+    let pairs: Vec<(usize, usize)> = (0..nodes)
+        .flat_map(|node| (0..6).map(move |k| (node, k)))
+        .filter_map(|(node, k)| Some((model.dof(node, k)?, held.dof(node, k)?)))
+        .collect();
+    let rows: Vec<(usize, f64)> = pairs.iter().map(|(i, j)| (*j, load[*i])).collect();
+    let (_, u_held) = super::static_response(&held, &rows)?;
+    let mut u = Col::<f64>::zeros(model.ndof());
+    for (i, j) in &pairs {
+        u[*i] = u_held[*j];
+    }
+    // The work over every unknown (the clamped node's load included: u is 0 there).
+    let work = -load.iter().zip(u.iter()).map(|(f, x)| f * x).sum::<f64>();
+    (work.is_finite() && work > 0.0).then_some((work, u))
 }
 
 /// M v for the beam at rest (its consistent mass and point masses), from the tangent's mass
@@ -385,5 +421,48 @@ mod tests {
         let kept = super::site(m, planned, false).unwrap();
         assert!(kept.site.modes().len() < 36);
         assert!(kept.site.residual_flexibility().unwrap() > 0.0);
+    }
+
+    #[test]
+    fn a_free_structure_s_modes_and_residual_make_its_inertia_relief_flexibility() {
+        // The frame with its support taken away (a free body: six rigid-body modes, counted
+        // when planned), at 3 elements a member: the elastic modes' share sum g_n^2/omega_n^2
+        // plus the residual (r' K^-1 r' with every kept mode taken out, solved with one node
+        // clamped) is the inertia-relief flexibility (the load balanced by the rigid modes'
+        // inertia, solved the same way) to round-off: with every mode kept the residual is
+        // nothing, at a low cutoff it holds what the modes left out hold.
+        let plan = frame(
+            3,
+            &[
+                ("[[structure.support]]\nat = 0.0\nkind = \"clamped\"\n", ""),
+                ("at = 0.9 ", "at = 0.85 "),
+                ("gravity = false", "gravity = false\noffset = 0.01"),
+            ],
+        );
+        let (m, planned) = basis(&plan);
+        assert_eq!(planned.fe.structure.as_ref().unwrap().rigid_modes, 6);
+        assert_eq!(planned.static_flexibility(), None, "a free body has no static stiffness");
+        let mut all = planned.clone();
+        all.cutoff = 1e9;
+        // The mesh is so coarse that the plan's cutoff holds every mode: a lower one leaves
+        // out all but the first few (532, 748, 2475 rad/s, ...).
+        let mut few = planned.clone();
+        few.cutoff = 3000.0;
+        for (basis, every) in [(&all, true), (&few, false)] {
+            let site = site(m, basis, false).unwrap();
+            let relief = site.site.static_flexibility().unwrap();
+            let residual = site.site.residual_flexibility().unwrap();
+            let share = site.site.modes().static_flexibility();
+            assert!(
+                ((share + residual) / relief - 1.0).abs() < 1e-10,
+                "{share:e} + {residual:e} vs {relief:e}"
+            );
+            if every {
+                assert!(residual < 1e-10 * relief, "{residual:e}");
+                assert_eq!(site.below, 42, "36 elastic modes and 6 rigid ones");
+            } else {
+                assert!(residual > 1e-3 * relief, "{residual:e} of {relief:e}");
+            }
+        }
     }
 }
