@@ -28,8 +28,8 @@ pub(crate) struct StructurePlan {
     pub(crate) half_depth: f64,
     /// Each element's section: E (Pa), G (Pa), width and thickness (m).
     pub(crate) sections: Vec<[f64; 4]>,
-    /// The rigid-body modes the supports leave free: 0 (held) or [`FREE_BODY`] (a mechanism
-    /// is refused by the modal method).
+    /// The rigid-body modes the supports leave free: 0 where they hold the structure,
+    /// [`FREE_BODY`] for a free body, between for a mechanism (refused by the modal method).
     pub(crate) rigid_modes: usize,
     /// The scene and pulse it was made from, and its elements: a refinement rebuilds it with
     /// every segment's elements multiplied ([`StructurePlan::refined`]).

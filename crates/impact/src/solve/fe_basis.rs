@@ -104,8 +104,8 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
         }
     };
     // Held: solved once, when planned. Free: by inertia relief, the load balanced by the
-    // rigid-body modes' inertia (all of them are kept: their gains are the largest) and the
-    // elastic response to it.
+    // rigid-body modes' inertia (those left out carry none of it: their gains are round-off)
+    // and the elastic response to it.
     let static_flexibility = if free {
         deflated_response(&|omega| omega == 0.0).map(|(f, _)| f)
     } else {
