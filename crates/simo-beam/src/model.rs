@@ -198,18 +198,60 @@ impl BeamModel {
     /// [`BeamError::Mesh`] for a node index out of range.
     pub fn support(mut self, node: usize, support: Support) -> Result<Self, BeamError> {
         self.check_node(node)?;
-        let mut supports: Vec<Support> = self
-            .dofs
+        let mut held = self.held();
+        let was = held[node];
+        // A pin adds to the node's own holds (from `hold`); free releases them all.
+        held[node] = std::array::from_fn(|k| match support {
+            Support::Free => false,
+            Support::Pinned => k < 3 || was[k],
+            Support::Clamped => true,
+        });
+        self.renumber(&held);
+        Ok(self)
+    }
+
+    /// Holds the unknowns `holds` (node, k; k 0-2 the displacement along x, y, z, 3-5 the
+    /// rotation about the node's material axes E1, E2, E3) at their reference values, as a
+    /// support would: for a model reduced to the motions a load can excite (a planar structure
+    /// loaded normal to its plane moves only out of it, when linearised at rest).
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for a node or a component out of range.
+    pub fn hold(mut self, holds: &[(usize, usize)]) -> Result<Self, BeamError> {
+        let mut held = self.held();
+        for &(node, k) in holds {
+            self.check_node(node)?;
+            if k >= 6 {
+                return Err(BeamError::Mesh(format!(
+                    "unknown {k} of node {node} does not exist (0-2 displacement, 3-5 rotation)"
+                )));
+            }
+            held[node][k] = true;
+        }
+        self.renumber(&held);
+        Ok(self)
+    }
+
+    /// Which unknowns of each node are held.
+    fn held(&self) -> Vec<[bool; 6]> {
+        self.dofs.iter().map(|d| d.map(|x| x.is_none())).collect()
+    }
+
+    /// Numbers the unknowns that `held` leaves free, node by node (the band stays as narrow).
+    fn renumber(&mut self, held: &[[bool; 6]]) {
+        let mut n = 0;
+        self.dofs = held
             .iter()
-            .map(|d| match (d[0].is_none(), d[3].is_none()) {
-                (true, true) => Support::Clamped,
-                (true, false) => Support::Pinned,
-                _ => Support::Free,
+            .map(|h| {
+                std::array::from_fn(|k| {
+                    (!h[k]).then(|| {
+                        n += 1;
+                        n - 1
+                    })
+                })
             })
             .collect();
-        supports[node] = support;
-        self.number(&supports);
-        Ok(self)
+        self.ndof = n;
     }
 
     /// Adds a point mass of `mass` (kg) at `node`, with `rotary_inertia` (kg m^2) about the

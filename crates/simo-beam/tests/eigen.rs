@@ -292,3 +292,26 @@ fn the_rigid_body_modes_are_what_the_supports_leave_free() {
         }
     }
 }
+
+#[test]
+fn holding_the_motions_in_a_plane_keeps_the_modes_out_of_it() {
+    // The paper's clamped strip (along x, thickness along z) with every node's x and y
+    // translations and its rotation about E3 (z) held: what is left, the deflection along z,
+    // the twist and the bending about E2, uncouples from the rest when linearised at rest, so
+    // its modes are the whole model's modes out of the x-y plane, to the eigen-solver's
+    // accuracy; the modes in the plane (bending across the width, extension) are gone.
+    let whole = strip(40, (0.025, 0.005, 1.15)).support(0, Support::Clamped).unwrap();
+    let nodes = whole.mesh().positions.len();
+    let holds: Vec<(usize, usize)> = (0..nodes).flat_map(|n| [(n, 0), (n, 1), (n, 5)]).collect();
+    let held = whole.clone().hold(&holds).unwrap();
+    assert_eq!(held.ndof(), 3 * (nodes - 1));
+    let cutoff = 2e4;
+    let (all, out) = (modes_below(&whole, cutoff).unwrap(), modes_below(&held, cutoff).unwrap());
+    assert!(!out.is_empty() && out.len() < all.len(), "{} of {}", out.len(), all.len());
+    for mode in &out {
+        let nearest = all.iter().map(|m| (m.omega / mode.omega - 1.0).abs()).fold(1.0, f64::min);
+        assert!(nearest < 1e-9, "{}: {nearest:e}", mode.omega);
+    }
+    let err = whole.clone().hold(&[(0, 6)]).unwrap_err().to_string();
+    assert!(err.contains("unknown 6 of node 0"), "{err}");
+}

@@ -38,13 +38,6 @@ pub(crate) struct StructurePlan {
 }
 
 impl StructurePlan {
-    /// The unknowns and weights whose sum is the struck face's height along `up` at `site`
-    /// (element, local coordinate), `offset` (m) across it (see
-    /// [`crate::solve::face_rows`]).
-    pub(crate) fn face_rows(&self, site: (usize, f64), offset: f64) -> Vec<(usize, f64)> {
-        crate::solve::face_rows(&self.model, (self.up, self.face, offset), site)
-    }
-
     /// The fe plan of the same strike with every segment's `elements` times `factor`.
     ///
     /// # Errors
@@ -157,6 +150,7 @@ pub(super) fn modal_plan(
     let tolerance = s.tolerance.map(super::checked_tolerance).transpose()?;
     let fe = build(scene, spec, pulse, (reasons, warnings))?;
     let basis = FeBasis::new(fe, MODE_CUTOFF / pulse.duration)?;
+    reasons.extend(basis.reduction());
     let static_flexibility = basis.static_flexibility();
     let residual_flexibility = s.residual_flexibility.unwrap_or(true);
     let plain_stress_series = s.plain_stress_series.unwrap_or(false);
@@ -275,6 +269,65 @@ pub struct FeBasis {
     pub(crate) cutoff: f64,
     /// The site's static flexibility (m/N), `None` for a free structure.
     static_flexibility: Option<f64>,
+    /// The unknowns (node, component) the strike cannot move, held in the basis' model (see
+    /// [`uncoupled`]), and why.
+    held: Vec<(usize, usize)>,
+    reduction: Option<&'static str>,
+}
+
+/// Two directions are parallel (or a point on a line or plane) within this.
+const ALIGNED: f64 = 1e-9;
+
+/// The unknowns of `st`'s beam that a strike along `-st.up` at `offset` cannot move when
+/// linearised at rest, and why: where every node lies in one plane normal to the strike, the
+/// strike is along a coordinate axis (the springs act along the axes) and every node's and
+/// element end's section has a principal axis along it, the motions in the plane (the two
+/// translations in it, the rotation about its normal) uncouple from those out of it, and only
+/// these are loaded; where, besides, the nodes lie on one line and the strike is on the
+/// centre line, the twist uncouples too (a rectangle's shear centre is its centroid). The
+/// modes of the held model are then the structure's modes that move the face, exactly.
+fn uncoupled(st: &StructurePlan, offset: f64) -> (Vec<(usize, usize)>, Option<&'static str>) {
+    let mesh = st.model.mesh();
+    let n = st.up;
+    let Some(axis) = (0..3).find(|a| n[*a].abs() >= 1.0 - ALIGNED) else {
+        return (Vec::new(), None);
+    };
+    let origin = mesh.positions[0];
+    let extent = mesh.positions.iter().map(|p| (p - origin).norm()).fold(0.0, f64::max);
+    let planar = mesh.positions.iter().all(|p| (p - origin).dot(&n).abs() <= ALIGNED * extent);
+    // The material axis (1: E2, 2: E3) along the normal, at a frame.
+    let normal_axis = |frame: &nalgebra::UnitQuaternion<f64>| {
+        (1..3).find(|c| (frame * Vector3::ith(*c, 1.0)).dot(&n).abs() >= 1.0 - ALIGNED)
+    };
+    let ends_aligned = mesh.elements.iter().all(|e| {
+        (0..2).all(|end| normal_axis(&(mesh.frames[e.nodes[end]] * e.offsets[end])).is_some())
+    });
+    let Some(normals) = mesh.frames.iter().map(normal_axis).collect::<Option<Vec<usize>>>() else {
+        return (Vec::new(), None);
+    };
+    if !(planar && ends_aligned) {
+        return (Vec::new(), None);
+    }
+    let last = mesh.positions[mesh.positions.len() - 1];
+    let line = (last - origin).normalize();
+    let straight = offset == 0.0
+        && extent > 0.0
+        && mesh.positions.iter().all(|p| (p - origin).cross(&line).norm() <= ALIGNED * extent)
+        && mesh.frames.iter().all(|f| (f * Vector3::x()).dot(&line).abs() >= 1.0 - ALIGNED);
+    let mut held = Vec::new();
+    for (node, normal) in normals.iter().enumerate() {
+        held.extend((0..3).filter(|k| *k != axis).map(|k| (node, k)));
+        held.push((node, 3 + normal));
+        if straight {
+            held.push((node, 3));
+        }
+    }
+    let why = if straight {
+        "a straight member struck on its centre line normal to a face: only its bending across that face moves it (the motions in the face's plane and the twist uncouple)"
+    } else {
+        "a planar structure struck normal to its plane: only its motions out of the plane move the face (bending across the plane and twist; those in the plane uncouple)"
+    };
+    (held, Some(why))
 }
 
 impl FeBasis {
@@ -284,15 +337,65 @@ impl FeBasis {
     /// # Errors
     /// `Inconsistent` if `fe` holds no structure.
     pub(crate) fn new(fe: FePlan, cutoff: f64) -> Result<Self, ImpactError> {
-        let st = fe
+        let mut basis =
+            Self { fe, cutoff, static_flexibility: None, held: Vec::new(), reduction: None };
+        (basis.held, basis.reduction) = uncoupled(basis.structure()?, basis.fe.offset);
+        basis.static_flexibility = basis.solve_static()?;
+        Ok(basis)
+    }
+
+    /// The site's static flexibility on the basis' model, `None` unless it is held.
+    fn solve_static(&self) -> Result<Option<f64>, ImpactError> {
+        let model = self.model()?;
+        let rows = self.face_rows(&model);
+        Ok((self.structure()?.rigid_modes == 0)
+            .then(|| crate::solve::static_response(&model, &rows).map(|(f, _)| f))
+            .flatten())
+    }
+
+    /// The same basis on the whole model (no unknown held): what the reduction must equal.
+    #[cfg(test)]
+    pub(crate) fn whole(&self) -> Result<Self, ImpactError> {
+        let mut whole = self.clone();
+        (whole.held, whole.reduction) = (Vec::new(), None);
+        whole.static_flexibility = whole.solve_static()?;
+        Ok(whole)
+    }
+
+    /// The structure the basis is of.
+    ///
+    /// # Errors
+    /// `Inconsistent` if the basis holds none (not expected: it is built from one).
+    pub(crate) fn structure(&self) -> Result<&StructurePlan, ImpactError> {
+        self.fe
             .structure
-            .as_ref()
-            .ok_or_else(|| ImpactError::Inconsistent("an fe basis without its structure".into()))?;
-        let rows = st.face_rows(fe.impact_site(), fe.offset);
-        let static_flexibility = (st.rigid_modes == 0)
-            .then(|| crate::solve::static_response(&st.model, &rows).map(|(f, _)| f))
-            .flatten();
-        Ok(Self { fe, cutoff, static_flexibility })
+            .as_deref()
+            .ok_or_else(|| ImpactError::Inconsistent("an fe basis without its structure".into()))
+    }
+
+    /// The basis' model: the structure's 3D beam with the unknowns the strike cannot move held.
+    ///
+    /// # Errors
+    /// `Inconsistent` if the basis holds no structure.
+    pub(crate) fn model(&self) -> Result<BeamModel, ImpactError> {
+        let st = self.structure()?;
+        Ok(st.model.clone().hold(&self.held)?)
+    }
+
+    /// The face rows of the strike (see [`crate::solve::face_rows`]) on `model` (the basis').
+    pub(crate) fn face_rows(&self, model: &BeamModel) -> Vec<(usize, f64)> {
+        self.fe.structure.as_ref().map_or_else(Vec::new, |st| {
+            crate::solve::face_rows(model, (st.up, st.face, self.fe.offset), self.fe.impact_site())
+        })
+    }
+
+    /// Why the basis' model holds some unknowns, and how many it keeps of how many, if it does.
+    pub(crate) fn reduction(&self) -> Option<String> {
+        let st = self.fe.structure.as_ref()?;
+        let why = self.reduction?;
+        use hht::Model;
+        let (kept, all) = (self.model().ok()?.ndof(), st.model.ndof());
+        Some(format!("{why}: the modes are solved on those unknowns only, {kept} of {all}, the others held (exact for the structure linearised at rest)"))
     }
 
     /// The site's static flexibility (m/N), `None` for a free structure.
@@ -309,11 +412,7 @@ impl FeBasis {
     /// # Errors
     /// From rebuilding the structure (not expected: it was built once).
     pub(crate) fn refined(&self, factor: usize) -> Result<Self, ImpactError> {
-        let st =
-            self.fe.structure.as_ref().ok_or_else(|| {
-                ImpactError::Inconsistent("an fe basis without its structure".into())
-            })?;
-        Self::new(st.refined(factor)?, self.cutoff)
+        Self::new(self.structure()?.refined(factor)?, self.cutoff)
     }
 
     /// Each segment's elements (the basis' mesh).
