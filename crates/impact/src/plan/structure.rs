@@ -269,14 +269,23 @@ pub struct FeBasis {
     pub(crate) cutoff: f64,
     /// The site's static flexibility (m/N), `None` for a free structure.
     static_flexibility: Option<f64>,
-    /// The unknowns (node, component) the strike cannot move, held in the basis' model (see
-    /// [`uncoupled`]), and why.
-    held: Vec<(usize, usize)>,
-    reduction: Option<&'static str>,
+    /// The unknowns the strike cannot move, held in the basis' model, and why.
+    reduction: Option<Uncoupled>,
 }
 
 /// Two directions are parallel (or a point on a line or plane) within this.
 const ALIGNED: f64 = 1e-9;
+
+/// What a strike cannot move (see [`uncoupled`]).
+#[derive(Debug, Clone, PartialEq)]
+struct Uncoupled {
+    /// The unknowns (node, component) held.
+    held: Vec<(usize, usize)>,
+    /// Per element, which of its section strains (extension, twist rate, the curvatures about
+    /// E2 and E3) the held model cannot strain: their rows would be round-off.
+    quiet: Vec<[bool; 4]>,
+    why: &'static str,
+}
 
 /// The unknowns of `st`'s beam that a strike along `-st.up` at `offset` cannot move when
 /// linearised at rest, and why: where every node lies in one plane normal to the strike, the
@@ -285,13 +294,13 @@ const ALIGNED: f64 = 1e-9;
 /// translations in it, the rotation about its normal) uncouple from those out of it, and only
 /// these are loaded; where, besides, the nodes lie on one line and the strike is on the
 /// centre line, the twist uncouples too (a rectangle's shear centre is its centroid). The
-/// modes of the held model are then the structure's modes that move the face, exactly.
-fn uncoupled(st: &StructurePlan, offset: f64) -> (Vec<(usize, usize)>, Option<&'static str>) {
+/// modes of the held model are then the structure's modes that move the face, exactly, and
+/// they strain no element in extension or in bending about the plane's normal (nor in twist,
+/// on the line).
+fn uncoupled(st: &StructurePlan, offset: f64) -> Option<Uncoupled> {
     let mesh = st.model.mesh();
     let n = st.up;
-    let Some(axis) = (0..3).find(|a| n[*a].abs() >= 1.0 - ALIGNED) else {
-        return (Vec::new(), None);
-    };
+    let axis = (0..3).find(|a| n[*a].abs() >= 1.0 - ALIGNED)?;
     let origin = mesh.positions[0];
     let extent = mesh.positions.iter().map(|p| (p - origin).norm()).fold(0.0, f64::max);
     let planar = mesh.positions.iter().all(|p| (p - origin).dot(&n).abs() <= ALIGNED * extent);
@@ -299,14 +308,18 @@ fn uncoupled(st: &StructurePlan, offset: f64) -> (Vec<(usize, usize)>, Option<&'
     let normal_axis = |frame: &nalgebra::UnitQuaternion<f64>| {
         (1..3).find(|c| (frame * Vector3::ith(*c, 1.0)).dot(&n).abs() >= 1.0 - ALIGNED)
     };
-    let ends_aligned = mesh.elements.iter().all(|e| {
-        (0..2).all(|end| normal_axis(&(mesh.frames[e.nodes[end]] * e.offsets[end])).is_some())
-    });
-    let Some(normals) = mesh.frames.iter().map(normal_axis).collect::<Option<Vec<usize>>>() else {
-        return (Vec::new(), None);
-    };
-    if !(planar && ends_aligned) {
-        return (Vec::new(), None);
+    let normals = mesh.frames.iter().map(normal_axis).collect::<Option<Vec<usize>>>()?;
+    let element_normals = mesh
+        .elements
+        .iter()
+        .map(|e| {
+            let [a, b] =
+                [0, 1].map(|end| normal_axis(&(mesh.frames[e.nodes[end]] * e.offsets[end])));
+            a.filter(|c| Some(*c) == b)
+        })
+        .collect::<Option<Vec<usize>>>()?;
+    if !planar {
+        return None;
     }
     let last = mesh.positions[mesh.positions.len() - 1];
     let line = (last - origin).normalize();
@@ -322,12 +335,15 @@ fn uncoupled(st: &StructurePlan, offset: f64) -> (Vec<(usize, usize)>, Option<&'
             held.push((node, 3));
         }
     }
+    // Extension and the bending about the normal (K2 where E2 is along it, K3 where E3 is)
+    // are in-plane strains; the twist rate is quiet on the line.
+    let quiet = element_normals.iter().map(|c| [true, straight, *c == 1, *c == 2]).collect();
     let why = if straight {
         "a straight member struck on its centre line normal to a face: only its bending across that face moves it (the motions in the face's plane and the twist uncouple)"
     } else {
         "a planar structure struck normal to its plane: only its motions out of the plane move the face (bending across the plane and twist; those in the plane uncouple)"
     };
-    (held, Some(why))
+    Some(Uncoupled { held, quiet, why })
 }
 
 impl FeBasis {
@@ -337,9 +353,8 @@ impl FeBasis {
     /// # Errors
     /// `Inconsistent` if `fe` holds no structure.
     pub(crate) fn new(fe: FePlan, cutoff: f64) -> Result<Self, ImpactError> {
-        let mut basis =
-            Self { fe, cutoff, static_flexibility: None, held: Vec::new(), reduction: None };
-        (basis.held, basis.reduction) = uncoupled(basis.structure()?, basis.fe.offset);
+        let mut basis = Self { fe, cutoff, static_flexibility: None, reduction: None };
+        basis.reduction = uncoupled(basis.structure()?, basis.fe.offset);
         basis.static_flexibility = basis.solve_static()?;
         Ok(basis)
     }
@@ -357,9 +372,15 @@ impl FeBasis {
     #[cfg(test)]
     pub(crate) fn whole(&self) -> Result<Self, ImpactError> {
         let mut whole = self.clone();
-        (whole.held, whole.reduction) = (Vec::new(), None);
+        whole.reduction = None;
         whole.static_flexibility = whole.solve_static()?;
         Ok(whole)
+    }
+
+    /// Per element, which section strains (extension, twist rate, the curvatures about E2 and
+    /// E3) the basis' modes cannot strain (none where nothing is held).
+    pub(crate) fn quiet_strains(&self) -> Option<&[[bool; 4]]> {
+        self.reduction.as_ref().map(|r| r.quiet.as_slice())
     }
 
     /// The structure the basis is of.
@@ -379,7 +400,10 @@ impl FeBasis {
     /// `Inconsistent` if the basis holds no structure.
     pub(crate) fn model(&self) -> Result<BeamModel, ImpactError> {
         let st = self.structure()?;
-        Ok(st.model.clone().hold(&self.held)?)
+        Ok(match &self.reduction {
+            Some(r) => st.model.clone().hold(&r.held)?,
+            None => st.model.clone(),
+        })
     }
 
     /// The face rows of the strike (see [`crate::solve::face_rows`]) on `model` (the basis').
@@ -392,7 +416,7 @@ impl FeBasis {
     /// Why the basis' model holds some unknowns, and how many it keeps of how many, if it does.
     pub(crate) fn reduction(&self) -> Option<String> {
         let st = self.fe.structure.as_ref()?;
-        let why = self.reduction?;
+        let why = self.reduction.as_ref()?.why;
         use hht::Model;
         let (kept, all) = (self.model().ok()?.ndof(), st.model.ndof());
         Some(format!("{why}: the modes are solved on those unknowns only, {kept} of {all}, the others held (exact for the structure linearised at rest)"))

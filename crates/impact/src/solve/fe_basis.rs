@@ -117,7 +117,7 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
     let recorder = FeRecovery::new(
         model,
         (&modes, site.modes(), static_u.as_ref()),
-        sections,
+        (sections, basis.quiet_strains()),
         (&fe.nodes, fe.impact_site()),
         (st.up, field),
     )?;
@@ -190,10 +190,13 @@ impl RowBuilder<'_> {
 
 /// A structure's strains, stress, twist and field from its modes.
 pub(super) struct FeRecovery {
-    /// Per element: extension, twist rate, the curvatures about E2 and E3.
+    /// Per element: extension, twist rate, the curvatures about E2 and E3, those the modes
+    /// can strain (`slots`: each one's row, `None` for one they cannot, which is 0).
     strains: Recovery,
-    /// Per node: its rotation about its axis (rad).
-    twists: Recovery,
+    slots: Vec<[Option<usize>; 4]>,
+    /// Per node: its rotation about its axis (rad); `None` where every node's is held (a
+    /// straight member struck on its centre line: 0).
+    twists: Option<Recovery>,
     /// The struck element and the impact point's local coordinate on it: the struck section's
     /// twist is its nodes', interpolated.
     struck: (usize, f64),
@@ -225,7 +228,7 @@ impl FeRecovery {
     fn new(
         model: &BeamModel,
         (modes, point, static_u): (&[simo_beam::Mode], &PointModes, Option<&Col<f64>>),
-        sections: &[[f64; 4]],
+        (sections, quiet): (&[[f64; 4]], Option<&[[bool; 4]]>),
         (nodes, (struck, xi)): (&[f64], (usize, f64)),
         (up, field): (nalgebra::Vector3<f64>, bool),
     ) -> Result<Self, ImpactError> {
@@ -246,21 +249,33 @@ impl FeRecovery {
             |v: &Col<f64>, node: usize, k: usize| model.dof(node, k).map_or(0.0, |d| v[d]);
         let builder = || RowBuilder { modes, static_u, rows: Vec::new(), statics: Vec::new() };
         let mut strains = builder();
-        for element in &mesh.elements {
+        let mut slots = Vec::with_capacity(mesh.elements.len());
+        let mut rows = 0;
+        for (e, element) in mesh.elements.iter().enumerate() {
             let [a, b] = element.nodes;
             let jacobian = element.strain_jacobian(
                 [&reference.positions[a], &reference.positions[b]],
                 [&reference.rotations[a], &reference.rotations[b]],
             );
-            // Gamma_1, K_1, K_2, K_3.
-            for row in [0, 3, 4, 5] {
-                let j = jacobian.row(row).into_owned();
-                strains.push(|v| j.dot(&local(v, element).transpose()));
-            }
+            // Gamma_1, K_1, K_2, K_3: the quiet ones (in the plane of a planar structure
+            // struck normal to it) are not evaluated.
+            let quiet = quiet.and_then(|q| q.get(e)).copied().unwrap_or([false; 4]);
+            slots.push(std::array::from_fn(|k| {
+                (!quiet[k]).then(|| {
+                    let j = jacobian.row([0, 3, 4, 5][k]).into_owned();
+                    strains.push(|v| j.dot(&local(v, element).transpose()));
+                    rows += 1;
+                    rows - 1
+                })
+            }));
         }
+        let nodes_count = mesh.positions.len();
+        let twisted = (0..nodes_count).any(|node| model.dof(node, 3).is_some());
         let mut twists = builder();
-        for node in 0..mesh.positions.len() {
-            twists.push(|v| unknown(v, node, 3));
+        if twisted {
+            for node in 0..nodes_count {
+                twists.push(|v| unknown(v, node, 3));
+            }
         }
         let field_rows = if field {
             let mut rows = builder();
@@ -280,11 +295,12 @@ impl FeRecovery {
         }
         let elements = mesh.elements.len();
         let strains = strains.finish(point)?;
-        let twists = twists.finish(point)?;
+        let twists = if twisted { Some(twists.finish(point)?) } else { None };
         let (lateral_per_curvature, shear_per_rate) = out_of_plane_factors(sections);
         Ok(Self {
             values: vec![0.0; strains.len()],
-            twist_values: vec![0.0; twists.len()],
+            slots,
+            twist_values: vec![0.0; nodes_count],
             field_values: vec![0.0; field_rows.as_ref().map_or(0, Recovery::len)],
             strains,
             twists,
@@ -308,8 +324,8 @@ impl BeamRecorder for FeRecovery {
     fn observe(&mut self, at: &Instant<'_>) {
         let BeamView::Modal { q, force, .. } = at.beam else { return };
         self.strains.evaluate(q, force, &mut self.values);
-        for (e, s) in self.values.chunks_exact(4).enumerate() {
-            let [extension, twist_rate, k2, k3] = [s[0], s[1], s[2], s[3]];
+        for (e, slots) in self.slots.iter().enumerate() {
+            let [extension, twist_rate, k2, k3] = slots.map(|k| k.map_or(0.0, |i| self.values[i]));
             // The planar beam's (extension, shear, curvature), its curvature -K2 (as the fe
             // method's 3D beam hands them over); the lateral bending adds at the worst corner.
             self.section_strains[e] = (extension, 0.0, -k2);
@@ -320,7 +336,9 @@ impl BeamRecorder for FeRecovery {
             }
         }
         self.stress.observe_strains(at.t, &self.section_strains, &self.lateral);
-        self.twists.evaluate(q, force, &mut self.twist_values);
+        if let Some(twists) = &self.twists {
+            twists.evaluate(q, force, &mut self.twist_values);
+        }
         let (e, xi) = self.struck;
         let struck = (1.0 - xi) * self.twist_values[e] + xi * self.twist_values[e + 1];
         if struck.abs() > self.max_twist.0 {
