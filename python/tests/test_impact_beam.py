@@ -294,6 +294,17 @@ def test_compare_equals_the_command_lines_summary(tmp_path):
             assert printed(table[name]) == cells(rows, name), name
 
 
+def test_a_structure_is_compared_on_its_own_mesh():
+    # The frame by both methods on its 80 elements against its own modes at tolerance 1e-2
+    # (validation/REFERENCES.md 1.13: 2560 elements; the first contact within 1 % of it).
+    table = ib.compare(SCENES / "frame-impact.toml")
+    assert [r.split(",")[0] for r in table["run"]] == ["reference: modal", "fe", "modal"]
+    reference, fe, modal = table["peak_force_n"]
+    assert fe == pytest.approx(reference, rel=1.5e-2) and modal == pytest.approx(fe, rel=1e-3)
+    with pytest.raises(Exception, match="segments' `elements`"):
+        ib.compare(SCENES / "frame-impact.toml", modes=[16])
+
+
 def test_accuracy_quick_equals_the_command_lines_table(tmp_path):
     cli("accuracy", TIP, "--quick", "--out", tmp_path)
     rows = read_csv(tmp_path / "work_precision.csv")

@@ -55,11 +55,15 @@ pub struct Ladders {
     pub modal_variant: usize,
     /// The element count the fe variants (steps per pulse, alphas) are run at.
     pub fe_variant: usize,
+    /// A `[structure]`'s ladder, both methods: factors on every segment's `elements`.
+    pub mesh_factors: Vec<usize>,
+    /// A `[structure]`'s references' factor (both methods; their checks at half of it).
+    pub mesh_reference: usize,
 }
 
 impl Ladders {
     /// The full ladders: 32 to 1024 modes (reference 4096), 32 to 512 elements (reference
-    /// 2048).
+    /// 2048); a structure's meshes 1 to 8 times its own (reference 32).
     pub fn full() -> Self {
         Self {
             modes: vec![32, 64, 128, 256, 512, 1024],
@@ -68,10 +72,13 @@ impl Ladders {
             fe_reference: 2048,
             modal_variant: 512,
             fe_variant: 256,
+            mesh_factors: vec![1, 2, 4, 8],
+            mesh_reference: 32,
         }
     }
 
-    /// Reduced ladders for CI: 16 to 128 modes and elements, references at 512.
+    /// Reduced ladders for CI: 16 to 128 modes and elements, references at 512; a structure's
+    /// meshes 1 and 2 times its own (reference 8).
     pub fn quick() -> Self {
         Self {
             modes: vec![16, 32, 64, 128],
@@ -80,6 +87,8 @@ impl Ladders {
             fe_reference: 512,
             modal_variant: 64,
             fe_variant: 64,
+            mesh_factors: vec![1, 2],
+            mesh_reference: 8,
         }
     }
 }
@@ -118,9 +127,12 @@ pub struct Setting {
 /// # Errors
 /// `Study` when `scene` has no `[beam]` (a half-space has one model, exact to round-off).
 pub fn settings(scene: &Scene, l: &Ladders) -> Result<Vec<Setting>, ImpactError> {
+    if scene.structure.is_some() {
+        return Ok(structure_settings(scene, l));
+    }
     if scene.beam.is_none() {
         return Err(ImpactError::Study(
-            "accuracy needs a [beam] scene (a [half_space] has one model, exact to round-off)"
+            "accuracy needs a [beam] or a [structure] (a [half_space] has one model, exact to round-off)"
                 .into(),
         ));
     }
@@ -187,6 +199,99 @@ pub fn settings(scene: &Scene, l: &Ladders) -> Result<Vec<Setting>, ImpactError>
         add("fe", format!("{} elements; alpha {alpha}", l.fe_variant), false, Role::Run, s);
     }
     Ok(out)
+}
+
+/// The settings of a `[structure]`: both methods on the same meshes, every segment's
+/// `elements` times each of `l.mesh_factors` (the modal method on each mesh's own modes, its
+/// residual flexibility on), the references at `l.mesh_reference` times, their checks at half
+/// that; the variants (the modal method's energy tolerances, the fe method's steps per pulse and
+/// alphas) on twice the scene's mesh.
+fn structure_settings(scene: &Scene, l: &Ladders) -> Vec<Setting> {
+    let elements: usize =
+        scene.structure.as_ref().map_or(0, |st| st.segments.iter().map(|s| s.elements).sum());
+    let on = |method: MethodName, factor: usize| {
+        let mut s = variant(scene, method, None);
+        s.solver.tolerance = None;
+        if let Some(st) = s.structure.as_mut() {
+            for seg in &mut st.segments {
+                seg.elements *= factor;
+            }
+        }
+        s
+    };
+    let label = |method: &str, factor: usize| {
+        let own = if method == "modal" { "; own modes" } else { "" };
+        format!("{} elements{own}", elements * factor)
+    };
+    let mut out = Vec::new();
+    for (method, name) in [(MethodName::Modal, "modal"), (MethodName::Fe, "fe")] {
+        for (factor, role) in
+            [(l.mesh_reference, Role::Reference), (l.mesh_reference / 2, Role::Check)]
+        {
+            let tag = if role == Role::Reference { "reference" } else { "check" };
+            let scene = on(method, factor);
+            out.push(Setting {
+                method: name,
+                series: name,
+                label: format!("{} ({tag})", label(name, factor)),
+                ladder: false,
+                role,
+                scene,
+            });
+        }
+    }
+    for (method, name) in [(MethodName::Modal, "modal"), (MethodName::Fe, "fe")] {
+        for &factor in &l.mesh_factors {
+            out.push(Setting {
+                method: name,
+                series: name,
+                label: label(name, factor),
+                ladder: true,
+                role: Role::Run,
+                scene: on(method, factor),
+            });
+        }
+    }
+    for tol in [1e-4, 1e-5] {
+        let mut s = on(MethodName::Modal, 2);
+        s.solver.energy_tolerance = Some(tol);
+        let label = format!("{}; energy tolerance {tol:e}", label("modal", 2));
+        out.push(Setting {
+            method: "modal",
+            series: "modal",
+            label,
+            ladder: false,
+            role: Role::Run,
+            scene: s,
+        });
+    }
+    for samples in [100, 400] {
+        let mut s = on(MethodName::Fe, 2);
+        s.solver.samples_per_pulse = Some(samples);
+        let label = format!("{}; {samples} steps per pulse", label("fe", 2));
+        out.push(Setting {
+            method: "fe",
+            series: "fe",
+            label,
+            ladder: false,
+            role: Role::Run,
+            scene: s,
+        });
+    }
+    for alpha in [0.0, -0.2] {
+        let mut s = on(MethodName::Fe, 2);
+        s.solver.alpha = Some(alpha);
+        let label = format!("{}; alpha {alpha}", label("fe", 2));
+        out.push(Setting {
+            method: "fe",
+            series: "fe",
+            label,
+            ladder: false,
+            role: Role::Run,
+            scene: s,
+        });
+    }
+    out
 }
 
 /// One measured setting.
@@ -294,6 +399,9 @@ pub struct Study {
     /// The errors of the finest run with Euler-Bernoulli modes (from the modal reference),
     /// when there are such runs: what that theory leaves out on the scene.
     pub theory_difference: Option<Differences>,
+    /// Whether the scene is a `[structure]` (both methods on its 3D beam: the modal one
+    /// linearised at rest, the fe one geometrically exact).
+    pub structure: bool,
 }
 
 impl Study {
@@ -364,6 +472,7 @@ impl Study {
             model_difference,
             modal_theory: modal_reference.plan.beam_theory,
             theory_difference,
+            structure: settings.iter().any(|s| s.scene.structure.is_some()),
         })
     }
 
@@ -422,6 +531,36 @@ mod tests {
     }
 
     #[test]
+    fn a_structure_is_studied_on_its_meshes_by_both_methods() {
+        // The frame (80 elements): both methods on 80 and 160 elements, the references on 640,
+        // their checks on 320; each setting a valid scene with its own label.
+        let text = include_str!("../../../../validation/scenes/frame-impact.toml");
+        let frame = Scene::from_toml(text).unwrap();
+        let all = settings(&frame, &Ladders::quick()).unwrap();
+        for s in &all {
+            let plan = Plan::new(&s.scene).unwrap_or_else(|e| panic!("{}: {e}", s.label));
+            assert_eq!(plan.summary().method.to_string(), s.method, "{}", s.label);
+            assert_eq!(all.iter().filter(|t| t.label == s.label).count(), 1, "{}", s.label);
+            assert!(!s.label.contains(','), "a CSV field: {}", s.label);
+        }
+        let labels: Vec<&str> = all.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(
+            labels[..8],
+            [
+                "640 elements; own modes (reference)",
+                "320 elements; own modes (check)",
+                "640 elements (reference)",
+                "320 elements (check)",
+                "80 elements; own modes",
+                "160 elements; own modes",
+                "80 elements",
+                "160 elements",
+            ]
+        );
+        assert!(all[4..].iter().all(|s| s.role == Role::Run));
+    }
+
+    #[test]
     fn the_cheapest_setting_meets_every_error() {
         let row = |setting: &str, wall_time: f64, worst: f64| Row {
             method: "modal",
@@ -451,6 +590,7 @@ mod tests {
             model_difference: row("reference", 0.0, 1e-3).errors,
             modal_theory: None,
             theory_difference: None,
+            structure: false,
         };
         // Within 1e-2: 64 modes (16 fails on its peak force); within 1e-3: 256.
         assert_eq!(study.cheapest("modal", 1e-2).map(|r| r.setting.as_str()), Some("64 modes"));
