@@ -178,25 +178,31 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// The stiffness and mass of `model` linearised at `q` as bands, and the largest diagonal
-/// ratio `K_ii / M_ii` (the scale of the stiffness' round-off: a rigid-body mode's computed
-/// eigenvalue is about eps times it; measured 1e-5 on the paper's free strip, where it is
-/// 7e10).
-///
-/// # Errors
-/// [`BeamError::Eigen`] for a mass matrix that is not positive definite.
-fn banded<M: Model>(model: &M, q: &M::Config) -> Result<(Band, Band, f64), BeamError> {
+/// The stiffness and mass parts of `model`'s tangent at `q` (no velocity): the model
+/// linearised there, as the eigen-solver takes it.
+pub(crate) fn linearised<M: Model>(model: &M, q: &M::Config) -> (Triplets, Triplets) {
     let n = model.ndof();
     let zero = Col::<f64>::zeros(n);
     let mut t = Triplets::new();
     model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), NewtonWeights::stiffness(), &mut t);
     let mut tm = Triplets::new();
     model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), NewtonWeights::mass(), &mut tm);
-    let kd = half_bandwidth(&t).max(half_bandwidth(&tm));
+    (t, tm)
+}
+
+/// The stiffness `t` and mass `tm` (entries over `n` unknowns) as bands, and the largest
+/// diagonal ratio `K_ii / M_ii` (the scale of the stiffness' round-off: a rigid-body mode's
+/// computed eigenvalue is about eps times it; measured 1e-5 on the paper's free strip, where
+/// it is 7e10).
+///
+/// # Errors
+/// [`BeamError::Eigen`] for a mass matrix that is not positive definite.
+fn banded(n: usize, t: &Triplets, tm: &Triplets) -> Result<(Band, Band, f64), BeamError> {
+    let kd = half_bandwidth(t).max(half_bandwidth(tm));
     let mut stiffness = Band::zeros(n, kd);
-    stiffness.add_symmetric(&t, 1.0);
+    stiffness.add_symmetric(t, 1.0);
     let mut mass = Band::zeros(n, kd);
-    mass.add_symmetric(&tm, 1.0);
+    mass.add_symmetric(tm, 1.0);
     if Ldlt::factor(&mass).map_or(true, |f| f.negatives() > 0) {
         return Err(BeamError::Eigen("the mass matrix is not positive definite".into()));
     }
@@ -204,28 +210,28 @@ fn banded<M: Model>(model: &M, q: &M::Config) -> Result<(Band, Band, f64), BeamE
     Ok((stiffness, mass, ratio))
 }
 
-/// How many rigid-body modes `model` linearised at `q` has: its eigenvalues below the
-/// round-off threshold [`RIGID`] x max `K_ii / M_ii` (those [`modes_below`] sets to omega = 0),
-/// counted by Sylvester's inertia. 0 for a held structure, 6 for a free body, between for a
-/// mechanism.
+/// How many rigid-body modes the model of stiffness `t` and mass `tm` (over `n` unknowns)
+/// has: its eigenvalues below the round-off threshold [`RIGID`] x max `K_ii / M_ii` (those
+/// [`modes_below`] sets to omega = 0), counted by Sylvester's inertia. 0 for a held
+/// structure, 6 for a free body, between for a mechanism.
 ///
 /// # Errors
 /// As [`banded`], and a shift that hits an eigenvalue exactly.
-pub(crate) fn rigid_body_modes<M: Model>(model: &M, q: &M::Config) -> Result<usize, BeamError> {
-    let (stiffness, mass, ratio) = banded(model, q)?;
+pub(crate) fn rigid_body_modes(n: usize, t: &Triplets, tm: &Triplets) -> Result<usize, BeamError> {
+    let (stiffness, mass, ratio) = banded(n, t, tm)?;
     Ok(Ldlt::factor(&stiffness.shifted(&mass, RIGID * ratio))?.negatives())
 }
 
-/// Every natural mode of `model` linearised at `q` with `omega <= omega_max` (rad/s),
-/// ascending, mass-normalised; see the module text.
+/// Every natural mode of the model of stiffness `t` and mass `tm` (over `n` unknowns) with
+/// `omega <= omega_max` (rad/s), ascending, mass-normalised; see the module text.
 ///
 /// # Errors
 /// [`BeamError::Eigen`] for a cutoff that is not finite and positive, a mass matrix that is not
 /// positive definite, a shift that hits an eigenvalue, or a Lanczos run that finds fewer modes
 /// below the cutoff than the inertia count says.
-pub(crate) fn modes_below<M: Model>(
-    model: &M,
-    q: &M::Config,
+pub(crate) fn modes_below(
+    n: usize,
+    (t, tm): (&Triplets, &Triplets),
     omega_max: f64,
 ) -> Result<Vec<Mode>, BeamError> {
     if !(omega_max.is_finite() && omega_max > 0.0) {
@@ -233,7 +239,7 @@ pub(crate) fn modes_below<M: Model>(
             "the cutoff frequency must be finite and greater than 0 rad/s, not {omega_max}"
         )));
     }
-    let (stiffness, mass, ratio) = banded(model, q)?;
+    let (stiffness, mass, ratio) = banded(n, t, tm)?;
     let shifted = |sigma: f64| stiffness.shifted(&mass, sigma);
     let lambda_max = omega_max * omega_max;
     let wanted = Ldlt::factor(&shifted(lambda_max))?.negatives();

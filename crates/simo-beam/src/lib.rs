@@ -78,7 +78,7 @@ pub use mesh::Mesh;
 pub use model::{BeamModel, BeamState, Load, Profile, Support};
 pub use modes::{
     bending_frequencies, modes_below, natural_frequencies, natural_modes, planar_modes,
-    planar_modes_below, rigid_body_modes, Mode,
+    planar_modes_below, rigid_body_modes, AtRest, Mode,
 };
 pub use planar::{PlanarBeam, PlanarState};
 pub use section::{Material, Section, SHEAR_FACTOR_CIRCLE, SHEAR_FACTOR_RECTANGLE};

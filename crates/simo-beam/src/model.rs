@@ -5,7 +5,7 @@ use crate::mesh::Mesh;
 use crate::rotation::skew;
 use faer::{Col, ColMut, ColRef};
 use hht::{NewtonWeights, Triplets};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3};
 
 /// How a node is held. A beam scene's `[[support]]` (and an impact scene's
 /// `[[structure.support]]`) names it `kind = "clamped" | "pinned"`; an impact scene's `[beam]`
@@ -624,10 +624,17 @@ impl hht::Model for BeamModel {
         let mass = w.inertia * w.da;
         for e in &self.mesh.elements {
             let [na, nb] = e.nodes;
-            let (_, k) = e.force_and_tangent(
-                [&q.positions[na], &q.positions[nb]],
-                [&q.rotations[na], &q.rotations[nb]],
-            );
+            // The mass alone (the eigen-solver's M) needs no element force: the same entries
+            // are pushed (the pattern stays), the stiffness' zero.
+            let k = if stiffness == 0.0 {
+                SMatrix::<f64, 12, 12>::zeros()
+            } else {
+                e.force_and_tangent(
+                    [&q.positions[na], &q.positions[nb]],
+                    [&q.rotations[na], &q.rotations[nb]],
+                )
+                .1
+            };
             let m = e.section.rho_a * e.length / 6.0 * mass;
             let nodes = [na, nb];
             for (bi, &ni) in nodes.iter().enumerate() {

@@ -8,7 +8,8 @@ use crate::error::{invalid, not_negative, ImpactError};
 use crate::scene::{FeModelName, MethodName, Scene, StructureSpec};
 use crate::solve::Face;
 use nalgebra::Vector3;
-use simo_beam::{BeamModel, Support};
+use simo_beam::{AtRest, BeamModel, Support};
+use std::sync::Arc;
 
 /// A free body's rigid-body modes.
 pub(crate) const FREE_BODY: usize = 6;
@@ -262,7 +263,7 @@ pub(super) fn lowered(
 /// A structure's modal basis as planned: its 3D beam and strike (the fe method's plan) and
 /// the cutoff; the static flexibility at the site is solved when planned, the modes when run
 /// (`solve::modal`).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct FeBasis {
     pub(crate) fe: FePlan,
     /// Modes are kept up to this angular frequency (rad/s).
@@ -271,6 +272,18 @@ pub struct FeBasis {
     static_flexibility: Option<f64>,
     /// The unknowns the strike cannot move, held in the basis' model, and why.
     reduction: Option<Uncoupled>,
+    /// The basis' model linearised at rest: assembled once for the static solves and the
+    /// eigen-solution (shared by the plan's clones; what the fields above determine).
+    at_rest: Arc<AtRest>,
+}
+
+impl PartialEq for FeBasis {
+    fn eq(&self, other: &Self) -> bool {
+        self.fe == other.fe
+            && self.cutoff.to_bits() == other.cutoff.to_bits()
+            && self.static_flexibility == other.static_flexibility
+            && self.reduction == other.reduction
+    }
 }
 
 /// Two directions are parallel (or a point on a line or plane) within this.
@@ -353,28 +366,35 @@ impl FeBasis {
     /// # Errors
     /// `Inconsistent` if `fe` holds no structure.
     pub(crate) fn new(fe: FePlan, cutoff: f64) -> Result<Self, ImpactError> {
-        let mut basis = Self { fe, cutoff, static_flexibility: None, reduction: None };
-        basis.reduction = uncoupled(basis.structure()?, basis.fe.offset);
-        basis.static_flexibility = basis.solve_static()?;
-        Ok(basis)
+        let reduction = uncoupled(Self::structure_of(&fe)?, fe.offset);
+        Self::with_reduction(fe, cutoff, reduction)
     }
 
-    /// The site's static flexibility on the basis' model, `None` unless it is held.
-    fn solve_static(&self) -> Result<Option<f64>, ImpactError> {
-        let model = self.model()?;
-        let rows = self.face_rows(&model);
-        Ok((self.structure()?.rigid_modes == 0)
-            .then(|| crate::solve::static_response(&model, &rows).map(|(f, _)| f))
-            .flatten())
+    /// The basis with `reduction`'s unknowns held: its model linearised at rest and the site's
+    /// static flexibility on it, `None` unless it is held.
+    fn with_reduction(
+        fe: FePlan,
+        cutoff: f64,
+        reduction: Option<Uncoupled>,
+    ) -> Result<Self, ImpactError> {
+        let at_rest = Arc::new(AtRest::of(&Self::model_of(&fe, reduction.as_ref())?));
+        let mut basis = Self { fe, cutoff, static_flexibility: None, reduction, at_rest };
+        let rows = basis.face_rows(&basis.model()?);
+        basis.static_flexibility = (basis.structure()?.rigid_modes == 0)
+            .then(|| crate::solve::static_response_at_rest(&basis.at_rest, &rows).map(|(f, _)| f))
+            .flatten();
+        Ok(basis)
     }
 
     /// The same basis on the whole model (no unknown held): what the reduction must equal.
     #[cfg(test)]
     pub(crate) fn whole(&self) -> Result<Self, ImpactError> {
-        let mut whole = self.clone();
-        whole.reduction = None;
-        whole.static_flexibility = whole.solve_static()?;
-        Ok(whole)
+        Self::with_reduction(self.fe.clone(), self.cutoff, None)
+    }
+
+    /// The basis' model linearised at rest.
+    pub(crate) fn at_rest(&self) -> &AtRest {
+        &self.at_rest
     }
 
     /// Per element, which section strains (extension, twist rate, the curvatures about E2 and
@@ -388,8 +408,11 @@ impl FeBasis {
     /// # Errors
     /// `Inconsistent` if the basis holds none (not expected: it is built from one).
     pub(crate) fn structure(&self) -> Result<&StructurePlan, ImpactError> {
-        self.fe
-            .structure
+        Self::structure_of(&self.fe)
+    }
+
+    fn structure_of(fe: &FePlan) -> Result<&StructurePlan, ImpactError> {
+        fe.structure
             .as_deref()
             .ok_or_else(|| ImpactError::Inconsistent("an fe basis without its structure".into()))
     }
@@ -399,8 +422,12 @@ impl FeBasis {
     /// # Errors
     /// `Inconsistent` if the basis holds no structure.
     pub(crate) fn model(&self) -> Result<BeamModel, ImpactError> {
-        let st = self.structure()?;
-        Ok(match &self.reduction {
+        Self::model_of(&self.fe, self.reduction.as_ref())
+    }
+
+    fn model_of(fe: &FePlan, reduction: Option<&Uncoupled>) -> Result<BeamModel, ImpactError> {
+        let st = Self::structure_of(fe)?;
+        Ok(match reduction {
             Some(r) => st.model.clone().hold(&r.held)?,
             None => st.model.clone(),
         })
@@ -598,8 +625,12 @@ fn build(
     // What the supports leave free: 0 rigid-body modes where they hold the structure, 6 for a
     // free body; between, a mechanism. Counted once: no static stiffness without a hold (a
     // static solve of a singular K gives a number, not a flexibility: 7e-8 N/m on the free
-    // frame before this was counted).
-    let rigid_modes = simo_beam::rigid_body_modes(&model)?;
+    // frame before this was counted). A clamp holds all six: the members form one chain with
+    // rigid joints, so a rigid motion that holds one node's position and rotation holds every
+    // node's (no count needed: the count's two factorisations of the whole model are a tenth
+    // of a modal run on the paper's beam).
+    let clamped = spec.supports.iter().any(|sp| sp.kind == Support::Clamped);
+    let rigid_modes = if clamped { 0 } else { simo_beam::rigid_body_modes(&model)? };
     let held = if supports.is_empty() { "no support".to_string() } else { supports.join(", ") };
     if rigid_modes == FREE_BODY {
         reasons.push(format!("the structure is a free body ({held}): its six rigid-body motions are free; it has no static stiffness"));

@@ -22,7 +22,7 @@ mod struck;
 pub use ball_on_beam::{BallOnBeam, BallOnBeamConfig};
 pub(crate) use ball_on_beam3d::face_rows;
 pub use ball_on_beam3d::{BallOnBeam3d, BallOnBeam3dConfig, Face};
-pub(crate) use struck::static_response;
+pub(crate) use struck::{static_response, static_response_at_rest};
 
 use crate::error::ImpactError;
 use crate::outcome::Outcome;

@@ -96,6 +96,14 @@ pub(crate) fn static_response(
     static_solve(beam, &beam.reference_state(), rows).map(|(f, u)| (f, -u))
 }
 
+/// [`static_response`] of a beam linearised at rest (its stiffness already assembled).
+pub(crate) fn static_response_at_rest(
+    beam: &simo_beam::AtRest,
+    rows: &[(usize, f64)],
+) -> Option<(f64, faer::Col<f64>)> {
+    solve_stiffness(beam.ndof(), beam.stiffness(), rows).map(|(f, u)| (f, -u))
+}
+
 /// [`static_flexibility_of`] and the displacement `K^-1 rows` it reads.
 fn static_solve<M: Model>(
     model: &M,
@@ -107,8 +115,17 @@ fn static_solve<M: Model>(
     let mut k = hht::Triplets::new();
     let w = hht::NewtonWeights::stiffness();
     model.tangent(0.0, q, zero.as_ref(), zero.as_ref(), w, &mut k);
+    solve_stiffness(n, &k, rows)
+}
+
+/// `rows . K^-1 rows` and `K^-1 rows` for the stiffness `k` over `n` unknowns.
+fn solve_stiffness(
+    n: usize,
+    k: &hht::Triplets,
+    rows: &[(usize, f64)],
+) -> Option<(f64, faer::Col<f64>)> {
     let mut lu = hht::SparseLu::new();
-    lu.factor(n, &k, 0.0).ok()?;
+    lu.factor(n, k, 0.0).ok()?;
     let mut f = faer::Col::<f64>::zeros(n);
     for (i, w) in rows {
         f[*i] += w;
