@@ -174,57 +174,6 @@ impl Recovery {
     }
 }
 
-impl Recovery {
-    /// [`Recovery::evaluate`] at several instants at once: `q` holds each instant's modal
-    /// coordinates one after the other, `forces` each one's force, `out` each one's values
-    /// one after the other. A mode's column is read once for all of them (a column added to
-    /// one instant at a time streams every row from memory at every instant: on a structure's
-    /// few hundred rows that read, not the arithmetic, is the cost). Each value is summed in
-    /// the same order as by [`Recovery::evaluate`], so the results are identical.
-    ///
-    /// # Panics
-    /// If `q` does not hold one value a mode, or `out` one a row, for each force.
-    pub fn evaluate_many(&self, q: &[f64], forces: &[f64], out: &mut [f64]) {
-        let (count, instants) = (self.force.len(), forces.len());
-        assert!(
-            out.len() == count * instants && q.len() == self.modes * instants,
-            "one value a row and one a mode at each instant"
-        );
-        pulp::Arch::new().dispatch(EvaluateMany { recovery: self, q, forces, out });
-    }
-}
-
-/// [`Recovery::evaluate_many`]'s loops (pulp, as [`Evaluate`]).
-struct EvaluateMany<'a> {
-    recovery: &'a Recovery,
-    q: &'a [f64],
-    forces: &'a [f64],
-    out: &'a mut [f64],
-}
-
-impl pulp::WithSimd for EvaluateMany<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let Self { recovery, q, forces, out } = self;
-        let (count, modes) = (recovery.force.len(), recovery.modes);
-        for (values, force) in out.chunks_exact_mut(count).zip(forces) {
-            for (o, p) in values.iter_mut().zip(&recovery.force) {
-                *o = p * force;
-            }
-        }
-        for (m, column) in recovery.columns.chunks_exact(count).enumerate() {
-            for (values, q) in out.chunks_exact_mut(count).zip(q.chunks_exact(modes)) {
-                let q = q[m];
-                for (o, r) in values.iter_mut().zip(column) {
-                    *o += r * q;
-                }
-            }
-        }
-    }
-}
-
 /// [`Recovery::evaluate`]'s loops, compiled for the processor's widest vectors (pulp): one
 /// scaled column added per mode.
 struct Evaluate<'a> {
@@ -288,18 +237,6 @@ mod tests {
         let mut out = [0.0];
         rows.evaluate(&q, 2.0, &mut out);
         assert!((out[0] - expected).abs() < 1e-15);
-        // At several instants at once: each the same, to the last bit, as alone.
-        let rows = Recovery::new(&modes, vec![1.0, 2.0, 3.0, -0.3, 0.7, 1e-3], Some(&[0.5, -2.0]))
-            .unwrap_or_else(|e| panic!("{e}"));
-        let qs = [0.1, 0.2, 0.3, -1.5, 2.5, 1e-7, 0.0, 0.0, 0.0];
-        let forces = [2.0, -3.0, 0.25];
-        let mut many = [0.0; 6];
-        rows.evaluate_many(&qs, &forces, &mut many);
-        for (j, force) in forces.iter().enumerate() {
-            let mut one = [0.0; 2];
-            rows.evaluate(&qs[3 * j..3 * j + 3], *force, &mut one);
-            assert_eq!(one.map(f64::to_bits), [many[2 * j].to_bits(), many[2 * j + 1].to_bits()]);
-        }
         assert!(Recovery::new(&modes, vec![1.0, 2.0], None).is_err());
         assert!(Recovery::new(&modes, vec![1.0, 2.0, f64::NAN], None).is_err());
         assert!(Recovery::new(&modes, vec![1.0, 2.0, 3.0], Some(&[1.0, 2.0])).is_err());

@@ -183,23 +183,6 @@ impl RowBuilder<'_> {
     }
 }
 
-/// Instants a recovery takes at once: the rows (a mode's column of every strain) are read once
-/// a batch. On the paper's beam lowered to 374 elements (102 modes, some 2300 instants over
-/// 1 ms) one instant at a time streamed the 0.3 MB of rows from memory at each and took a
-/// third of the run; 16 at once keep a column's values for all of them in the first-level
-/// cache.
-const BATCH: usize = 16;
-
-/// Instants observed, not yet recovered: each one's modal coordinates (one after the other),
-/// contact force (N), time (s) and whether it is a recorded sample (the field's instants).
-#[derive(Default)]
-struct Pending {
-    q: Vec<f64>,
-    forces: Vec<f64>,
-    times: Vec<f64>,
-    samples: Vec<bool>,
-}
-
 /// A structure's strains, stress, twist and field from its modes.
 pub(super) struct FeRecovery {
     /// Per element: extension, twist rate, the curvatures about E2 and E3, those the modes
@@ -222,9 +205,7 @@ pub(super) struct FeRecovery {
     shear_per_rate: Vec<f64>,
     /// Node arc lengths (m).
     nodes: Vec<f64>,
-    /// The instants observed and not yet recovered.
-    pending: Pending,
-    // Work space, kept: no allocation an instant (the strains' and twists' for a batch).
+    // Work space, kept: no allocation an instant.
     values: Vec<f64>,
     section_strains: Vec<(f64, f64, f64)>,
     lateral: Vec<f64>,
@@ -312,10 +293,9 @@ impl FeRecovery {
         let twists = if twisted { Some(twists.finish(point)?) } else { None };
         let (lateral_per_curvature, shear_per_rate) = out_of_plane_factors(sections);
         Ok(Self {
-            pending: Pending::default(),
-            values: vec![0.0; BATCH * strains.len()],
+            values: vec![0.0; strains.len()],
             slots,
-            twist_values: vec![0.0; BATCH * nodes_count],
+            twist_values: vec![0.0; nodes_count],
             field_values: vec![0.0; field_rows.as_ref().map_or(0, Recovery::len)],
             strains,
             twists,
@@ -335,87 +315,49 @@ impl FeRecovery {
     }
 }
 
-impl FeRecovery {
-    /// Recovers every instant waiting (in the order observed), the rows of each recovery read
-    /// once for all of them.
-    fn flush(&mut self) {
-        let instants = self.pending.times.len();
-        if instants == 0 {
-            return;
-        }
-        let Pending { q, forces, times, samples } = &mut self.pending;
-        let (rows, nodes) = (self.strains.len(), self.nodes.len());
-        self.strains.evaluate_many(q, forces, &mut self.values[..rows * instants]);
-        if let Some(twists) = &self.twists {
-            twists.evaluate_many(q, forces, &mut self.twist_values[..nodes * instants]);
-        }
-        let modes = q.len() / instants;
-        for (j, &t) in times.iter().enumerate() {
-            let values = &self.values[rows * j..rows * (j + 1)];
-            for (e, slots) in self.slots.iter().enumerate() {
-                let [extension, twist_rate, k2, k3] = slots.map(|k| k.map_or(0.0, |i| values[i]));
-                // The planar beam's (extension, shear, curvature), its curvature -K2 (as the fe
-                // method's 3D beam hands them over); the lateral bending adds at the worst
-                // corner.
-                self.section_strains[e] = (extension, 0.0, -k2);
-                self.lateral[e] = self.lateral_per_curvature[e] * k3.abs();
-                let tau = self.shear_per_rate[e] * twist_rate.abs();
-                if tau > self.max_shear.0 {
-                    self.max_shear = (tau, e, t);
-                }
-            }
-            self.stress.observe_strains(t, &self.section_strains, &self.lateral);
-            // Every node's twist is 0 where none is solved (the zeros the buffer holds).
-            let twists = match self.twists {
-                Some(_) => &self.twist_values[nodes * j..nodes * (j + 1)],
-                None => &self.twist_values[..nodes],
-            };
-            let (e, xi) = self.struck;
-            let struck = (1.0 - xi) * twists[e] + xi * twists[e + 1];
-            if struck.abs() > self.max_twist.0 {
-                self.max_twist = (struck.abs(), t);
-            }
-            for (node, twist) in twists.iter().enumerate() {
-                if twist.abs() > self.largest_twist.0 {
-                    self.largest_twist = (twist.abs(), node, t);
-                }
-            }
-            if let (Some(rows), true) = (&self.field_rows, samples[j]) {
-                rows.evaluate(&q[modes * j..modes * (j + 1)], forces[j], &mut self.field_values);
-                let (z, theta) = (&mut self.view.z, &mut self.view.theta);
-                z.clear();
-                theta.clear();
-                for pair in self.field_values.chunks_exact(2) {
-                    z.push(pair[0]);
-                    theta.push(-pair[1]);
-                }
-                self.stress.record_field(t, &self.view, &self.section_strains);
-            }
-        }
-        q.clear();
-        forces.clear();
-        times.clear();
-        samples.clear();
-    }
-}
-
 impl BeamRecorder for FeRecovery {
-    /// Keeps the instant; a batch of [`BATCH`] is recovered at once (and what is left when
-    /// the run finishes).
     fn observe(&mut self, at: &Instant<'_>) {
         let BeamView::Modal { q, force, .. } = at.beam else { return };
-        let pending = &mut self.pending;
-        pending.q.extend_from_slice(q);
-        pending.forces.push(force);
-        pending.times.push(at.t);
-        pending.samples.push(at.sample.is_some());
-        if pending.times.len() == BATCH {
-            self.flush();
+        self.strains.evaluate(q, force, &mut self.values);
+        for (e, slots) in self.slots.iter().enumerate() {
+            let [extension, twist_rate, k2, k3] = slots.map(|k| k.map_or(0.0, |i| self.values[i]));
+            // The planar beam's (extension, shear, curvature), its curvature -K2 (as the fe
+            // method's 3D beam hands them over); the lateral bending adds at the worst corner.
+            self.section_strains[e] = (extension, 0.0, -k2);
+            self.lateral[e] = self.lateral_per_curvature[e] * k3.abs();
+            let tau = self.shear_per_rate[e] * twist_rate.abs();
+            if tau > self.max_shear.0 {
+                self.max_shear = (tau, e, at.t);
+            }
+        }
+        self.stress.observe_strains(at.t, &self.section_strains, &self.lateral);
+        if let Some(twists) = &self.twists {
+            twists.evaluate(q, force, &mut self.twist_values);
+        }
+        let (e, xi) = self.struck;
+        let struck = (1.0 - xi) * self.twist_values[e] + xi * self.twist_values[e + 1];
+        if struck.abs() > self.max_twist.0 {
+            self.max_twist = (struck.abs(), at.t);
+        }
+        for (node, twist) in self.twist_values.iter().enumerate() {
+            if twist.abs() > self.largest_twist.0 {
+                self.largest_twist = (twist.abs(), node, at.t);
+            }
+        }
+        if let (Some(rows), Some(_)) = (&self.field_rows, &at.sample) {
+            rows.evaluate(q, force, &mut self.field_values);
+            let (z, theta) = (&mut self.view.z, &mut self.view.theta);
+            z.clear();
+            theta.clear();
+            for pair in self.field_values.chunks_exact(2) {
+                z.push(pair[0]);
+                theta.push(-pair[1]);
+            }
+            self.stress.record_field(at.t, &self.view, &self.section_strains);
         }
     }
 
     fn finish(&mut self, yield_stress: Option<f64>) -> BendingStress {
-        self.flush();
         self.stress.finish(yield_stress)
     }
 
