@@ -277,3 +277,23 @@ fn a_free_frame_by_its_modes_with_inertia_relief_is_the_free_frame_by_the_fe_met
     let fe_plan = impact::Plan::new(&Scene::from_toml(&text("fe", pinned)).unwrap()).unwrap();
     assert!(fe_plan.warnings().iter().any(|w| w.contains("leave 3 rigid-body")));
 }
+
+#[test]
+fn a_mesh_too_coarse_for_the_cutoff_says_which_key_refines_it() {
+    // The frame at 2 elements a member: its 12 modes out of the plane (9 move the face) end
+    // at 1.95e5 rad/s, below the plan's cutoff (omega t_c = 20, 4.85e5 rad/s): every one is
+    // kept and they reach omega_N t_c = 8.1 only. The warning counts the modes kept and names
+    // the key that adds modes to an fe basis (its mesh), not solver.modes.
+    let text = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/frame-impact.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("method = \"fe\"", "method = \"modal\"")
+    .replace("elements = 40", "elements = 2");
+    let report = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let warning = report.warnings.iter().find(|w| w.contains("reach only")).unwrap();
+    assert!(warning.starts_with("9 modes reach only omega_N t_c = 8.1"), "{warning}");
+    assert!(warning.contains("structure.segment[k].elements"), "{warning}");
+    assert!(!warning.contains("solver.modes"), "{warning}");
+}

@@ -1000,12 +1000,26 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 }
                 // The mode-acceleration form takes the truncated modes as quasi-static: true
                 // for those far faster than the pulse (see STRESS_REACH).
-                let reach = self.modes.omega().iter().fold(0.0, |a: f64, w| a.max(*w))
-                    * plan.estimated_duration;
+                let highest = self.modes.omega().iter().fold(0.0, |a: f64, w| a.max(*w));
+                let reach = highest * plan.estimated_duration;
                 if recovered.stress.is_some() && reach < STRESS_REACH {
+                    // An fe basis holds every mode of its mesh below the cutoff: short of it,
+                    // the mesh has no more.
+                    let (count, remedy) = match &m.basis {
+                        ModalBasis::Analytic(_) => {
+                            (m.modes, "more modes (solver.modes), or solver.tolerance".to_string())
+                        }
+                        ModalBasis::Fe(fe) => (
+                            self.modes.len(),
+                            format!(
+                                "the structure's mesh ({} elements) has no mode between {highest:.4e} rad/s and the cutoff {:.4e} rad/s: more elements a segment (structure.segment[k].elements), or solver.tolerance",
+                                fe.elements(),
+                                fe.cutoff
+                            ),
+                        ),
+                    };
                     warnings.push(format!(
-                        "{} modes reach only omega_N t_c = {reach:.1} (the highest mode's frequency times the contact's estimated duration), below {STRESS_REACH}: the bending stress near the ball is not resolved (several per cent to several times off); more modes, or solver.tolerance",
-                        m.modes
+                        "{count} modes reach only omega_N t_c = {reach:.1} (the highest mode's frequency times the contact's estimated duration), below {STRESS_REACH}: the bending stress near the ball is not resolved (several per cent to several times off); {remedy}"
                     ));
                 }
                 static_stiffness(m.static_flexibility(), &mut warnings)
