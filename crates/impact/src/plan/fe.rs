@@ -225,6 +225,21 @@ impl FePlan {
         }
     }
 
+    /// The interior nodes where the bending stress may jump (`solve::fe_stress`): a
+    /// rotational spring's on a beam (its moment), a structure's joints and interior supports
+    /// ([`super::structure::StructurePlan::joints`]).
+    pub(crate) fn stress_breaks(&self) -> Vec<usize> {
+        match &self.structure {
+            Some(st) => st.joints(),
+            None => self
+                .attachments
+                .iter()
+                .filter(|a| a.rotational_stiffness > 0.0)
+                .map(|a| node_at(&self.nodes, a.at))
+                .collect(),
+        }
+    }
+
     /// The struck face's static flexibility at the impact point (m/N): the analytic
     /// Timoshenko beam's, plus offset^2 times the static twist per torque off the centre.
     pub(crate) fn static_flexibility(&self) -> Option<f64> {
@@ -319,7 +334,7 @@ impl Steps {
         } else {
             reasons.push(format!("HHT alpha = {alpha}; every step {contact_step:.4e} s ({samples} per estimated contact duration {estimated_duration:.4e} s), in contact and out of it: the bending waves an impact sends along the beam decide when later contacts start and end, and longer steps out of contact move them (validation/REFERENCES.md 1.7)"));
         }
-        reasons.push(format!("maxima: the bending stress at each element's midpoint (one-point integration: the element's only stress, so the beam-wide largest is the elements'), at every accepted step ({contact_step:.4e} s apart in contact, up to {free_time_step:.4e} s out of it; HHT defines no value between its steps); the largest displacement between steps too, by the cubic through each step's ends and rates; neither depends on solver.output_interval"));
+        reasons.push(format!("maxima: the bending stress at each element's midpoint (one-point integration: the element's only stress) and at the impact point, extrapolated there from the two midpoints on each side (the moment's kink under the ball, which the midpoints miss by h/2 of the shear), at every accepted step ({contact_step:.4e} s apart in contact, up to {free_time_step:.4e} s out of it; HHT defines no value between its steps); the largest displacement between steps too, by the cubic through each step's ends and rates; neither depends on solver.output_interval"));
         if s.alpha.is_none() {
             reasons.push(format!("alpha = {FE_ALPHA} by default: it damps the vibration the impacts put into frequencies the mesh does not resolve, and energy.numerical_dissipation says how much (at the default steps, on the paper's tip 3e-5 of the ball's energy over 1 ms; on the heavy ball 1.5-2 % over 0.4 s, and 0.2 % and 2.2 % with -0.01 and -0.1: its chattering keeps feeding the high frequencies; longer steps out of contact damp more, 7 % and 12 % at 8 contact steps); set alpha = 0 for an undamped energy study: it conserves energy to 1e-6 on the tip, moves the first three contacts by less than 1e-3 and the heavy ball's largest displacement by 0.6 %, but keeps that unresolved vibration"));
         }

@@ -58,6 +58,31 @@ impl StructurePlan {
     }
 }
 
+impl StructurePlan {
+    /// The interior nodes where the stress along the arc length may jump: where segments meet
+    /// (a corner turns one member's bending into the next one's torsion; a step changes the
+    /// section) and where a support holds a node between the ends (its reaction moment).
+    pub(crate) fn joints(&self) -> Vec<usize> {
+        let (scene, _) = &*self.source;
+        let segments = scene.structure.as_ref().map_or(&[][..], |st| &st.segments[..]);
+        let last = self.model.mesh().positions.len() - 1;
+        // The segments are meshed in order, each on its own `elements` (the scene kept is the
+        // one this plan was built from, refined or not).
+        let mut joints: Vec<usize> = segments
+            .iter()
+            .scan(0, |node, seg| {
+                *node += seg.elements;
+                Some(*node)
+            })
+            .filter(|node| *node < last)
+            .collect();
+        joints.extend((1..last).filter(|&node| (0..6).any(|k| self.model.dof(node, k).is_none())));
+        joints.sort_unstable();
+        joints.dedup();
+        joints
+    }
+}
+
 impl PartialEq for StructurePlan {
     fn eq(&self, other: &Self) -> bool {
         let (a, b) = (self.model.mesh(), other.model.mesh());
@@ -165,7 +190,7 @@ pub(super) fn modal_plan(
     if let Some(tolerance) = tolerance {
         reasons.push(format!("every segment's elements doubled (the modes' cutoff kept: the residual flexibility holds those above it) until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force, the largest displacement and the largest stress (the finer's error a third of their difference: Richardson at second order)"));
     }
-    reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress at each element's midpoint (positions are arc lengths), from the modes' section strains plus the static solve's for the truncated ones, at every recorded instant (about 200 a contact, one an output interval in free flight): not searched between them; the twist likewise at every node".into());
+    reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side), from the modes' section strains plus the static solve's for the truncated ones, at every recorded instant (about 200 a contact, one an output interval in free flight): not searched between them; the twist likewise at every node".into());
     Ok(ModalPlan {
         basis: ModalBasis::Fe(Box::new(basis)),
         position: scene.impact.at.unwrap_or(0.0),
@@ -620,7 +645,7 @@ fn build(
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
     if s.method != MethodName::Modal {
-        reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths) and every accepted step; the twist is read at every node".into());
+        reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side) and every accepted step; the twist is read at every node".into());
     }
     // What the supports leave free: 0 rigid-body modes where they hold the structure, 6 for a
     // free body; between, a mechanism. Counted once: no static stiffness without a hold (a

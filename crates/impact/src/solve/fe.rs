@@ -162,8 +162,8 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let mut stress = FeStress::new(
             &target.nodes,
             target.ends,
-            target.material.youngs_modulus,
-            target.thickness,
+            (target.material.youngs_modulus, target.thickness),
+            (target.impact_site(), &target.stress_breaks()),
         );
         if plan.field {
             stress = stress.with_field(&target.nodes, target.width);

@@ -119,7 +119,7 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
         model,
         (&modes, site.modes(), static_u.as_ref()),
         (sections, basis.quiet_strains()),
-        (&fe.nodes, fe.impact_site()),
+        (&fe.nodes, &st.joints(), fe.impact_site()),
         (st.up, field),
     )?;
     Ok(FeSite { site, recorder, below })
@@ -224,7 +224,7 @@ impl FeRecovery {
         model: &BeamModel,
         (modes, point, static_u): (&[simo_beam::Mode], &PointModes, Option<&Col<f64>>),
         (sections, quiet): (&[[f64; 4]], Option<&[[bool; 4]]>),
-        (nodes, (struck, xi)): (&[f64], (usize, f64)),
+        (nodes, breaks, (struck, xi)): (&[f64], &[usize], (usize, f64)),
         (up, field): (nalgebra::Vector3<f64>, bool),
     ) -> Result<Self, ImpactError> {
         let mesh = model.mesh();
@@ -284,7 +284,8 @@ impl FeRecovery {
         };
         let free = (simo_beam::Support::Free, simo_beam::Support::Free);
         let [e0, _, _, t0] = sections[0];
-        let mut stress = FeStress::new(nodes, free, e0, t0).with_sections(sections);
+        let mut stress =
+            FeStress::new(nodes, free, (e0, t0), ((struck, xi), breaks)).with_sections(sections);
         if field {
             stress = stress.with_field(nodes, sections[0][2]);
         }
