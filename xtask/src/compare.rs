@@ -4,7 +4,7 @@
 //! Every run is compared with a converged reference, as `accuracy` measures errors: the modal
 //! method with `solver.tolerance` = [`REFERENCE_TOLERANCE`] (its modes doubled until two
 //! successive runs agree; the report states the estimated error, printed with the table); on a
-//! `[structure]`, the modal method on its own modes at [`STRUCTURE_REFERENCE_TOLERANCE`] (every
+//! `[structure]`, the modal method on its own modes at the same tolerance (every
 //! segment's elements doubled), against both methods on the scene's own mesh.
 //! A default resolution is sized for the first contact only and is no baseline: on the
 //! mid-span scene the fe default (58 elements) is further from the converged answer than the
@@ -19,9 +19,7 @@ use crate::files::{read_input, say, write_atomic, OutDir};
 use crate::plot::{Chart, Series};
 use crate::reproduce::run_all;
 use anyhow::Context;
-use impact::study::comparison::{
-    runs as variants, summary, REFERENCE_TOLERANCE, STRUCTURE_REFERENCE_TOLERANCE, SUMMARY_COLUMNS,
-};
+use impact::study::comparison::{runs as variants, summary, REFERENCE_TOLERANCE, SUMMARY_COLUMNS};
 use impact::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -190,13 +188,11 @@ pub(crate) fn run(
         .report
         .estimated_error
         .map_or_else(|| "not estimated".to_string(), |e| format!("{e:.1e}"));
-    let (tolerance, by) = if scene.structure.is_some() {
-        (
-            STRUCTURE_REFERENCE_TOLERANCE,
-            "on its own modes, every segment's elements doubled until two runs agree",
-        )
+    let tolerance = REFERENCE_TOLERANCE;
+    let by = if scene.structure.is_some() {
+        "on its own modes, every segment's elements doubled until two runs agree"
     } else {
-        (REFERENCE_TOLERANCE, "its modes doubled until two runs agree")
+        "its modes doubled until two runs agree"
     };
     say!("{}: first-contact duration, peak force and largest displacement at the impact point; differences from the first row, the modal method converged to solver.tolerance = {tolerance} ({by}; estimated error {estimate})\n", scene.name)?;
     say!("{}", table.trim_end())?;
