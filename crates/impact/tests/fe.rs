@@ -110,14 +110,19 @@ fn contact_newton_matrix_matches_finite_differences() {
 }
 
 fn paper_tip(solver: &str) -> Outcome {
+    // First contact only (it ends at 37 us).
+    with_solver("paper-tip.toml", "method = \"modal\"\nmodes = 128\nend_time = 0.005", solver)
+}
+
+/// validation/scenes/`file` with its `[solver]` lines `own` replaced by `solver`, run.
+fn with_solver(file: &str, own: &str, solver: &str) -> Outcome {
     let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-tip.toml",
+        "{}/../../validation/scenes/{file}",
         env!("CARGO_MANIFEST_DIR")
     ))
     .unwrap();
-    // First contact only (it ends at 37 us).
-    let text = text.replace("method = \"modal\"\nmodes = 128\nend_time = 0.005", solver);
-    simulate(&Scene::from_toml(&text).unwrap()).unwrap()
+    assert!(text.contains(own), "{file} has no {own}");
+    simulate(&Scene::from_toml(&text.replace(own, solver)).unwrap()).unwrap()
 }
 
 #[test]
@@ -458,13 +463,8 @@ fn the_default_steps_are_converged_in_time_through_a_chatter() {
 /// The largest bending stress of validation/scenes/paper-midspan.toml (the paper's cantilever
 /// struck at mid-span) over its first contact by `solver`.
 fn midspan_stress(solver: &str) -> f64 {
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-midspan.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let text = text.replace("method = \"modal\"\nmodes = 128\nend_time = 0.002", solver);
-    let report = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let own = "method = \"modal\"\nmodes = 128\nend_time = 0.002";
+    let report = with_solver("paper-midspan.toml", own, solver).report;
     report.bending_stress.unwrap().max
 }
 

@@ -76,12 +76,18 @@ fn the_fe_basis_gives_the_analytic_basis_first_contact_on_the_uniform_cantilever
 
 /// validation/scenes/frame-impact.toml by `method`.
 fn frame(method: &str) -> Report {
+    frame_of(method, 40)
+}
+
+/// validation/scenes/frame-impact.toml by `method` on `elements` a member.
+fn frame_of(method: &str, elements: usize) -> Report {
     let text = std::fs::read_to_string(format!(
         "{}/../../validation/scenes/frame-impact.toml",
         env!("CARGO_MANIFEST_DIR")
     ))
     .unwrap()
-    .replace("method = \"fe\"", &format!("method = \"{method}\""));
+    .replace("method = \"fe\"", &format!("method = \"{method}\""))
+    .replace("elements = 40", &format!("elements = {elements}"));
     simulate(&Scene::from_toml(&text).unwrap()).unwrap().report
 }
 
@@ -284,14 +290,7 @@ fn a_mesh_too_coarse_for_the_cutoff_says_which_key_refines_it() {
     // at 1.95e5 rad/s, below the plan's cutoff (omega t_c = 20, 4.85e5 rad/s): every one is
     // kept and they reach omega_N t_c = 8.1 only. The warning counts the modes kept and names
     // the key that adds modes to an fe basis (its mesh), not solver.modes.
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/frame-impact.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("method = \"fe\"", "method = \"modal\"")
-    .replace("elements = 40", "elements = 2");
-    let report = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let report = frame_of("modal", 2);
     let warning = report.warnings.iter().find(|w| w.contains("reach only")).unwrap();
     assert!(warning.starts_with("9 modes reach only omega_N t_c = 8.1"), "{warning}");
     assert!(warning.contains("structure.segment[k].elements"), "{warning}");
