@@ -44,10 +44,8 @@ pub(crate) struct FeStress {
     /// For each support, in the order of its envelope point after the midpoints: whether it
     /// is a clamp, its two nearest elements and the extrapolation weight.
     supports: Vec<(bool, [usize; 2], f64)>,
-    /// The impact point's envelope point (after the supports), if it has one: each side's two
-    /// elements (the nearer first) and the extrapolation weight,
-    /// `sigma_near + w (sigma_near - sigma_far)`.
-    impact_point: Option<[Option<([usize; 2], f64)>; 2]>,
+    /// The impact point's envelope point (after the supports), if it has one: its two sides.
+    impact_point: Option<[Option<Side>; 2]>,
     stresses: Vec<f64>,
     /// The time of the last instant in the envelope (s).
     observed: Option<f64>,
@@ -57,6 +55,10 @@ pub(crate) struct FeStress {
     /// The field at the nodes, when asked.
     field: Option<Field>,
 }
+
+/// One side of an extrapolation: its two elements (the nearer first) and the weight `w` of
+/// `sigma_near + w (sigma_near - sigma_far)`.
+type Side = ([usize; 2], f64);
 
 impl FeStress {
     /// The stress field of a beam on `nodes` (reference x, m) held at its ends by `ends`,
@@ -206,7 +208,7 @@ fn impact_sides(
     mid: &[f64],
     (e, xi): (usize, f64),
     breaks: &[usize],
-) -> Option<[Option<([usize; 2], f64)>; 2]> {
+) -> Option<[Option<Side>; 2]> {
     let elements = mid.len();
     let at = nodes[e] + xi * (nodes[e + 1] - nodes[e]);
     if at <= nodes[0] || at >= nodes[elements] {
