@@ -232,7 +232,7 @@ def test_files_and_options_the_command_line_refuses_are_refused_alike(tmp_path):
     with pytest.raises(ValueError, match=r"point 1 \(impact.speed = -1") as refused:
         ib.sweep(HALF_SPACE, {"impact.speed": [1.0, -1.0]})
     assert stderr.strip() == f"error: {refused.value}"
-    with pytest.raises(ValueError, match="compare needs a \\[beam\\] scene"):
+    with pytest.raises(ValueError, match=r"compare needs a \[beam\] or a \[structure\]"):
         ib.compare(HALF_SPACE)
     with pytest.raises(TypeError, match="scene"):
         ib.simulate(42)
