@@ -16,7 +16,7 @@
 //! elements, toward 4.88e7 Pa). So the impact point is a point of the envelope too, where it
 //! lies between the ends, its value the larger of the linear extrapolations from the two
 //! nearest midpoints on each side that do not hold it (each exact for a moment linear on its
-//! side, second order for a smooth one): 4.59, 4.87, 4.89, 4.886, 4.883, 4.882e7 Pa on the
+//! side, second order for a smooth one): 4.57, 4.87, 4.89, 4.886, 4.883, 4.882e7 Pa on the
 //! same meshes. Only there: near a smooth peak a one-sided extrapolation overshoots (its
 //! error (3/8) h^2 sigma'' against the midpoints' h^2 sigma''/8; on the paper's tip, whose
 //! largest stress is a short bending wave's crest 2.4 cm from the struck end, extrapolating
