@@ -402,9 +402,10 @@ impl FeBasis {
         cutoff: f64,
         reduction: Option<Uncoupled>,
     ) -> Result<Self, ImpactError> {
-        let at_rest = Arc::new(AtRest::of(&Self::model_of(&fe, reduction.as_ref())?));
+        let model = Self::model_of(&fe, reduction.as_ref())?;
+        let at_rest = Arc::new(AtRest::of(&model));
         let mut basis = Self { fe, cutoff, static_flexibility: None, reduction, at_rest };
-        let rows = basis.face_rows(&basis.model()?);
+        let rows = basis.face_rows(&model);
         basis.static_flexibility = (basis.structure()?.rigid_modes == 0)
             .then(|| crate::solve::static_response_at_rest(&basis.at_rest, &rows).map(|(f, _)| f))
             .flatten();

@@ -177,6 +177,9 @@ fn run_fe_basis(
     Ok(out)
 }
 
+/// What converges a ladder whose later contacts kept its last two runs apart.
+const LONG_WINDOW: &str = "; a long window of repeated contacts can be too sensitive to converge (each contact starts from the ringing the earlier ones left): a shorter solver.end_time converges";
+
 /// Resolutions start, 2 start, 4 start, ... up to `end`.
 struct Ladder {
     start: usize,
@@ -234,15 +237,15 @@ impl Ladder {
                         Some(d) if d.same_contacts && error.is_finite() => {
                             let limited = |x: f64| x >= d.worst();
                             let hint = if limited(d.contact_sequence) {
-                                "; a long window of repeated contacts can be too sensitive to converge (each contact starts from the ringing the earlier ones left): a shorter solver.end_time converges"
+                                LONG_WINDOW
                             } else if limited(d.max_stress) {
-                                "; the largest stress converges slowest (on a mesh it is read at the elements' midpoints: first order under the ball, so its error may be up to three times the estimate, which takes second order): a looser solver.tolerance"
+                                "; the largest stress converges slowest (on a mesh it is read at the elements' midpoints and the impact point; a ball struck inside an element leaves it near first order, so its error may be up to three times the estimate, which takes second order): a looser solver.tolerance"
                             } else {
                                 ""
                             };
                             (format!(" (their differences: {d})"), hint)
                         }
-                        _ => (String::new(), "; a long window of repeated contacts can be too sensitive to converge (each contact starts from the ringing the earlier ones left): a shorter solver.end_time converges"),
+                        _ => (String::new(), LONG_WINDOW),
                     };
                     report.warnings.push(format!(
                         "solver.tolerance = {tolerance} not met with {n} {} (the most this refinement takes): {agreement}{which}{hint}",
