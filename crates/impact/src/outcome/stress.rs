@@ -75,7 +75,7 @@ impl Envelope {
         // The largest magnitude first, in a loop without branches (vectorised); the point only
         // when it beats the best so far (seldom once the first impact has passed). NaNs are
         // never taken (as before).
-        let largest = stresses.iter().fold(0.0, |m: f64, s| if s.abs() > m { s.abs() } else { m });
+        let largest = hht::fast::largest_magnitude(stresses);
         if largest <= self.best.0 {
             return false;
         }

@@ -105,32 +105,35 @@ impl ModeData {
         out.q.resize(n, 0.0);
         out.acc.resize(n, 0.0);
         out.dev.resize(n, 0.0);
+        // Every slice cut to n, so that the loop below runs without bounds checks.
         let (omega, zeta, gain) =
-            (self.modes.omega(), self.modes.damping_ratio(), self.modes.gain());
+            (&self.modes.omega()[..n], &self.modes.damping_ratio()[..n], &self.modes.gain()[..n]);
+        let (static_q, inv_omega) = (&self.static_q[..n], &self.inv_omega[..n]);
+        let (state_q, state_v) = (&state.q[..n], &state.v[..n]);
+        let (out_q, out_acc, out_dev) = (&mut out.q[..n], &mut out.acc[..n], &mut out.dev[..n]);
         let fmax = stretch.force_max;
         // A rigid-body mode: q'' = g F. It has no curvature, so the stress weighs its |q| and
         // |q - s F| by 0: they are left 0 here (its displacement is bounded through q'' only).
         let rigid = self.elastic_from.min(n);
-        out.q[..rigid].fill(0.0);
-        out.dev[..rigid].fill(0.0);
-        for (acc, g) in out.acc[..rigid].iter_mut().zip(gain) {
+        out_q[..rigid].fill(0.0);
+        out_dev[..rigid].fill(0.0);
+        for (acc, g) in out_acc[..rigid].iter_mut().zip(gain) {
             *acc = g.abs() * fmax;
         }
         // The elastic modes, in a loop without branches (the compiler vectorises it).
         for k in rigid..n {
-            let (w, z, g, s, iw) =
-                (omega[k], zeta[k], gain[k], self.static_q[k], self.inv_omega[k]);
-            let (q, v) = (state.q[k], state.v[k]);
+            let (w, z, g, s, iw) = (omega[k], zeta[k], gain[k], static_q[k], inv_omega[k]);
+            let (q, v) = (state_q[k], state_v[k]);
             let raw = q.abs() + v.abs() * iw + g.abs() * stretch.impulse * iw;
             let free = (q - s * stretch.force_start).abs()
                 + v.abs() * iw
                 + (1.0 + 2.0 * z) * s.abs() * stretch.variation * iw;
             let dev = free + 2.0 * z * s.abs() * stretch.slope_max * iw;
             let bound = raw.min(s.abs() * fmax + dev);
-            out.q[k] = bound;
-            out.acc[k] = ((1.0 + 2.0 * z) * w * w * free)
+            out_q[k] = bound;
+            out_acc[k] = ((1.0 + 2.0 * z) * w * w * free)
                 .min(g.abs() * fmax + (1.0 + 2.0 * z) * w * w * raw);
-            out.dev[k] = dev.min(s.abs() * fmax + bound);
+            out_dev[k] = dev.min(s.abs() * fmax + bound);
         }
     }
 }
@@ -142,8 +145,9 @@ struct ModeBounds {
     q: Vec<f64>,
     acc: Vec<f64>,
     dev: Vec<f64>,
-    /// The mode counts the sums are taken at (0, 16, 32, 64, ... and all), and the sums of
-    /// the stress's weights times q, acc and dev over the modes below each ([`cumulative`]).
+    /// The mode counts the sums are taken at (0, every 16 to 128, then an eighth more each, and
+    /// all), and the sums of the stress's weights times q, acc and dev over the modes below
+    /// each ([`cumulative`]).
     marks: Vec<usize>,
     q_sums: Vec<f64>,
     acc_sums: Vec<f64>,
@@ -153,7 +157,18 @@ struct ModeBounds {
 /// Sum of w_n b_n over the modes whose weight is not zero (an infinite bound of a mode that
 /// the weight ignores does not count).
 fn weighted(weights: &[f64], bounds: &[f64]) -> f64 {
-    weights.iter().zip(bounds).filter(|(w, _)| **w != 0.0).map(|(w, b)| w.abs() * b).sum()
+    // In four partial sums, each term a select (vectorised; one chain of additions would be
+    // bound by their latency).
+    let term = |w: f64, b: f64| if w != 0.0 { w.abs() * b } else { 0.0 };
+    let mut sums = [0.0; 4];
+    let (ws, bs) = (weights.chunks_exact(4), bounds.chunks_exact(4));
+    let tail: f64 = ws.remainder().iter().zip(bs.remainder()).map(|(w, b)| term(*w, *b)).sum();
+    for (w, b) in ws.zip(bs) {
+        for k in 0..4 {
+            sums[k] += term(w[k], b[k]);
+        }
+    }
+    (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
 }
 
 /// The sums of w_n b_n over the modes below each of `marks` (increasing), into `out`: each
@@ -245,7 +260,7 @@ pub(crate) struct Share {
     pub(crate) xx: f64,
 }
 
-/// [`Share`]s at 16, 32, 64, ... modes and all of them.
+/// [`Share`]s at the candidate counts of modes (see [`Trajectory::bounds`]) and all of them.
 pub(crate) type Shares = Vec<Share>;
 
 /// The run as stretches between whole-grid instants: the one being observed and those kept.
@@ -387,10 +402,15 @@ impl Trajectory {
         data.bounds(&start.state, &stretch, &mut self.scratch);
         let b = &mut self.scratch;
         let n = b.q.len();
-        // Candidate counts: 16, 32, 64, ... and all (and the stretch's own, one of them).
+        // Candidate counts: every 16 modes, an eighth more each past 128, and all (the
+        // stretch's own among them).
         b.marks.clear();
         b.marks.push(0);
-        b.marks.extend((4..usize::BITS).map(|p| 1usize << p).take_while(|k| *k < n));
+        let mut k = 16;
+        while k < n {
+            b.marks.push(k);
+            k = (k + 16).max(k + k / 8);
+        }
         b.marks.push(n);
         let marks = &b.marks;
         cumulative(weights.stress, &b.q, marks, &mut b.q_sums);
@@ -405,7 +425,7 @@ impl Trajectory {
         let f_end = self.ends.last().map_or(start.force, |e| e.1);
         let rise = stretch.force_max - start.force.min(f_end);
         let reach = stretch.length * stretch.length / 8.0;
-        let largest = |v: &[f64]| v.iter().fold(0.0, |m: f64, s| m.max(s.abs()));
+        let largest = hht::fast::largest_magnitude;
         let low = self.low.min(n);
         let tail = at(q_sums, n) - at(q_sums, low);
         let (xx, tt) = (at(xx_sums, n), at(acc_sums, n));
@@ -704,25 +724,25 @@ impl Search<'_> {
                     self.xs.push(f.points[k]);
                 }
                 for k in 0..self.blocks.len() {
-                    if self.blocks[k].bounds[0] <= self.target() {
+                    let target = self.target();
+                    if self.blocks[k].bounds[0] <= target {
                         continue;
                     }
+                    let b = &self.blocks[k];
+                    let full = b.low >= f.rows[0].r.len();
+                    let (xx, in_time) = self.time_terms(k as u32, full, (0, 1));
                     for pair in order.windows(2) {
-                        let b = &self.blocks[k];
                         let (i, j) = (pair[0], pair[1]);
                         let corners = [b.grid[0][i], b.grid[0][j], b.grid[1][i], b.grid[1][j]];
-                        let full = b.low >= f.rows[0].r.len();
-                        let cell = Cell {
-                            bound: 0.0,
-                            full,
-                            block: k as u32,
-                            xa: i as u32,
-                            xb: j as u32,
-                            ta: 0,
-                            tb: 1,
-                            corners,
-                        };
-                        self.push(cell, &mut heap);
+                        let hx = f.points[j] - f.points[i];
+                        let largest = corners.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+                        let bound = largest + hx * hx / 8.0 * xx + in_time;
+                        if bound > target {
+                            let (xa, xb) = (i as u32, j as u32);
+                            let block = k as u32;
+                            let cell = Cell { bound, full, block, xa, xb, ta: 0, tb: 1, corners };
+                            heap.push(cell);
+                        }
                     }
                 }
             }
@@ -768,12 +788,21 @@ impl Search<'_> {
     /// The largest corner, plus what the second derivatives allow inside, plus how far the
     /// force's term can rise above its chord where the cell holds a change of slope.
     fn cell_bound(&self, c: &Cell) -> f64 {
-        let b = &self.blocks[c.block as usize];
-        let ((xx, tt), tail) =
-            if c.full { (b.rates[self.slot], 0.0) } else { (b.low_rates, b.tail) };
         let corners = c.corners.iter().map(|v| self.measure(*v)).fold(f64::NEG_INFINITY, f64::max);
         let hx = self.xs[c.xb as usize] - self.xs[c.xa as usize];
-        let (na, nb) = (&b.nodes[c.ta as usize], &b.nodes[c.tb as usize]);
+        let (xx, in_time) = self.time_terms(c.block, c.full, (c.ta, c.tb));
+        corners + hx * hx / 8.0 * xx + in_time
+    }
+
+    /// What a cell of `block` between its nodes `ta` and `tb` adds to its largest corner
+    /// besides the space term: the time term, the force's rise above its chord where the
+    /// cell holds a change of slope, and (a cell of the grid's modes only) the other modes'
+    /// bound; with the space term's rate (the same for every cell of a block between two
+    /// nodes, so seeding a block's cells takes it once).
+    fn time_terms(&self, block: u32, full: bool, (ta, tb): (u32, u32)) -> (f64, f64) {
+        let b = &self.blocks[block as usize];
+        let ((xx, tt), tail) = if full { (b.rates[self.slot], 0.0) } else { (b.low_rates, b.tail) };
+        let (na, nb) = (&b.nodes[ta as usize], &b.nodes[tb as usize]);
         let ht = nb.t - na.t;
         // The force's breakpoints strictly inside (ta, tb) (the ends are in time order).
         let first = b.ends.partition_point(|e| e.0 <= na.t);
@@ -785,7 +814,7 @@ impl Search<'_> {
             Field::Stress(f) => f.correction,
         };
         let rise = if rise > 0.0 { force_term * rise } else { 0.0 };
-        corners + hx * hx / 8.0 * xx + ht * ht / 8.0 * tt + rise + tail
+        (xx, ht * ht / 8.0 * tt + rise + tail)
     }
 
     /// The field at row `row` and node `node` of `block`.

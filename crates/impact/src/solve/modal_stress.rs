@@ -442,19 +442,29 @@ impl ModalStress {
         // the space term and the left-out share (at least TIME_SHARE of it).
         self.last_full = t;
         let best = best[0];
-        let grid = self.stresses.iter().fold(0.0, |m: f64, s| m.max(s.abs()));
-        let all = shares.last().copied();
-        let share =
-            shares.iter().copied().find(|s| best > 0.0 && s.tail <= TAIL_SHARE * best).or(all);
-        let next = share.map_or(n, |s| s.modes);
-        self.full_spacing = match share {
-            Some(s) if s.tt > 0.0 && best > 0.0 => {
+        let grid = hht::fast::largest_magnitude(&self.stresses);
+        let spacing = |s: &modal_peak::Share| {
+            if s.tt > 0.0 && best > 0.0 {
                 let space = self.spacing * self.spacing / 8.0 * s.xx;
                 let left = (LEFT_SHARE * best - grid - space - s.tail).max(TIME_SHARE * best);
                 (8.0 * left / s.tt).sqrt()
+            } else {
+                0.0
             }
-            _ => 0.0,
         };
+        // Of the counts whose left-out share is small enough, the one with the least work a
+        // unit of time: the grid's modes plus half of all (what a stretch costs besides the
+        // grid: its bounds over every mode, the states it keeps) over its spacing (fewer modes
+        // leave a larger tail but a smaller bound of the time derivative: longer stretches).
+        let cost = |s: &modal_peak::Share| (s.modes + n / 2) as f64 / spacing(s);
+        let share = shares
+            .iter()
+            .filter(|s| best > 0.0 && s.tail <= TAIL_SHARE * best)
+            .min_by(|a, b| cost(a).total_cmp(&cost(b)))
+            .or(shares.last())
+            .copied();
+        let next = share.map_or(n, |s| s.modes);
+        self.full_spacing = share.map_or(0.0, |s| spacing(&s));
         if next != low {
             self.low = next;
             self.evaluate(self.stresses.len(), next, q, force);
