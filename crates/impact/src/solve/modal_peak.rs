@@ -34,6 +34,7 @@
 
 use modal::{ModalState, OneStep, PointModes};
 use std::collections::{BinaryHeap, HashMap};
+use std::rc::Rc;
 
 /// The relative gap the search over the beam closes: the largest stress reported is below
 /// the field's true one by less than this fraction of it (then polished to its local
@@ -215,12 +216,13 @@ impl Stretch {
     }
 }
 
-/// An instant of a kept stretch: time, force, the modes.
+/// An instant of a kept stretch: time, force, the modes (shared: a stretch's end is the
+/// next one's start).
 #[derive(Debug, Clone)]
 struct Node {
     t: f64,
     force: f64,
-    state: ModalState,
+    state: Rc<ModalState>,
 }
 
 /// A stretch of the run between two whole-grid instants, kept for the search.
@@ -238,7 +240,7 @@ pub(crate) struct Block {
     /// The field at the start and at the end: the stress of the first `low` modes at the
     /// grid's points (in the recovery's order), then the displacement and each support's
     /// stress (all modes).
-    grid: [Vec<f64>; 2],
+    grid: [Rc<Vec<f64>>; 2],
     values: [Vec<f64>; 2],
     /// The grid's modes, the other modes' largest stress over the stretch (Pa), and the
     /// second derivatives' bounds of the grid's modes' stress.
@@ -269,7 +271,7 @@ pub(crate) struct Trajectory {
     /// (the grid's of the first `low` modes).
     start: Node,
     ends: Vec<(f64, f64)>,
-    grid: Vec<f64>,
+    grid: Rc<Vec<f64>>,
     values: Vec<f64>,
     low: usize,
     pub(crate) kept: Vec<Block>,
@@ -300,9 +302,9 @@ impl Trajectory {
     /// Starts at rest, at t = 0, with `n` modes.
     pub(crate) fn new(n: usize) -> Self {
         Self {
-            start: Node { t: 0.0, force: 0.0, state: ModalState::at_rest(n) },
+            start: Node { t: 0.0, force: 0.0, state: Rc::new(ModalState::at_rest(n)) },
             ends: Vec::new(),
-            grid: Vec::new(),
+            grid: Rc::default(),
             values: Vec::new(),
             low: n,
             kept: Vec::new(),
@@ -340,18 +342,23 @@ impl Trajectory {
     ) -> Shares {
         let (t, force, q, v) = now;
         let mut shares = Vec::new();
+        let mut kept = false;
         if t > self.start.t && !self.ends.is_empty() && self.grid.len() == grid.len() {
             let span = self.bounds(data, weights, grid, values);
             shares = span.shares;
             if span.bounds.iter().zip(best).any(|(b, best)| b > best) {
-                let end = Node { t, force, state: ModalState { q: q.to_vec(), v: v.to_vec() } };
+                // The end's state and grid are the next stretch's start's: made once, shared.
+                kept = true;
+                let end = Rc::new(ModalState { q: q.to_vec(), v: v.to_vec() });
+                let end_grid = Rc::new(grid.to_vec());
+                let start = std::mem::replace(&mut self.start.state, end.clone());
                 self.kept.push(Block {
                     f0: self.start.force,
                     ends: std::mem::take(&mut self.ends),
-                    nodes: vec![self.start.clone(), end],
+                    nodes: vec![Node { state: start, ..self.start }, Node { t, force, state: end }],
                     bounds: span.bounds,
                     rates: span.rates,
-                    grid: [std::mem::take(&mut self.grid), grid.to_vec()],
+                    grid: [std::mem::replace(&mut self.grid, end_grid.clone()), end_grid],
                     values: [std::mem::take(&mut self.values), values.to_vec()],
                     low: self.low,
                     tail: span.tail,
@@ -365,23 +372,28 @@ impl Trajectory {
         }
         self.start.t = t;
         self.start.force = force;
-        for (to, from) in [(&mut self.start.state.q, q), (&mut self.start.state.v, v)] {
-            to.clear();
-            to.extend_from_slice(from);
+        if !kept {
+            set_shared(&mut self.start.state, |s| {
+                for (to, from) in [(&mut s.q, q), (&mut s.v, v)] {
+                    to.clear();
+                    to.extend_from_slice(from);
+                }
+            });
+            set_shared(&mut self.grid, |g| {
+                g.clear();
+                g.extend_from_slice(grid);
+            });
         }
         self.ends.clear();
-        for (to, from) in [(&mut self.grid, grid), (&mut self.values, values)] {
-            to.clear();
-            to.extend_from_slice(from);
-        }
+        self.values.clear();
+        self.values.extend_from_slice(values);
         shares
     }
 
     /// The open stretch's grid at its start, of the first `low` modes (when the next stretch
     /// observes another count than the one just closed).
     pub(crate) fn regrid(&mut self, grid: &[f64], low: usize) {
-        self.grid.clear();
-        self.grid.extend_from_slice(grid);
+        self.grid = Rc::new(grid.to_vec());
         self.low = low;
     }
 
@@ -595,7 +607,8 @@ pub(crate) fn state_at(
 ) -> Option<(ModalState, f64, f64, (f64, f64))> {
     let b = blocks.iter().find(|b| b.nodes[0].t <= t && t <= b.nodes[1].t)?;
     let (node, slope, piece) = b.at(t, &data.modes, stepper);
-    node.state.q.iter().all(|q| q.is_finite()).then_some((node.state, node.force, slope, piece))
+    let state = Rc::unwrap_or_clone(node.state);
+    state.q.iter().all(|q| q.is_finite()).then_some((state, node.force, slope, piece))
 }
 
 impl Block {
@@ -609,7 +622,7 @@ impl Block {
             .filter(|n| n.t <= t)
             .max_by(|a, c| a.t.total_cmp(&c.t))
             .unwrap_or(&self.nodes[0]);
-        let mut state = start.state.clone();
+        let mut state = ModalState::clone(&start.state);
         let (mut time, mut force) = (start.t, start.force);
         // The force at t: linear between the breakpoints around it.
         let mut previous = (self.nodes[0].t, self.f0);
@@ -634,7 +647,20 @@ impl Block {
             stepper.advance(modes, &mut state, te - time, force, fe);
             (time, force) = (te, fe);
         }
-        (Node { t, force, state }, slope, piece)
+        (Node { t, force, state: Rc::new(state) }, slope, piece)
+    }
+}
+
+/// Sets a shared value by `set` (which overwrites all of it): in place when nothing else holds
+/// it, else on a new one (the shared one stays as it was).
+fn set_shared<T: Default>(shared: &mut Rc<T>, set: impl FnOnce(&mut T)) {
+    match Rc::get_mut(shared) {
+        Some(value) => set(value),
+        None => {
+            let mut value = T::default();
+            set(&mut value);
+            *shared = Rc::new(value);
+        }
     }
 }
 
