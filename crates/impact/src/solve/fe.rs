@@ -272,7 +272,8 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             contact_point,
             &self.energy(),
         );
-        let state = self.model.planar_view(&self.state.q, &mut self.view);
+        // The displacements and slopes along the beam only for the field (`--field`).
+        let state = self.plan.field.then(|| self.model.planar_view(&self.state.q, &mut self.view));
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: Some(sample),
@@ -360,11 +361,10 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
                 self.max_displacement = (w, t);
             }
         }
-        let state = self.model.planar_view(&self.state.q, &mut self.view);
         self.recorders.observe(Instant {
             t: self.state.t,
             sample: None,
-            beam: BeamView::Fe { state, strains: &self.strains, lateral: &self.lateral },
+            beam: BeamView::Fe { state: None, strains: &self.strains, lateral: &self.lateral },
             last: false,
         });
         Ok(())

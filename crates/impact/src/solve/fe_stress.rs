@@ -257,7 +257,7 @@ impl BeamRecorder for FeStress {
             if self.observed != Some(at.t) {
                 self.observe_strains(at.t, strains, lateral);
             }
-            if at.sample.is_some() {
+            if let Some(state) = state.filter(|_| at.sample.is_some()) {
                 self.record_field(at.t, state, strains);
             }
         }
