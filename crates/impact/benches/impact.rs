@@ -2,7 +2,7 @@
 //! with 256 modes on uniform steps, and gravity off: the scipy peer's case), its
 //! first contact with 256 modes, the same scene with the finite-element method (default graded
 //! mesh; first contact only, and 5 ms; 256 equal elements over 1 ms, gravity off, the peer
-//! comparison), the frame of validation/scenes/frame-impact.toml over 2 ms by the modal method
+//! comparison, planar and forced into 3D), the frame of validation/scenes/frame-impact.toml over 2 ms by the modal method
 //! on its own modes (eigen-solution included) and by the fe method, and the half-space
 //! closed-form case.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
@@ -59,6 +59,12 @@ fn scenes(c: &mut Criterion) {
     peer.solver.end_time = Some(1e-3);
     peer.impact.gravity = false;
     group.bench_function("fe paper tip 1 ms 256 equal elements", |b| b.iter(|| simulate(&peer)));
+    // The same run forced into the 3D beam (issue "impact anywhere": at most 3x the planar).
+    let mut three_d = peer.clone();
+    three_d.solver.fe_model = Some(impact::FeModelName::ThreeD);
+    group.bench_function("fe paper tip 1 ms 256 equal elements 3d", |b| {
+        b.iter(|| simulate(&three_d))
+    });
     // The chatter of the time-convergence test: 512 equal elements, the first 8 contacts.
     let mut chatter = peer.clone();
     chatter.solver.elements = Some(512);
