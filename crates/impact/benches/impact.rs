@@ -2,9 +2,9 @@
 //! with 256 modes on uniform steps, and gravity off: the scipy peer's case), its
 //! first contact with 256 modes, the same scene with the finite-element method (default graded
 //! mesh; first contact only, and 5 ms; 256 equal elements over 1 ms, gravity off, the peer
-//! comparison, planar and forced into 3D), the frame of validation/scenes/frame-impact.toml over 2 ms by the modal method
-//! on its own modes (eigen-solution included) and by the fe method, and the half-space
-//! closed-form case.
+//! comparison, planar and forced into 3D), the frame of validation/scenes/frame-impact.toml
+//! over 2 ms by the modal method on its own modes (eigen-solution included) and by the fe
+//! method, and the half-space closed-form case.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};

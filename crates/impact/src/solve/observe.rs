@@ -18,8 +18,8 @@ pub(crate) enum BeamView<'a> {
     /// The fe beam in its configuration, with each element's section strains (extension,
     /// shear, curvature (1/m)) in it, computed once for all their users, and (the 3D beam)
     /// each element's stress from its bending about the thickness axis, E (w/2) |K3| (Pa),
-    /// which adds to the largest corner's; its displacements and slopes (the field's) at a
-    /// recorded instant only.
+    /// which adds to the largest corner's; its displacements and slopes (the field's) only at
+    /// a recorded instant of a run that records the field.
     Fe { state: Option<&'a PlanarState>, strains: &'a [(f64, f64, f64)], lateral: &'a [f64] },
 }
 
