@@ -178,18 +178,19 @@ impl FeStress {
         for (stress, extra) in self.stresses.iter_mut().zip(lateral) {
             *stress += extra.copysign(*stress);
         }
-        for (k, &(clamped, [a, b], weight)) in self.supports.iter().enumerate() {
-            let (sa, sb) = (self.stresses[a], self.stresses[b]);
-            self.stresses[self.elements + k] = if clamped { sa + weight * (sa - sb) } else { 0.0 };
+        // From the midpoints of two elements (the nearer first) to a point beyond them.
+        let extrapolated = |stresses: &[f64], ([near, far], w): Side| {
+            stresses[near] + w * (stresses[near] - stresses[far])
+        };
+        for (k, &(clamped, pair, weight)) in self.supports.iter().enumerate() {
+            self.stresses[self.elements + k] =
+                if clamped { extrapolated(&self.stresses, (pair, weight)) } else { 0.0 };
         }
         if let Some(sides) = &self.impact_point {
             let value = sides
                 .iter()
                 .flatten()
-                .map(|&([near, far], w)| {
-                    let (sn, sf) = (self.stresses[near], self.stresses[far]);
-                    sn + w * (sn - sf)
-                })
+                .map(|side| extrapolated(&self.stresses, *side))
                 .fold(0.0, |a: f64, v| if v.abs() > a.abs() { v } else { a });
             self.stresses[self.elements + self.supports.len()] = value;
         }
