@@ -123,7 +123,7 @@ impl Element {
 
     /// Whether both end frames are the nodes' own (no corner offset): along a smooth beam,
     /// where the `f64` force skips the offsets' rotations.
-    fn straight(&self) -> bool {
+    pub(crate) fn straight(&self) -> bool {
         // Exactly the identity, as `Element::new` sets it (a corner's offset is far from it).
         self.offsets.iter().all(|o| o.i == 0.0 && o.j == 0.0 && o.k == 0.0)
     }

@@ -61,6 +61,7 @@
 pub mod benchmarks;
 mod eigen;
 mod element;
+mod element_block;
 mod error;
 mod mesh;
 mod model;

@@ -1,5 +1,7 @@
 //! The assembled beam: supports, loads, inertia, and the [`hht::Model`] implementation.
 
+use crate::element::Strains;
+use crate::element_block::{rows, BlockForces, BlockStrains, ElementTable};
 use crate::error::{not_negative, BeamError};
 use crate::mesh::Mesh;
 use crate::rotation::skew;
@@ -123,6 +125,10 @@ pub struct BeamState {
 #[derive(Debug, Clone)]
 pub struct BeamModel {
     mesh: Mesh,
+    /// The elements' constants as arrays, for the internal force's block loop.
+    table: ElementTable,
+    /// Each node's first unknown where its six are free and in a row.
+    rows: Vec<Option<usize>>,
     dofs: Vec<[Option<usize>; 6]>,
     ndof: usize,
     loads: Vec<Load>,
@@ -172,6 +178,8 @@ impl BeamModel {
             })
             .fold(0.0, f64::max);
         let mut model = Self {
+            table: ElementTable::new(&mesh.elements),
+            rows: Vec::new(),
             mesh,
             dofs: vec![[None; 6]; nodes],
             ndof: 0,
@@ -190,6 +198,7 @@ impl BeamModel {
 
     fn number(&mut self, supports: &[Support]) {
         (self.dofs, self.ndof) = number_unknowns(supports, 3);
+        self.rows = rows(&self.dofs);
     }
 
     /// Sets the support of `node`.
@@ -252,6 +261,7 @@ impl BeamModel {
             })
             .collect();
         self.ndof = n;
+        self.rows = rows(&self.dofs);
     }
 
     /// Adds a point mass of `mass` (kg) at `node`, with `rotary_inertia` (kg m^2) about the
@@ -422,17 +432,26 @@ impl BeamModel {
         BeamState { positions: self.mesh.positions.clone(), rotations: self.mesh.frames.clone() }
     }
 
-    fn node_vector(&self, x: ColRef<'_, f64>, node: usize, offset: usize) -> Vector3<f64> {
+    /// The node's three unknowns from `offset` (0 the displacement, 3 the rotation) in `x`,
+    /// zero where held.
+    #[inline(always)]
+    fn node_vector(&self, x: &[f64], node: usize, offset: usize) -> Vector3<f64> {
+        if let Some(i) = self.rows[node] {
+            let x = &x[i + offset..i + offset + 3];
+            return Vector3::new(x[0], x[1], x[2]);
+        }
         Vector3::from_fn(|k, _| self.dofs[node][offset + k].map_or(0.0, |i| x[i]))
     }
 
-    fn add_node_vector(
-        &self,
-        out: &mut ColMut<'_, f64>,
-        node: usize,
-        offset: usize,
-        f: &Vector3<f64>,
-    ) {
+    /// Adds `f` to the node's three unknowns from `offset` in `out` (none where held).
+    #[inline(always)]
+    fn add_node_vector(&self, out: &mut [f64], node: usize, offset: usize, f: &Vector3<f64>) {
+        if let Some(i) = self.rows[node] {
+            for (o, f) in out[i + offset..i + offset + 3].iter_mut().zip(f.iter()) {
+                *o += f;
+            }
+            return;
+        }
         for k in 0..3 {
             if let Some(i) = self.dofs[node][offset + k] {
                 out[i] += f[k];
@@ -475,6 +494,20 @@ impl BeamModel {
         })
     }
 
+    /// Every element's strains at `q` (one an element, in the mesh's order) in `out`, its
+    /// allocation reused.
+    pub fn all_strains(&self, q: &BeamState, out: &mut Vec<Strains<f64>>) {
+        let zero = Strains { gamma: Vector3::zeros(), kappa: Vector3::zeros() };
+        out.resize(self.mesh.elements.len(), zero);
+        hht::fast::run(BlockStrains {
+            elements: &self.mesh.elements,
+            table: &self.table,
+            positions: &q.positions,
+            rotations: &q.rotations,
+            out,
+        });
+    }
+
     /// Strain energy (J).
     pub fn strain_energy(&self, q: &BeamState) -> f64 {
         self.mesh
@@ -490,6 +523,7 @@ impl BeamModel {
 
     /// Kinetic energy (J) for velocity `v` (consistent translational mass, lumped rotary).
     pub fn kinetic_energy(&self, v: ColRef<'_, f64>) -> f64 {
+        let v = &*values(v);
         let mut energy = 0.0;
         for e in &self.mesh.elements {
             let [a, b] = e.nodes;
@@ -510,19 +544,20 @@ impl BeamModel {
     /// Internal forces at `q` as a full vector over free unknowns (N, N m).
     pub fn internal_force(&self, q: &BeamState) -> Col<f64> {
         let mut out = Col::zeros(self.ndof);
-        self.add_internal(q, &mut out.as_mut());
+        write_to(out.as_mut(), |out| self.add_internal(q, out));
         out
     }
 
-    fn add_internal(&self, q: &BeamState, out: &mut ColMut<'_, f64>) {
-        for e in &self.mesh.elements {
-            let [a, b] = e.nodes;
-            let f = e.force([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]]);
-            for (block, node) in [(0, a), (1, b)] {
-                self.add_node_vector(out, node, 0, &f.fixed_rows::<3>(6 * block).into_owned());
-                self.add_node_vector(out, node, 3, &f.fixed_rows::<3>(6 * block + 3).into_owned());
-            }
-        }
+    fn add_internal(&self, q: &BeamState, out: &mut [f64]) {
+        hht::fast::run(BlockForces {
+            elements: &self.mesh.elements,
+            table: &self.table,
+            positions: &q.positions,
+            rotations: &q.rotations,
+            dofs: &self.dofs,
+            rows: &self.rows,
+            out,
+        });
     }
 
     /// Pushes a 3x3 block for (node_a, offset_a) x (node_b, offset_b), always the same entries.
@@ -545,6 +580,67 @@ impl BeamModel {
             }
         }
     }
+
+    fn inertial_force_into(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for e in &self.mesh.elements {
+            let [na, nb] = e.nodes;
+            let (aa, ab) = (self.node_vector(a, na, 0), self.node_vector(a, nb, 0));
+            let m = e.section.rho_a * e.length / 6.0;
+            self.add_node_vector(out, na, 0, &((2.0 * aa + ab) * m));
+            self.add_node_vector(out, nb, 0, &((aa + 2.0 * ab) * m));
+        }
+        for (node, m) in &self.point_masses {
+            let a = self.node_vector(a, *node, 0);
+            self.add_node_vector(out, *node, 0, &(a * *m));
+        }
+        for (node, j) in self.node_inertia.iter().enumerate() {
+            // Euler's equation in the body frame: J dW/dt + W x J W.
+            let w = self.node_vector(v, node, 3);
+            let dw = self.node_vector(a, node, 3);
+            self.add_node_vector(out, node, 3, &(j * dw + w.cross(&(j * w))));
+        }
+    }
+
+    fn net_force_into(&self, t: f64, q: &BeamState, out: &mut [f64]) {
+        out.fill(0.0);
+        self.add_internal(q, out);
+        for (node, k) in &self.springs {
+            let u = q.positions[*node] - self.mesh.positions[*node];
+            self.add_node_vector(out, *node, 0, &k.component_mul(&u));
+        }
+        for (node, k) in &self.rotational_springs {
+            let psi = self.turned(q, *node);
+            let moment =
+                crate::rotation::right_jacobian_inverse(&psi).transpose() * k.component_mul(&psi);
+            self.add_node_vector(out, *node, 3, &moment);
+        }
+        for load in &self.loads {
+            let (f, m) = self.external(t, q, load);
+            self.add_node_vector(out, load.node, 0, &(-f));
+            self.add_node_vector(out, load.node, 3, &(-m));
+        }
+    }
+}
+
+/// `x` as a slice: itself where contiguous (always, from the integrator), else a copy.
+fn values(x: ColRef<'_, f64>) -> std::borrow::Cow<'_, [f64]> {
+    match x.try_as_col_major() {
+        Some(x) => std::borrow::Cow::Borrowed(x.as_slice()),
+        None => std::borrow::Cow::Owned((0..x.nrows()).map(|i| x[i]).collect()),
+    }
+}
+
+/// Runs `write` on `out` as a slice: itself where contiguous, else a copy written back.
+fn write_to(mut out: ColMut<'_, f64>, write: impl FnOnce(&mut [f64])) {
+    if let Some(out) = out.as_mut().try_as_col_major_mut() {
+        return write(out.as_slice_mut());
+    }
+    let mut copy: Vec<f64> = (0..out.nrows()).map(|i| out[i]).collect();
+    write(&mut copy);
+    for (i, x) in copy.into_iter().enumerate() {
+        out[i] = x;
+    }
 }
 
 impl hht::Model for BeamModel {
@@ -555,6 +651,7 @@ impl hht::Model for BeamModel {
     }
 
     fn update(&self, q: &mut BeamState, dq: ColRef<'_, f64>) {
+        let dq = &*values(dq);
         for node in 0..q.positions.len() {
             q.positions[node] += self.node_vector(dq, node, 0);
             let th = self.node_vector(dq, node, 3);
@@ -569,46 +666,13 @@ impl hht::Model for BeamModel {
         _q: &BeamState,
         v: ColRef<'_, f64>,
         a: ColRef<'_, f64>,
-        mut out: ColMut<'_, f64>,
+        out: ColMut<'_, f64>,
     ) {
-        out.fill(0.0);
-        for e in &self.mesh.elements {
-            let [na, nb] = e.nodes;
-            let (aa, ab) = (self.node_vector(a, na, 0), self.node_vector(a, nb, 0));
-            let m = e.section.rho_a * e.length / 6.0;
-            self.add_node_vector(&mut out, na, 0, &((2.0 * aa + ab) * m));
-            self.add_node_vector(&mut out, nb, 0, &((aa + 2.0 * ab) * m));
-        }
-        for (node, m) in &self.point_masses {
-            let a = self.node_vector(a, *node, 0);
-            self.add_node_vector(&mut out, *node, 0, &(a * *m));
-        }
-        for (node, j) in self.node_inertia.iter().enumerate() {
-            // Euler's equation in the body frame: J dW/dt + W x J W.
-            let w = self.node_vector(v, node, 3);
-            let dw = self.node_vector(a, node, 3);
-            self.add_node_vector(&mut out, node, 3, &(j * dw + w.cross(&(j * w))));
-        }
+        write_to(out, |out| self.inertial_force_into(&values(v), &values(a), out));
     }
 
-    fn net_force(&self, t: f64, q: &BeamState, _v: ColRef<'_, f64>, mut out: ColMut<'_, f64>) {
-        out.fill(0.0);
-        self.add_internal(q, &mut out);
-        for (node, k) in &self.springs {
-            let u = q.positions[*node] - self.mesh.positions[*node];
-            self.add_node_vector(&mut out, *node, 0, &k.component_mul(&u));
-        }
-        for (node, k) in &self.rotational_springs {
-            let psi = self.turned(q, *node);
-            let moment =
-                crate::rotation::right_jacobian_inverse(&psi).transpose() * k.component_mul(&psi);
-            self.add_node_vector(&mut out, *node, 3, &moment);
-        }
-        for load in &self.loads {
-            let (f, m) = self.external(t, q, load);
-            self.add_node_vector(&mut out, load.node, 0, &(-f));
-            self.add_node_vector(&mut out, load.node, 3, &(-m));
-        }
+    fn net_force(&self, t: f64, q: &BeamState, _v: ColRef<'_, f64>, out: ColMut<'_, f64>) {
+        write_to(out, |out| self.net_force_into(t, q, out));
     }
 
     fn tangent(
@@ -654,8 +718,9 @@ impl hht::Model for BeamModel {
         // Rotary inertia with its gyroscopic derivative, and the load stiffness, per node.
         let mut node_blocks = vec![Matrix3::<f64>::zeros(); self.node_inertia.len()];
         let mut node_force_blocks = vec![Matrix3::<f64>::zeros(); self.node_inertia.len()];
+        let v = values(v);
         for (node, j) in self.node_inertia.iter().enumerate() {
-            let wv = self.node_vector(v, node, 3);
+            let wv = self.node_vector(&v, node, 3);
             node_blocks[node] = j * mass + (skew(&wv) * j - skew(&(j * wv))) * (w.inertia * w.dv);
         }
         for load in &self.loads {

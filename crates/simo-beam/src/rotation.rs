@@ -9,7 +9,7 @@ use nalgebra::{Matrix3, Quaternion, RealField, UnitQuaternion, Vector3};
 
 /// Below this squared angle the trigonometric coefficients are evaluated by their series
 /// (truncation error ~ angle^6 / 1e5, below 1e-20 at this bound).
-const SERIES_BELOW: f64 = 1e-4;
+pub(crate) const SERIES_BELOW: f64 = 1e-4;
 
 fn c<T: RealField + Copy>(x: f64) -> T {
     nalgebra::convert(x)
@@ -111,6 +111,7 @@ pub fn right_jacobian_inverse_transpose_times(
 /// coefficients are Taylor series (`cos(a/2) = 1 - a^2/8 + a^4/384 - a^6/46080`,
 /// `sin(a/2)/a = 1/2 - a^2/48 + a^4/3840 - a^6/645120`, truncation ~ a^8/1e7 < 1e-23),
 /// without `sin` and `cos`.
+#[inline]
 pub fn exp(phi: &Vector3<f64>) -> UnitQuaternion<f64> {
     let a2 = phi.norm_squared();
     if a2 >= SERIES_BELOW {

@@ -293,13 +293,9 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         out: &mut [(f64, f64, f64)],
         out_of_plane: &mut [OutOfPlane],
     ) {
-        let elements = self.beam().mesh().elements.iter();
-        for ((e, o), p) in elements.zip(out.iter_mut()).zip(out_of_plane.iter_mut()) {
-            let [a, b] = e.nodes;
-            let s = e.strains(
-                [&q.beam.positions[a], &q.beam.positions[b]],
-                [&q.beam.rotations[a], &q.beam.rotations[b]],
-            );
+        let mut strains = Vec::new();
+        self.beam().all_strains(&q.beam, &mut strains);
+        for ((s, o), p) in strains.iter().zip(out.iter_mut()).zip(out_of_plane.iter_mut()) {
             *o = (s.gamma[0], s.gamma[2], -s.kappa[1]);
             *p = (s.kappa[2], s.kappa[0], s.gamma[1]);
         }

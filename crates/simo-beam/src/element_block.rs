@@ -1,0 +1,425 @@
+//! The 3D beam's internal force a block of elements at a time: the fe method's innermost loop
+//! in 3D (every Newton iteration evaluates it for every element).
+//!
+//! The formulas are [`Element::force`]'s (Crisfield & Jelenic's one-point element, see
+//! `element.rs`), written lane by lane over arrays of a block's elements: the nodes' positions
+//! and quaternions gathered into arrays, then one loop of plain arithmetic without branches,
+//! which the compiler runs on several elements at once in `hht::fast`'s AVX2 copy. That loop
+//! takes the rotation functions' series branch (`rotation::log_and_half`, the right Jacobian's
+//! and its inverse's coefficients), valid where the element's relative rotation `|phi|^2` is
+//! below `rotation::SERIES_BELOW` (1e-4: 0.01 rad between neighbouring sections, a curvature of
+//! 2.2 1/m on the paper's 4.5 mm elements, some 20 times what its largest stress bends it by); an
+//! element past it, or at a corner (its end frames offset from its nodes'), is computed again by
+//! [`Element::force`]. Both give the same force to round-off (a test holds them equal).
+
+use crate::element::{Element, Strains};
+use crate::rotation::SERIES_BELOW;
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// Elements a block (the arrays live on the stack: 37 of them, 16 numbers each).
+const BLOCK: usize = 16;
+
+/// Each element's constants as arrays (one entry an element), for the block loop.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ElementTable {
+    length: Vec<f64>,
+    inverse_length: Vec<f64>,
+    gamma0: [Vec<f64>; 3],
+    phi0: [Vec<f64>; 3],
+    /// EA, GA2, GA3 (N).
+    force_stiffness: [Vec<f64>; 3],
+    /// GJ, EI2, EI3 (N m^2).
+    moment_stiffness: [Vec<f64>; 3],
+    /// Whether both end frames are the nodes' own (no corner offset).
+    straight: Vec<bool>,
+}
+
+impl ElementTable {
+    pub(crate) fn new(elements: &[Element]) -> Self {
+        let mut table = Self::default();
+        for e in elements {
+            table.length.push(e.length);
+            table.inverse_length.push(1.0 / e.length);
+            let (cn, cm) = (e.section.force_stiffness(), e.section.moment_stiffness());
+            for k in 0..3 {
+                table.gamma0[k].push(e.gamma0[k]);
+                table.phi0[k].push(e.phi0[k]);
+                table.force_stiffness[k].push(cn[k]);
+                table.moment_stiffness[k].push(cm[k]);
+            }
+            table.straight.push(e.straight());
+        }
+        table
+    }
+}
+
+/// Adds the elements' forces `[f_x1, f_th1, f_x2, f_th2]` (N, N m; moments in the nodal
+/// material frames) to `out` at their nodes' unknowns.
+pub(crate) struct BlockForces<'a> {
+    pub elements: &'a [Element],
+    pub table: &'a ElementTable,
+    pub positions: &'a [Vector3<f64>],
+    pub rotations: &'a [UnitQuaternion<f64>],
+    /// Each node's unknowns (`None` where held).
+    pub dofs: &'a [[Option<usize>; 6]],
+    /// Each node's first unknown where all six are free and in a row.
+    pub rows: &'a [Option<usize>],
+    pub out: &'a mut [f64],
+}
+
+impl hht::fast::Kernel for BlockForces<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(mut self, _: A) {
+        let count = self.elements.len();
+        let mut start = 0;
+        while start < count {
+            let end = (start + BLOCK).min(count);
+            self.block(start, end);
+            start = end;
+        }
+    }
+}
+
+/// `a x b` on the lanes' components.
+#[inline(always)]
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// The vector `v` turned by the unit quaternion `(w, u)`: `v + 2 w u x v + 2 u x (u x v)`.
+#[inline(always)]
+fn turn(w: f64, u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    let t = cross(u, v);
+    let t = [2.0 * t[0], 2.0 * t[1], 2.0 * t[2]];
+    let ut = cross(u, t);
+    [v[0] + w * t[0] + ut[0], v[1] + w * t[1] + ut[1], v[2] + w * t[2] + ut[2]]
+}
+
+/// A block's nodes: positions `x[end][component][element]` and quaternions
+/// `q[end][w, i, j, k][element]`.
+struct Gathered {
+    x: [[[f64; BLOCK]; 3]; 2],
+    q: [[[f64; BLOCK]; 4]; 2],
+}
+
+#[inline(always)]
+fn gather(
+    elements: &[Element],
+    positions: &[Vector3<f64>],
+    rotations: &[UnitQuaternion<f64>],
+) -> Gathered {
+    let mut g = Gathered { x: [[[0.0; BLOCK]; 3]; 2], q: [[[0.0; BLOCK]; 4]; 2] };
+    for (k, e) in elements.iter().enumerate() {
+        for end in 0..2 {
+            let node = e.nodes[end];
+            let (p, r) = (&positions[node], rotations[node].quaternion());
+            for c in 0..3 {
+                g.x[end][c][k] = p[c];
+            }
+            g.q[end][0][k] = r.w;
+            g.q[end][1][k] = r.i;
+            g.q[end][2][k] = r.j;
+            g.q[end][3][k] = r.k;
+        }
+    }
+    g
+}
+
+/// One element's kinematics by the series (`Element::kinematics_f64`'s quantities).
+struct Lane {
+    /// The relative rotation vector `log(Lambda_1^T Lambda_2)` (rad).
+    phi: [f64; 3],
+    /// Its square norm (the series hold below `SERIES_BELOW`).
+    angle2: f64,
+    /// The half rotation `exp(phi^ / 2)`, `(w, v)`.
+    half: (f64, [f64; 3]),
+    /// The midpoint rotation `Lambda_1 exp(phi^ / 2)`, `(w, v)`.
+    midpoint: (f64, [f64; 3]),
+    /// `Lambda_m^T d / l0`.
+    gamma_full: [f64; 3],
+}
+
+#[inline(always)]
+fn lane(g: &Gathered, k: usize, inverse_length: f64) -> Lane {
+    let (w1, u1) = (g.q[0][0][k], [g.q[0][1][k], g.q[0][2][k], g.q[0][3][k]]);
+    let (w2, u2) = (g.q[1][0][k], [g.q[1][1][k], g.q[1][2][k], g.q[1][3][k]]);
+    // The relative rotation conj(q1) q2 = (w1 w2 + u1.u2, w1 u2 - w2 u1 - u1 x u2), turned to
+    // w >= 0 (q and -q are one rotation).
+    let c12 = cross(u1, u2);
+    let rw = w1 * w2 + u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2];
+    let sign = 1.0_f64.copysign(rw);
+    let rw = rw * sign;
+    let rv: [f64; 3] = std::array::from_fn(|c| (w1 * u2[c] - w2 * u1[c] - c12[c]) * sign);
+    // log: phi = v 2 atan(|v| / w) / |v|, by its series in |v|^2 / w^2.
+    let s2 = rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
+    let inverse_w = 1.0 / rw;
+    let r = s2 * inverse_w * inverse_w;
+    let ratio =
+        2.0 * inverse_w * (1.0 - r * (1.0 / 3.0) + r * r * (1.0 / 5.0) - r * r * r * (1.0 / 7.0));
+    let phi = [rv[0] * ratio, rv[1] * ratio, rv[2] * ratio];
+    // The half rotation: the normalised mean of the identity and the relative one.
+    let one_plus_w = 1.0 + rw;
+    let inverse_norm = 1.0 / (2.0 * one_plus_w).sqrt();
+    let (hw, hv) = (one_plus_w * inverse_norm, rv.map(|v| v * inverse_norm));
+    // The midpoint rotation q1 half.
+    let c1h = cross(u1, hv);
+    let mw = w1 * hw - (u1[0] * hv[0] + u1[1] * hv[1] + u1[2] * hv[2]);
+    let mv: [f64; 3] = std::array::from_fn(|c| w1 * hv[c] + hw * u1[c] + c1h[c]);
+    let d: [f64; 3] = std::array::from_fn(|c| (g.x[1][c][k] - g.x[0][c][k]) * inverse_length);
+    Lane {
+        phi,
+        angle2: phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2],
+        half: (hw, hv),
+        midpoint: (mw, mv),
+        gamma_full: turn(mw, mv.map(|v| -v), d),
+    }
+}
+
+impl BlockForces<'_> {
+    #[inline(always)]
+    fn block(&mut self, start: usize, end: usize) {
+        let m = end - start;
+        let g = gather(&self.elements[start..end], self.positions, self.rotations);
+        let mut f = [[0.0; BLOCK]; 12];
+        let mut angle2 = [0.0; BLOCK];
+        let t = self.table;
+        let range = start..end;
+        let (length, inverse) = (&t.length[range.clone()], &t.inverse_length[range.clone()]);
+        let [g0, g1, g2] = &t.gamma0;
+        let [p0, p1, p2] = &t.phi0;
+        let [n0, n1, n2] = &t.force_stiffness;
+        let [m0, m1, m2] = &t.moment_stiffness;
+        let (g0, g1, g2) = (&g0[range.clone()], &g1[range.clone()], &g2[range.clone()]);
+        let (p0, p1, p2) = (&p0[range.clone()], &p1[range.clone()], &p2[range.clone()]);
+        let (n0, n1, n2) = (&n0[range.clone()], &n1[range.clone()], &n2[range.clone()]);
+        let (m0, m1, m2) = (&m0[range.clone()], &m1[range.clone()], &m2[range]);
+        for k in 0..m {
+            let Lane { phi, angle2: a2, half: (hw, hv), midpoint: (mw, mv), gamma_full } =
+                lane(&g, k, inverse[k]);
+            angle2[k] = a2;
+            // N = C_N Gamma, M = C_M K.
+            let n = [
+                (gamma_full[0] - g0[k]) * n0[k],
+                (gamma_full[1] - g1[k]) * n1[k],
+                (gamma_full[2] - g2[k]) * n2[k],
+            ];
+            let moment = [
+                (phi[0] - p0[k]) * inverse[k] * m0[k],
+                (phi[1] - p1[k]) * inverse[k] * m1[k],
+                (phi[2] - p2[k]) * inverse[k] * m2[k],
+            ];
+            let n_spatial = turn(mw, mv, n);
+            let c = cross(n, gamma_full).map(|c| c * length[k]);
+            // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + c1 p x v + c2 p x (p x v).
+            let h2 = 0.25 * a2;
+            let j1 = 0.5 - h2 * (1.0 / 24.0) + h2 * h2 * (1.0 / 720.0);
+            let j2 = 1.0 / 6.0 - h2 * (1.0 / 120.0) + h2 * h2 * (1.0 / 5040.0);
+            let (hp, ch) = (phi.map(|p| 0.5 * p), c.map(|c| 0.5 * c));
+            let pc = cross(hp, ch);
+            let ppc = cross(hp, pc);
+            let mt: [f64; 3] =
+                std::array::from_fn(|i| moment[i] + ch[i] + j1 * pc[i] + j2 * ppc[i]);
+            // f_th2 = J_r(phi)^-T m~ = m~ - phi x m~ / 2 + coefficient phi x (phi x m~).
+            let coefficient = 1.0 / 12.0 + a2 * (1.0 / 720.0) + a2 * a2 * (1.0 / 30240.0);
+            let pm = cross(phi, mt);
+            let ppm = cross(phi, pm);
+            let f_th2: [f64; 3] =
+                std::array::from_fn(|i| mt[i] - 0.5 * pm[i] + coefficient * ppm[i]);
+            // f_th1 = half (c - half f_th2).
+            let turned = turn(hw, hv, f_th2);
+            let f_th1 = turn(hw, hv, [c[0] - turned[0], c[1] - turned[1], c[2] - turned[2]]);
+            for i in 0..3 {
+                f[i][k] = -n_spatial[i];
+                f[3 + i][k] = f_th1[i];
+                f[6 + i][k] = n_spatial[i];
+                f[9 + i][k] = f_th2[i];
+            }
+        }
+        for k in 0..m {
+            let e = start + k;
+            let element = &self.elements[e];
+            let forces: [f64; 12] = if t.straight[e] && angle2[k] < SERIES_BELOW {
+                std::array::from_fn(|i| f[i][k])
+            } else {
+                let [a, b] = element.nodes;
+                let exact = element.force(
+                    [&self.positions[a], &self.positions[b]],
+                    [&self.rotations[a], &self.rotations[b]],
+                );
+                std::array::from_fn(|i| exact[i])
+            };
+            for (end, node) in element.nodes.into_iter().enumerate() {
+                let forces = &forces[6 * end..6 * end + 6];
+                match self.rows[node] {
+                    Some(i) => {
+                        for (o, f) in self.out[i..i + 6].iter_mut().zip(forces) {
+                            *o += f;
+                        }
+                    }
+                    None => {
+                        for (d, f) in self.dofs[node].iter().zip(forces) {
+                            if let Some(i) = d {
+                                self.out[*i] += f;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Writes every element's strains to `out` (one an element), a block at a time as
+/// [`BlockForces`] (the accepted steps' stresses and energy ask them of every element).
+pub(crate) struct BlockStrains<'a> {
+    pub elements: &'a [Element],
+    pub table: &'a ElementTable,
+    pub positions: &'a [Vector3<f64>],
+    pub rotations: &'a [UnitQuaternion<f64>],
+    pub out: &'a mut [Strains<f64>],
+}
+
+impl hht::fast::Kernel for BlockStrains<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        let t = self.table;
+        let blocks = self.elements.chunks(BLOCK).zip(self.out.chunks_mut(BLOCK));
+        for (b, (block, out)) in blocks.enumerate() {
+            let start = b * BLOCK;
+            let g = gather(block, self.positions, self.rotations);
+            // [Gamma; K] by lanes, then the elements the series do not hold again exactly.
+            let mut strains = [[0.0; BLOCK]; 6];
+            let mut angle2 = [0.0; BLOCK];
+            for k in 0..block.len() {
+                let e = start + k;
+                let inverse = t.inverse_length[e];
+                let l = lane(&g, k, inverse);
+                angle2[k] = l.angle2;
+                for c in 0..3 {
+                    strains[c][k] = l.gamma_full[c] - t.gamma0[c][e];
+                    strains[3 + c][k] = (l.phi[c] - t.phi0[c][e]) * inverse;
+                }
+            }
+            for (k, (element, out)) in block.iter().zip(out.iter_mut()).enumerate() {
+                let e = start + k;
+                *out = if t.straight[e] && angle2[k] < SERIES_BELOW {
+                    Strains {
+                        gamma: Vector3::from_fn(|c, _| strains[c][k]),
+                        kappa: Vector3::from_fn(|c, _| strains[3 + c][k]),
+                    }
+                } else {
+                    let [a, b] = element.nodes;
+                    element.strains(
+                        [&self.positions[a], &self.positions[b]],
+                        [&self.rotations[a], &self.rotations[b]],
+                    )
+                };
+            }
+        }
+    }
+}
+
+/// Each node's first unknown where its six are free and numbered in a row (the internal
+/// force then adds a node's six at once), `None` where any is held.
+pub(crate) fn rows(dofs: &[[Option<usize>; 6]]) -> Vec<Option<usize>> {
+    dofs.iter()
+        .map(|d| {
+            let first = d[0]?;
+            (0..6).all(|k| d[k] == Some(first + k)).then_some(first)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::{BeamModel, Material, Mesh, Section, Support};
+
+    /// A frame: a straight leg of 21 elements joined at a right-angle corner to an arc of 0.1
+    /// rad in 19 (more than one block, a corner, curved elements within the series), clamped at
+    /// its start, moved off its reference by small turns and displacements everywhere and a
+    /// large turn at two nodes.
+    fn bent_frame() -> (BeamModel, crate::BeamState) {
+        let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let section = Section::rectangle(&steel, 0.025, 0.005).unwrap();
+        let leg =
+            Mesh::straight(Vector3::zeros(), Vector3::x(), 21, section, Vector3::z()).unwrap();
+        let arc = Mesh::arc(
+            Vector3::new(1.0, 0.5, 0.0),
+            0.5,
+            -Vector3::y(),
+            Vector3::x(),
+            0.1,
+            19,
+            section,
+        )
+        .unwrap();
+        let model =
+            BeamModel::new(leg.join(arc).unwrap()).unwrap().support(0, Support::Clamped).unwrap();
+        let mut q = model.reference_state();
+        let mut seed = 7_u64;
+        let mut noise = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (seed >> 11) as f64 / (1_u64 << 53) as f64 - 0.5
+        };
+        for node in 1..q.positions.len() {
+            q.positions[node] += Vector3::new(noise(), noise(), noise()) * 1e-4;
+            // Turns of up to 1e-3 rad a node: within the series between neighbours.
+            let turn = Vector3::new(noise(), noise(), noise()) * 2e-3;
+            q.rotations[node] *= UnitQuaternion::from_scaled_axis(turn);
+        }
+        for node in [5, 30] {
+            q.rotations[node] *= UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.2, 0.1));
+        }
+        (model, q)
+    }
+
+    #[test]
+    fn the_blocks_give_each_element_s_own_force_and_strains() {
+        // The block loop and `Element::force` evaluate the same formulas (the series below
+        // the bound; `Element::force` itself past it and at the corner) in another order: the
+        // same to round-off, a few ulps of the terms that cancel in a force (EA times a strain of
+        // 1e-4 here, against forces down to EA 1e-8): 1e-9 of the largest entry, an absolute 1e-13
+        // on the strains (of order 1e-4 to 1).
+        let (model, q) = bent_frame();
+        let elements = &model.mesh().elements;
+        let mut expected = vec![0.0; hht::Model::ndof(&model)];
+        for e in elements {
+            let [a, b] = e.nodes;
+            let f = e.force([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]]);
+            for (end, node) in [a, b].into_iter().enumerate() {
+                for k in 0..6 {
+                    if let Some(i) = model.dof(node, k) {
+                        expected[i] += f[6 * end + k];
+                    }
+                }
+            }
+        }
+        let force = model.internal_force(&q);
+        let scale = expected.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+        for (i, f) in expected.iter().enumerate() {
+            assert!((force[i] - f).abs() <= 1e-9 * scale, "unknown {i}: {} vs {f}", force[i]);
+        }
+        let mut strains = Vec::new();
+        model.all_strains(&q, &mut strains);
+        let mut series = 0;
+        for (e, s) in elements.iter().zip(&strains) {
+            let [a, b] = e.nodes;
+            let exact =
+                e.strains([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]]);
+            assert!(
+                (s.gamma - exact.gamma).amax() < 1e-13 && (s.kappa - exact.kappa).amax() < 1e-13
+            );
+            let phi = e.length * s.kappa + e.phi0;
+            series += usize::from(e.straight() && phi.norm_squared() < SERIES_BELOW);
+        }
+        // Both branches ran: the corner's element and the four beside the large turns not by
+        // the series, the rest by it.
+        assert_eq!(series, elements.len() - 5);
+    }
+}
