@@ -32,6 +32,8 @@ pub(crate) struct ElementTable {
     moment_stiffness: [Vec<f64>; 3],
     /// Whether both end frames are the nodes' own (no corner offset).
     straight: Vec<bool>,
+    /// The consistent mass matrix's off-diagonal term `rho A l0 / 6` (kg).
+    translational_mass: Vec<f64>,
 }
 
 impl ElementTable {
@@ -48,8 +50,15 @@ impl ElementTable {
                 table.moment_stiffness[k].push(cm[k]);
             }
             table.straight.push(e.straight());
+            table.translational_mass.push(e.section.rho_a * e.length / 6.0);
         }
         table
+    }
+
+    /// Each element's `rho A l0 / 6` (kg): its consistent mass matrix is that times
+    /// `[2 1; 1 2]` on each direction.
+    pub(crate) fn translational_masses(&self) -> &[f64] {
+        &self.translational_mass
     }
 }
 

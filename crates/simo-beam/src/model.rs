@@ -582,11 +582,16 @@ impl BeamModel {
     }
 
     fn inertial_force_into(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
+        hht::fast::run(Inertia { model: self, v, a, out });
+    }
+
+    #[inline(always)]
+    fn inertial_force_inline(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        for e in &self.mesh.elements {
+        let masses = self.table.translational_masses();
+        for (e, &m) in self.mesh.elements.iter().zip(masses) {
             let [na, nb] = e.nodes;
             let (aa, ab) = (self.node_vector(a, na, 0), self.node_vector(a, nb, 0));
-            let m = e.section.rho_a * e.length / 6.0;
             self.add_node_vector(out, na, 0, &((2.0 * aa + ab) * m));
             self.add_node_vector(out, nb, 0, &((aa + 2.0 * ab) * m));
         }
@@ -620,6 +625,23 @@ impl BeamModel {
             self.add_node_vector(out, load.node, 0, &(-f));
             self.add_node_vector(out, load.node, 3, &(-m));
         }
+    }
+}
+
+/// [`BeamModel::inertial_force`] as a [`hht::fast::Kernel`].
+struct Inertia<'a> {
+    model: &'a BeamModel,
+    v: &'a [f64],
+    a: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl hht::fast::Kernel for Inertia<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        self.model.inertial_force_inline(self.v, self.a, self.out);
     }
 }
 
@@ -658,6 +680,21 @@ impl hht::Model for BeamModel {
             if th.norm_squared() > 0.0 {
                 q.rotations[node] *= crate::rotation::exp(&th);
             }
+        }
+    }
+
+    /// One pass over the nodes, writing `out` from `q` (no copy of `q` first).
+    fn displaced(&self, q: &BeamState, dq: ColRef<'_, f64>, out: &mut BeamState) {
+        let dq = &*values(dq);
+        let n = q.positions.len();
+        out.positions.resize(n, Vector3::zeros());
+        out.rotations.resize(n, UnitQuaternion::identity());
+        let to = out.positions.iter_mut().zip(out.rotations.iter_mut());
+        let from = q.positions.iter().zip(&q.rotations);
+        for (node, ((x, r), (x0, r0))) in to.zip(from).enumerate() {
+            *x = x0 + self.node_vector(dq, node, 0);
+            let th = self.node_vector(dq, node, 3);
+            *r = if th.norm_squared() > 0.0 { r0 * crate::rotation::exp(&th) } else { *r0 };
         }
     }
 

@@ -46,6 +46,22 @@ pub struct BallOnBeam3dConfig {
     pub ball: Vector3<f64>,
 }
 
+/// A pseudo-angle of the turned width axis `e2` about E1, growing with `|atan2(z, y)|` over
+/// [0, pi]: `|z| / (|y| + |z|)`, and 2 less that past a right angle (near zero it is the angle
+/// to relative round-off; an axis turned onto E1 ranks 0, as atan2(0, 0)).
+fn twist_rank(e2: &Vector3<f64>) -> f64 {
+    let size = e2.y.abs() + e2.z.abs();
+    if size == 0.0 {
+        return 0.0;
+    }
+    let share = e2.z.abs() / size;
+    if e2.y > 0.0 {
+        share
+    } else {
+        2.0 - share
+    }
+}
+
 /// Unknowns of one contact element: ball (3), node a (6), node b (6).
 const LOCAL: usize = 15;
 
@@ -277,9 +293,21 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// Node `node`'s section rotation about its axis from its reference frame (rad): the
     /// angle that turns E2 toward E3, of the rotation from the reference.
     pub(crate) fn node_twist(&self, q: &BallOnBeam3dConfig, node: usize) -> f64 {
-        let relative = self.beam.mesh().frames[node].inverse() * q.beam.rotations[node];
-        let e2 = relative * Vector3::y();
+        let e2 = self.turned_width_axis(q, node);
         e2.z.atan2(e2.y)
+    }
+
+    /// A number that grows with the size of [`Self::node_twist`] ([`twist_rank`]), to rank the
+    /// nodes without an arc tangent each.
+    pub(crate) fn node_twist_rank(&self, q: &BallOnBeam3dConfig, node: usize) -> f64 {
+        twist_rank(&self.turned_width_axis(q, node))
+    }
+
+    /// The section's width axis E2 turned by its rotation from the reference frame, in that
+    /// frame: its twist turns it from (0, 1, 0) toward (0, 0, 1).
+    fn turned_width_axis(&self, q: &BallOnBeam3dConfig, node: usize) -> Vector3<f64> {
+        let relative = self.beam.mesh().frames[node].inverse() * q.beam.rotations[node];
+        relative * Vector3::y()
     }
 
     /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
@@ -397,6 +425,11 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
         q.ball += self.ball(dq);
     }
 
+    fn displaced(&self, q: &BallOnBeam3dConfig, dq: ColRef<'_, f64>, out: &mut BallOnBeam3dConfig) {
+        self.beam.displaced(&q.beam, dq.subrows(0, self.nb), &mut out.beam);
+        out.ball = q.ball + self.ball(dq);
+    }
+
     fn inertial_force(
         &self,
         q: &BallOnBeam3dConfig,
@@ -485,6 +518,25 @@ mod tests {
         let r = UnitQuaternion::from_scaled_axis(Vector3::new(twist, 0.0, 0.0));
         let b = (Vector3::new(1.0, 0.0, 0.0), r.to_rotation_matrix().into_inner());
         approach_of(u, &c, &a, &b, (0.005, 0.0025, Face::Thickness), (false, true))
+    }
+
+    #[test]
+    fn the_twist_rank_orders_angles_as_their_size() {
+        // Angles of both signs from 1e-12 rad to pi, the ranks strictly in the order of |angle|
+        // (the largest twist's node is chosen by it).
+        let mut angles: Vec<f64> = (0..=400).map(|k| 1e-12 * (k as f64 * 0.07).exp()).collect();
+        angles.retain(|a| *a <= std::f64::consts::PI);
+        angles.extend([1.0, 1.5, std::f64::consts::FRAC_PI_2, 1.6, 3.0, std::f64::consts::PI]);
+        angles.sort_by(f64::total_cmp);
+        angles.dedup();
+        let rank = |a: f64| twist_rank(&Vector3::new(0.3, a.cos(), a.sin()));
+        for pair in angles.windows(2) {
+            for sign in [1.0, -1.0] {
+                assert!(rank(sign * pair[0]) < rank(sign * pair[1]), "{pair:?}");
+            }
+            assert_eq!(rank(pair[0]), rank(-pair[0]));
+        }
+        assert_eq!(twist_rank(&Vector3::x()), 0.0);
     }
 
     #[test]

@@ -280,9 +280,11 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         between((self.node_twist(q, i), self.node_twist(q, i + 1)), xi)
     }
     fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
-        (0..q.beam.rotations.len())
-            .map(|n| (n, self.node_twist(q, n).abs()))
-            .max_by(|a, b| a.1.total_cmp(&b.1))
+        // Ranked without an arc tangent a node (every accepted step asks): one for the node.
+        let (node, _) = (0..q.beam.rotations.len())
+            .map(|n| (n, self.node_twist_rank(q, n)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        Some((node, self.node_twist(q, node).abs()))
     }
     /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x
