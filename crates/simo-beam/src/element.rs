@@ -26,8 +26,8 @@
 //! geometric parts and the non-symmetric part away from equilibrium.
 
 use crate::rotation::{
-    log_and_half, matrix, right_jacobian, right_jacobian_inverse,
-    right_jacobian_inverse_transpose_times, right_jacobian_transpose_times,
+    log_and_half, matrix, right_jacobian_inverse_transpose_times, right_jacobian_transpose_times,
+    turn,
 };
 use crate::section::Section;
 use nalgebra::{Quaternion, RealField, SMatrix, SVector, UnitQuaternion, Vector3};
@@ -140,8 +140,7 @@ impl Element {
         let l0: T = cst(self.length);
         let relative = q1.conjugate() * q2;
         let (phi, half) = log_and_half(&relative);
-        let lambda_m = matrix(&(q1 * half));
-        let gamma_full = lambda_m.transpose() * (x2 - x1) / l0;
+        let gamma_full = turn(&(q1 * half).conjugate(), &(x2 - x1)) / l0;
         let gamma = gamma_full - self.gamma0.map(cst::<T>);
         let kappa = (phi - self.phi0.map(cst::<T>)) / l0;
         (Strains { gamma, kappa }, gamma_full, phi, half)
@@ -208,22 +207,23 @@ impl Element {
             Vector3::new(s.gamma.x * cst(cn[0]), s.gamma.y * cst(cn[1]), s.gamma.z * cst(cn[2]));
         let m =
             Vector3::new(s.kappa.x * cst(cm[0]), s.kappa.y * cst(cm[1]), s.kappa.z * cst(cm[2]));
-        let lambda_m = matrix(&(q1 * half));
-        let n_spatial = lambda_m * n;
+        // The rotations applied to vectors and the Jacobians by cross products, as in
+        // `force` (a dual number's every product carries its twelve derivatives).
+        let n_spatial = turn(&(q1 * half), &n);
         let c = n.cross(&gamma_full) * l0;
-        let half_phi = phi * cst::<T>(0.5);
-        let m_tilde = m + right_jacobian(&half_phi).transpose() * c * cst::<T>(0.5);
-        let f_th2 = right_jacobian_inverse(&phi).transpose() * m_tilde;
-        let f_th1 = matrix(&half) * c - matrix(&(half * half)) * f_th2;
+        let half_c = c * cst::<T>(0.5);
+        let m_tilde = m + right_jacobian_transpose_times(&(phi * cst::<T>(0.5)), &half_c);
+        let f_th2 = right_jacobian_inverse_transpose_times(&phi, &m_tilde);
+        let f_th1 = turn(&half, &(c - turn(&half, &f_th2)));
         let mut f = SVector::<T, 12>::zeros();
         // Moments for variations of the node frames: with Lambda_end = Lambda_node O, a node
         // variation th gives the end variation O^T th, so the node moment is O times the end one.
-        let o1 = self.offsets[0].to_rotation_matrix().into_inner().map(cst::<T>);
-        let o2 = self.offsets[1].to_rotation_matrix().into_inner().map(cst::<T>);
+        let o1 = quaternion_to::<T>(&self.offsets[0]);
+        let o2 = quaternion_to::<T>(&self.offsets[1]);
         f.fixed_rows_mut::<3>(0).copy_from(&(-n_spatial));
-        f.fixed_rows_mut::<3>(3).copy_from(&(o1 * f_th1));
+        f.fixed_rows_mut::<3>(3).copy_from(&turn(&o1, &f_th1));
         f.fixed_rows_mut::<3>(6).copy_from(&n_spatial);
-        f.fixed_rows_mut::<3>(9).copy_from(&(o2 * f_th2));
+        f.fixed_rows_mut::<3>(9).copy_from(&turn(&o2, &f_th2));
         f
     }
 

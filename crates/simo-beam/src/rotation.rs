@@ -89,21 +89,33 @@ pub fn right_jacobian<T: RealField + Copy>(phi: &Vector3<T>) -> Matrix3<T> {
 }
 
 /// `J_r(phi)^T v = v + c1 phi x v + c2 phi x (phi x v)` (the transposed skew changes sign),
-/// by cross products: the element's force in `f64` needs only the product, not the matrix.
-pub fn right_jacobian_transpose_times(phi: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
+/// by cross products: the element's force needs only the product, not the matrix.
+pub fn right_jacobian_transpose_times<T: RealField + Copy>(
+    phi: &Vector3<T>,
+    v: &Vector3<T>,
+) -> Vector3<T> {
     let (c1, c2) = jacobian_coefficients(phi.norm_squared());
     let pv = phi.cross(v);
     v + pv * c1 + phi.cross(&pv) * c2
 }
 
 /// `J_r(phi)^-T v = v - phi x v / 2 + coefficient phi x (phi x v)`, by cross products.
-pub fn right_jacobian_inverse_transpose_times(
-    phi: &Vector3<f64>,
-    v: &Vector3<f64>,
-) -> Vector3<f64> {
+pub fn right_jacobian_inverse_transpose_times<T: RealField + Copy>(
+    phi: &Vector3<T>,
+    v: &Vector3<T>,
+) -> Vector3<T> {
     let coefficient = inverse_coefficient(phi.norm_squared());
     let pv = phi.cross(v);
-    v - pv * 0.5 + phi.cross(&pv) * coefficient
+    v - pv * c::<T>(0.5) + phi.cross(&pv) * coefficient
+}
+
+/// `v` turned by the quaternion `q = (w, u)`, unit to first order: `v + 2 w u x v + 2 u x (u x v)`
+/// (the rotation matrix's product without the matrix; for dual numbers the same derivative,
+/// the two agreeing on unit quaternions).
+pub fn turn<T: RealField + Copy>(q: &Quaternion<T>, v: &Vector3<T>) -> Vector3<T> {
+    let u = q.imag();
+    let t = u.cross(v) * c::<T>(2.0);
+    v + t * q.w + u.cross(&t)
 }
 
 /// `exp(phi^)` as a unit quaternion `(cos(a/2), sin(a/2)/a phi)` (f64 only; used by the
