@@ -124,7 +124,6 @@ impl Face {
     }
 }
 
-/// The skew matrix of `v`: `skew(v) w = v x w`.
 /// [`BallOnBeam3d::facing`] of `beam` struck against `face` along `-up`.
 fn facing(beam: &BeamModel, (up, face): (Vector3<f64>, Face), e: usize) -> f64 {
     let node = beam.mesh().elements[e].nodes[0];
@@ -154,10 +153,6 @@ pub(crate) fn face_rows(
         .collect()
 }
 
-fn skew<T: nalgebra::RealField + Copy>(v: &Vector3<T>) -> Matrix3<T> {
-    Matrix3::new(T::zero(), -v.z, v.y, v.z, T::zero(), -v.x, -v.y, v.x, T::zero())
-}
-
 /// The approach for local unknowns `u` added to the configuration (`c0` the ball, `a` and `b`
 /// the element's nodes); `ends` says whether the element's nodes are the beam's first and last.
 fn approach_of<T: nalgebra::RealField + Copy>(
@@ -174,17 +169,25 @@ fn approach_of<T: nalgebra::RealField + Copy>(
     let c = c0.map(lift) + part(0);
     let xa = a.0.map(lift) + part(3);
     let xb = b.0.map(lift) + part(9);
+    // A node's section axes `normal` and `across` turned by its rotation increment theta to
+    // second order: R (I + theta^ + theta^2 / 2) e_k = R (e_k + theta x e_k + theta x (theta x
+    // e_k) / 2), by cross products (the derivatives' dual numbers carry 15 or 120 parts each:
+    // no 3x3 products of them).
     let turned = |r: &Matrix3<f64>, theta: Vector3<T>| {
-        let s = skew(&theta);
-        r.map(lift) * (Matrix3::identity() + s + s * s * lift(0.5))
+        let axis = |k: usize| {
+            let e = Vector3::from_fn(|i, _| if i == k { T::one() } else { T::zero() });
+            let te = theta.cross(&e);
+            let local = e + te + theta.cross(&te) * lift(0.5);
+            r.map(lift) * local
+        };
+        (axis(normal), axis(across))
     };
     let (ra, rb) = (turned(&a.1, part(6)), turned(&b.1, part(12)));
     let (radius, half) = (lift(radius), lift(half));
     let t = xb - xa;
     let xi = (c - xa).dot(&t) / t.dot(&t);
-    let edge = |x: Vector3<T>, r: &Matrix3<T>| {
-        let n: Vector3<T> = r.column(normal).into_owned();
-        let along: Vector3<T> = r.column(across).into_owned();
+    let edge = |x: Vector3<T>, (n, along): &(Vector3<T>, Vector3<T>)| {
+        let (n, along) = (*n, *along);
         let side = if (c - x).dot(&n) < T::zero() { -half } else { half };
         let v = c - (x + n * side);
         let across = v - along * v.dot(&along);
@@ -197,9 +200,7 @@ fn approach_of<T: nalgebra::RealField + Copy>(
         return edge(xb, &rb);
     }
     let x = xa + t * xi;
-    let na: Vector3<T> = ra.column(normal).into_owned();
-    let nb: Vector3<T> = rb.column(normal).into_owned();
-    let d = na * (T::one() - xi) + nb * xi;
+    let d = ra.0 * (T::one() - xi) + rb.0 * xi;
     let n = d / d.norm();
     radius + half - (c - x).dot(&n).abs()
 }
