@@ -628,6 +628,29 @@ impl BeamModel {
     }
 }
 
+/// [`hht::Model::displaced`] of the 3D beam as a [`hht::fast::Kernel`]: `out = q (+) dq`.
+struct Displace<'a> {
+    model: &'a BeamModel,
+    q: &'a BeamState,
+    dq: &'a [f64],
+    out: &'a mut BeamState,
+}
+
+impl hht::fast::Kernel for Displace<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        let to = self.out.positions.iter_mut().zip(self.out.rotations.iter_mut());
+        let from = self.q.positions.iter().zip(&self.q.rotations);
+        for (node, ((x, r), (x0, r0))) in to.zip(from).enumerate() {
+            *x = x0 + self.model.node_vector(self.dq, node, 0);
+            let th = self.model.node_vector(self.dq, node, 3);
+            *r = if th.norm_squared() > 0.0 { r0 * crate::rotation::exp(&th) } else { *r0 };
+        }
+    }
+}
+
 /// [`BeamModel::inertial_force`] as a [`hht::fast::Kernel`].
 struct Inertia<'a> {
     model: &'a BeamModel,
@@ -685,17 +708,10 @@ impl hht::Model for BeamModel {
 
     /// One pass over the nodes, writing `out` from `q` (no copy of `q` first).
     fn displaced(&self, q: &BeamState, dq: ColRef<'_, f64>, out: &mut BeamState) {
-        let dq = &*values(dq);
         let n = q.positions.len();
         out.positions.resize(n, Vector3::zeros());
         out.rotations.resize(n, UnitQuaternion::identity());
-        let to = out.positions.iter_mut().zip(out.rotations.iter_mut());
-        let from = q.positions.iter().zip(&q.rotations);
-        for (node, ((x, r), (x0, r0))) in to.zip(from).enumerate() {
-            *x = x0 + self.node_vector(dq, node, 0);
-            let th = self.node_vector(dq, node, 3);
-            *r = if th.norm_squared() > 0.0 { r0 * crate::rotation::exp(&th) } else { *r0 };
-        }
+        hht::fast::run(Displace { model: self, q, dq: &values(dq), out });
     }
 
     fn inertial_force(

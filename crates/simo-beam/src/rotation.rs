@@ -123,7 +123,7 @@ pub fn turn<T: RealField + Copy>(q: &Quaternion<T>, v: &Vector3<T>) -> Vector3<T
 /// coefficients are Taylor series (`cos(a/2) = 1 - a^2/8 + a^4/384 - a^6/46080`,
 /// `sin(a/2)/a = 1/2 - a^2/48 + a^4/3840 - a^6/645120`, truncation ~ a^8/1e7 < 1e-23),
 /// without `sin` and `cos`.
-#[inline]
+#[inline(always)]
 pub fn exp(phi: &Vector3<f64>) -> UnitQuaternion<f64> {
     let a2 = phi.norm_squared();
     if a2 >= SERIES_BELOW {

@@ -31,7 +31,7 @@
 use faer::{ColMut, ColRef};
 use hertz::ContactLaw;
 use hht::{Band, Model, NewtonWeights, Triplets};
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
 use num_dual::{Dual2SVec64, Dual64};
 use simo_beam::{BeamModel, BeamState};
 
@@ -46,16 +46,31 @@ pub struct BallOnBeam3dConfig {
     pub ball: Vector3<f64>,
 }
 
-/// A pseudo-angle of the turned width axis `e2` about E1, growing with `|atan2(z, y)|` over
-/// [0, pi]: `|z| / (|y| + |z|)`, and 2 less that past a right angle (near zero it is the angle
-/// to relative round-off; an axis turned onto E1 ranks 0, as atan2(0, 0)).
-fn twist_rank(e2: &Vector3<f64>) -> f64 {
-    let size = e2.y.abs() + e2.z.abs();
+/// The y and z of the section's width axis E2 turned by its rotation `r` from its reference
+/// `frame`, in that frame (its twist turns it from (0, 1, 0) toward (0, 0, 1)): the rotation
+/// matrix's entries (1, 1) and (2, 1) of the relative quaternion (w, i, j, k),
+/// 1 - 2 (i^2 + k^2) and 2 (j k + w i).
+fn turned_width_axis(frame: &UnitQuaternion<f64>, r: &UnitQuaternion<f64>) -> (f64, f64) {
+    let relative = frame.conjugate() * r;
+    let (w, i, j, k) = (relative.w, relative.i, relative.j, relative.k);
+    (1.0 - 2.0 * (i * i + k * k), 2.0 * (j * k + w * i))
+}
+
+/// A number that grows with the size of the section's twist `atan2(z, y)` of
+/// [`turned_width_axis`] over [0, pi] (a pseudo-angle: `|z| / (|y| + |z|)`, and 2 less that
+/// past a right angle; near zero it is the angle to relative round-off; an axis turned onto E1
+/// ranks 0, as atan2(0, 0)), to rank the nodes without an arc tangent each.
+pub(crate) fn twist_rank(frame: &UnitQuaternion<f64>, r: &UnitQuaternion<f64>) -> f64 {
+    pseudo_angle(turned_width_axis(frame, r))
+}
+
+fn pseudo_angle((y, z): (f64, f64)) -> f64 {
+    let size = y.abs() + z.abs();
     if size == 0.0 {
         return 0.0;
     }
-    let share = e2.z.abs() / size;
-    if e2.y > 0.0 {
+    let share = z.abs() / size;
+    if y > 0.0 {
         share
     } else {
         2.0 - share
@@ -316,21 +331,8 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// Node `node`'s section rotation about its axis from its reference frame (rad): the
     /// angle that turns E2 toward E3, of the rotation from the reference.
     pub(crate) fn node_twist(&self, q: &BallOnBeam3dConfig, node: usize) -> f64 {
-        let e2 = self.turned_width_axis(q, node);
-        e2.z.atan2(e2.y)
-    }
-
-    /// A number that grows with the size of [`Self::node_twist`] ([`twist_rank`]), to rank the
-    /// nodes without an arc tangent each.
-    pub(crate) fn node_twist_rank(&self, q: &BallOnBeam3dConfig, node: usize) -> f64 {
-        twist_rank(&self.turned_width_axis(q, node))
-    }
-
-    /// The section's width axis E2 turned by its rotation from the reference frame, in that
-    /// frame: its twist turns it from (0, 1, 0) toward (0, 0, 1).
-    fn turned_width_axis(&self, q: &BallOnBeam3dConfig, node: usize) -> Vector3<f64> {
-        let relative = self.beam.mesh().frames[node].inverse() * q.beam.rotations[node];
-        relative * Vector3::y()
+        let (y, z) = turned_width_axis(&self.beam.mesh().frames[node], &q.beam.rotations[node]);
+        z.atan2(y)
     }
 
     /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
@@ -527,7 +529,6 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use nalgebra::UnitQuaternion;
 
     /// A flat last element from x = 0 to 1 (m), 5 mm thick, a 5 mm ball at `c`; node b turned
     /// by `twist` about the axis.
@@ -547,14 +548,21 @@ mod tests {
         angles.extend([1.0, 1.5, std::f64::consts::FRAC_PI_2, 1.6, 3.0, std::f64::consts::PI]);
         angles.sort_by(f64::total_cmp);
         angles.dedup();
-        let rank = |a: f64| twist_rank(&Vector3::new(0.3, a.cos(), a.sin()));
+        let rank = |a: f64| pseudo_angle((a.cos(), a.sin()));
         for pair in angles.windows(2) {
             for sign in [1.0, -1.0] {
                 assert!(rank(sign * pair[0]) < rank(sign * pair[1]), "{pair:?}");
             }
             assert_eq!(rank(pair[0]), rank(-pair[0]));
         }
-        assert_eq!(twist_rank(&Vector3::x()), 0.0);
+        assert_eq!(pseudo_angle((0.0, 0.0)), 0.0);
+        // The rank of a turn is its pseudo-angle.
+        let frame = UnitQuaternion::from_scaled_axis(Vector3::new(0.1, 0.2, 0.3));
+        let turned = frame * UnitQuaternion::from_scaled_axis(Vector3::new(-0.4, 0.0, 0.0));
+        assert!(
+            (twist_rank(&frame, &turned) - pseudo_angle((0.4_f64.cos(), 0.4_f64.sin()))).abs()
+                < 1e-15
+        );
     }
 
     #[test]
