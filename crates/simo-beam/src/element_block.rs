@@ -1,5 +1,6 @@
-//! The 3D beam's internal force a block of elements at a time: the fe method's innermost loop
-//! in 3D (every Newton iteration evaluates it for every element).
+//! The 3D beam's internal force and strains a block of elements at a time: the fe method's
+//! innermost loop in 3D (every Newton iteration evaluates the force of every element, every
+//! accepted step the strains).
 //!
 //! The formulas are [`Element::force`]'s (Crisfield & Jelenic's one-point element, see
 //! `element.rs`), written lane by lane over arrays of a block's elements: the nodes' positions
@@ -13,15 +14,15 @@
 //! [`Element::force`]. Both give the same force to round-off (a test holds them equal).
 
 use crate::element::{Element, Strains};
-use crate::rotation::SERIES_BELOW;
+use crate::rotation::{inverse_series, jacobian_series, log_ratio_series, SERIES_BELOW};
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// Elements a block (the arrays live on the stack: 37 of them, 64 numbers each). Fewer cost
+/// Elements a block (the arrays live on the stack: 27 of them, 64 numbers each). Fewer cost
 /// their setup a block: 8, 16, 32, 64 and 128 took 18, 10, 8.1, 7.5 and 7.5 us a pass over 256
 /// elements (the paper's tip in 3D, timers in the run).
 const BLOCK: usize = 64;
 
-/// Each element's constants as arrays (one entry an element), for the block loop.
+/// Each element's constants as arrays (one entry an element), for the block loops.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ElementTable {
     length: Vec<f64>,
@@ -165,10 +166,7 @@ fn lane(g: &Gathered, k: usize, inverse_length: f64) -> Lane {
     let rv: [f64; 3] = std::array::from_fn(|c| (w1 * u2[c] - w2 * u1[c] - c12[c]) * sign);
     // log: phi = v 2 atan(|v| / w) / |v|, by its series in |v|^2 / w^2.
     let s2 = rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
-    let inverse_w = 1.0 / rw;
-    let r = s2 * inverse_w * inverse_w;
-    let ratio =
-        2.0 * inverse_w * (1.0 - r * (1.0 / 3.0) + r * r * (1.0 / 5.0) - r * r * r * (1.0 / 7.0));
+    let ratio = log_ratio_series(s2, 1.0 / rw);
     let phi = [rv[0] * ratio, rv[1] * ratio, rv[2] * ratio];
     // The half rotation: the normalised mean of the identity and the relative one.
     let one_plus_w = 1.0 + rw;
@@ -224,16 +222,14 @@ impl BlockForces<'_> {
             let n_spatial = turn(mw, mv, n);
             let c = cross(n, gamma_full).map(|c| c * length[k]);
             // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + c1 p x v + c2 p x (p x v).
-            let h2 = 0.25 * a2;
-            let j1 = 0.5 - h2 * (1.0 / 24.0) + h2 * h2 * (1.0 / 720.0);
-            let j2 = 1.0 / 6.0 - h2 * (1.0 / 120.0) + h2 * h2 * (1.0 / 5040.0);
+            let (j1, j2) = jacobian_series(0.25 * a2);
             let (hp, ch) = (phi.map(|p| 0.5 * p), c.map(|c| 0.5 * c));
             let pc = cross(hp, ch);
             let ppc = cross(hp, pc);
             let mt: [f64; 3] =
                 std::array::from_fn(|i| moment[i] + ch[i] + j1 * pc[i] + j2 * ppc[i]);
             // f_th2 = J_r(phi)^-T m~ = m~ - phi x m~ / 2 + coefficient phi x (phi x m~).
-            let coefficient = 1.0 / 12.0 + a2 * (1.0 / 720.0) + a2 * a2 * (1.0 / 30240.0);
+            let coefficient = inverse_series(a2);
             let pm = cross(phi, mt);
             let ppm = cross(phi, pm);
             let f_th2: [f64; 3] =

@@ -36,10 +36,7 @@ pub fn log_and_half<T: RealField + Copy>(q: &Quaternion<T>) -> (Vector3<T>, Quat
     let s2 = v.norm_squared();
     // angle / |v| = 2 atan2(|v|, w) / |v|, written in |v|^2 near zero so dual numbers stay finite.
     let ratio = if s2 < c(SERIES_BELOW) {
-        let inverse_w = T::one() / w;
-        let x = s2 * inverse_w * inverse_w;
-        (c::<T>(2.0) * inverse_w)
-            * (T::one() - x * c(1.0 / 3.0) + x * x * c(1.0 / 5.0) - x * x * x * c(1.0 / 7.0))
+        log_ratio_series(s2, T::one() / w)
     } else {
         let s = s2.sqrt();
         c::<T>(2.0) * s.atan2(w) / s
@@ -51,10 +48,34 @@ pub fn log_and_half<T: RealField + Copy>(q: &Quaternion<T>) -> (Vector3<T>, Quat
     (v * ratio, half)
 }
 
+/// `2 atan2(|v|, w) / |v|` by its series in `x = |v|^2 / w^2` (from `s2 = |v|^2` and `1 / w`):
+/// `2 / w (1 - x / 3 + x^2 / 5 - x^3 / 7)`, for `s2` below [`SERIES_BELOW`].
+#[inline(always)]
+pub(crate) fn log_ratio_series<T: RealField + Copy>(s2: T, inverse_w: T) -> T {
+    let x = s2 * inverse_w * inverse_w;
+    (c::<T>(2.0) * inverse_w)
+        * (T::one() - x * c(1.0 / 3.0) + x * x * c(1.0 / 5.0) - x * x * x * c(1.0 / 7.0))
+}
+
+/// [`inverse_coefficient`]'s series below [`SERIES_BELOW`].
+#[inline(always)]
+pub(crate) fn inverse_series<T: RealField + Copy>(a2: T) -> T {
+    c::<T>(1.0 / 12.0) + a2 * c(1.0 / 720.0) + a2 * a2 * c(1.0 / 30240.0)
+}
+
+/// [`jacobian_coefficients`]' series below [`SERIES_BELOW`].
+#[inline(always)]
+pub(crate) fn jacobian_series<T: RealField + Copy>(a2: T) -> (T, T) {
+    (
+        c::<T>(0.5) - a2 * c(1.0 / 24.0) + a2 * a2 * c(1.0 / 720.0),
+        c::<T>(1.0 / 6.0) - a2 * c(1.0 / 120.0) + a2 * a2 * c(1.0 / 5040.0),
+    )
+}
+
 /// The coefficient of `phi^2` in `J_r(phi)^-1`: `1/a^2 - (1 + cos a)/(2 a sin a)`, a = |phi|.
 fn inverse_coefficient<T: RealField + Copy>(a2: T) -> T {
     if a2 < c(SERIES_BELOW) {
-        c::<T>(1.0 / 12.0) + a2 * c(1.0 / 720.0) + a2 * a2 * c(1.0 / 30240.0)
+        inverse_series(a2)
     } else {
         let a = a2.sqrt();
         T::one() / a2 - (T::one() + a.cos()) / (c::<T>(2.0) * a * a.sin())
@@ -64,10 +85,7 @@ fn inverse_coefficient<T: RealField + Copy>(a2: T) -> T {
 /// The coefficients of `-phi^` and `phi^2` in `J_r(phi)`: `(1 - cos a)/a^2`, `(a - sin a)/a^3`.
 fn jacobian_coefficients<T: RealField + Copy>(a2: T) -> (T, T) {
     if a2 < c(SERIES_BELOW) {
-        (
-            c::<T>(0.5) - a2 * c(1.0 / 24.0) + a2 * a2 * c(1.0 / 720.0),
-            c::<T>(1.0 / 6.0) - a2 * c(1.0 / 120.0) + a2 * a2 * c(1.0 / 5040.0),
-        )
+        jacobian_series(a2)
     } else {
         let a = a2.sqrt();
         ((T::one() - a.cos()) / a2, (a - a.sin()) / (a2 * a))
