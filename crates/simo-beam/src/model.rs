@@ -581,6 +581,19 @@ impl BeamModel {
         }
     }
 
+    /// A node's position and rotation moved by its unknowns in `dq`: `x + u`, `r exp(th^)`.
+    #[inline(always)]
+    fn displaced_node(
+        &self,
+        (x, r): (&Vector3<f64>, &UnitQuaternion<f64>),
+        dq: &[f64],
+        node: usize,
+    ) -> (Vector3<f64>, UnitQuaternion<f64>) {
+        let th = self.node_vector(dq, node, 3);
+        let r = if th.norm_squared() > 0.0 { r * crate::rotation::exp(&th) } else { *r };
+        (x + self.node_vector(dq, node, 0), r)
+    }
+
     fn inertial_force_into(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
         hht::fast::run(Inertia { model: self, v, a, out });
     }
@@ -644,9 +657,7 @@ impl hht::fast::Kernel for Displace<'_> {
         let to = self.out.positions.iter_mut().zip(self.out.rotations.iter_mut());
         let from = self.q.positions.iter().zip(&self.q.rotations);
         for (node, ((x, r), (x0, r0))) in to.zip(from).enumerate() {
-            *x = x0 + self.model.node_vector(self.dq, node, 0);
-            let th = self.model.node_vector(self.dq, node, 3);
-            *r = if th.norm_squared() > 0.0 { r0 * crate::rotation::exp(&th) } else { *r0 };
+            (*x, *r) = self.model.displaced_node((x0, r0), self.dq, node);
         }
     }
 }
@@ -697,12 +708,8 @@ impl hht::Model for BeamModel {
 
     fn update(&self, q: &mut BeamState, dq: ColRef<'_, f64>) {
         let dq = &*values(dq);
-        for node in 0..q.positions.len() {
-            q.positions[node] += self.node_vector(dq, node, 0);
-            let th = self.node_vector(dq, node, 3);
-            if th.norm_squared() > 0.0 {
-                q.rotations[node] *= crate::rotation::exp(&th);
-            }
+        for (node, (x, r)) in q.positions.iter_mut().zip(q.rotations.iter_mut()).enumerate() {
+            (*x, *r) = self.displaced_node((&*x, &*r), dq, node);
         }
     }
 
