@@ -35,6 +35,9 @@ pub(crate) struct ElementTable {
     moment_stiffness: [Vec<f64>; 3],
     /// Whether both end frames are the nodes' own (no corner offset).
     straight: Vec<bool>,
+    /// The element's nodes (the elements themselves are some 300 bytes each: their loops
+    /// read these instead).
+    nodes: Vec<[usize; 2]>,
     /// The consistent mass matrix's off-diagonal term `rho A l0 / 6` (kg).
     translational_mass: Vec<f64>,
 }
@@ -53,9 +56,15 @@ impl ElementTable {
                 table.moment_stiffness[k].push(cm[k]);
             }
             table.straight.push(e.straight());
+            table.nodes.push(e.nodes);
             table.translational_mass.push(e.section.rho_a * e.length / 6.0);
         }
         table
+    }
+
+    /// Each element's nodes.
+    pub(crate) fn nodes(&self) -> &[[usize; 2]] {
+        &self.nodes
     }
 
     /// Each element's `rho A l0 / 6` (kg): its consistent mass matrix is that times
@@ -84,11 +93,13 @@ impl hht::fast::Kernel for BlockForces<'_> {
 
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(mut self, _: A) {
+        // The block's arrays made (zeroed) once a pass, not once a block.
+        let mut scratch = Scratch::new();
         let count = self.elements.len();
         let mut start = 0;
         while start < count {
             let end = (start + BLOCK).min(count);
-            self.block(start, end);
+            self.block(start, end, &mut scratch);
             start = end;
         }
     }
@@ -116,16 +127,36 @@ struct Gathered {
     q: [[[f64; BLOCK]; 4]; 2],
 }
 
+/// A block's arrays: its nodes, the results by lanes (12 force components or 6 strains), each
+/// element's `|phi|^2`.
+struct Scratch {
+    nodes: Gathered,
+    lanes: [[f64; BLOCK]; 12],
+    angle2: [f64; BLOCK],
+}
+
+impl Scratch {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            nodes: Gathered { x: [[[0.0; BLOCK]; 3]; 2], q: [[[0.0; BLOCK]; 4]; 2] },
+            lanes: [[0.0; BLOCK]; 12],
+            angle2: [0.0; BLOCK],
+        }
+    }
+}
+
+/// Gathers the nodes of the elements `nodes` into `g`.
 #[inline(always)]
 fn gather(
-    elements: &[Element],
+    g: &mut Gathered,
+    nodes: &[[usize; 2]],
     positions: &[Vector3<f64>],
     rotations: &[UnitQuaternion<f64>],
-) -> Gathered {
-    let mut g = Gathered { x: [[[0.0; BLOCK]; 3]; 2], q: [[[0.0; BLOCK]; 4]; 2] };
-    for (k, e) in elements.iter().enumerate() {
+) {
+    for (k, e) in nodes.iter().enumerate() {
         for end in 0..2 {
-            let node = e.nodes[end];
+            let node = e[end];
             let (p, r) = (&positions[node], rotations[node].quaternion());
             for c in 0..3 {
                 g.x[end][c][k] = p[c];
@@ -136,7 +167,6 @@ fn gather(
             g.q[end][3][k] = r.k;
         }
     }
-    g
 }
 
 /// One element's kinematics by the series (`Element::kinematics_f64`'s quantities).
@@ -188,12 +218,11 @@ fn lane(g: &Gathered, k: usize, inverse_length: f64) -> Lane {
 
 impl BlockForces<'_> {
     #[inline(always)]
-    fn block(&mut self, start: usize, end: usize) {
+    fn block(&mut self, start: usize, end: usize, scratch: &mut Scratch) {
         let m = end - start;
-        let g = gather(&self.elements[start..end], self.positions, self.rotations);
-        let mut f = [[0.0; BLOCK]; 12];
-        let mut angle2 = [0.0; BLOCK];
         let t = self.table;
+        let Scratch { nodes: g, lanes: f, angle2 } = scratch;
+        gather(g, &t.nodes[start..end], self.positions, self.rotations);
         let range = start..end;
         let (length, inverse) = (&t.length[range.clone()], &t.inverse_length[range.clone()]);
         let [g0, g1, g2] = &t.gamma0;
@@ -206,7 +235,7 @@ impl BlockForces<'_> {
         let (m0, m1, m2) = (&m0[range.clone()], &m1[range.clone()], &m2[range]);
         for k in 0..m {
             let Lane { phi, angle2: a2, half: (hw, hv), midpoint: (mw, mv), gamma_full } =
-                lane(&g, k, inverse[k]);
+                lane(g, k, inverse[k]);
             angle2[k] = a2;
             // N = C_N Gamma, M = C_M K.
             let n = [
@@ -246,18 +275,17 @@ impl BlockForces<'_> {
         }
         for k in 0..m {
             let e = start + k;
-            let element = &self.elements[e];
+            let [a, b] = t.nodes[e];
             let forces: [f64; 12] = if t.straight[e] && angle2[k] < SERIES_BELOW {
                 std::array::from_fn(|i| f[i][k])
             } else {
-                let [a, b] = element.nodes;
-                let exact = element.force(
+                let exact = self.elements[e].force(
                     [&self.positions[a], &self.positions[b]],
                     [&self.rotations[a], &self.rotations[b]],
                 );
                 std::array::from_fn(|i| exact[i])
             };
-            for (end, node) in element.nodes.into_iter().enumerate() {
+            for (end, node) in [a, b].into_iter().enumerate() {
                 let forces = &forces[6 * end..6 * end + 6];
                 match self.rows[node] {
                     Some(i) => {
@@ -294,13 +322,13 @@ impl hht::fast::Kernel for BlockStrains<'_> {
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(self, _: A) {
         let t = self.table;
+        let mut scratch = Scratch::new();
+        let Scratch { nodes: g, lanes: strains, angle2 } = &mut scratch;
         let blocks = self.elements.chunks(BLOCK).zip(self.out.chunks_mut(BLOCK));
         for (b, (block, out)) in blocks.enumerate() {
             let start = b * BLOCK;
-            let g = gather(block, self.positions, self.rotations);
+            gather(g, &t.nodes[start..start + block.len()], self.positions, self.rotations);
             // [Gamma; K] by lanes, then the elements the series do not hold again exactly.
-            let mut strains = [[0.0; BLOCK]; 6];
-            let mut angle2 = [0.0; BLOCK];
             // Every array sliced to the block, so that the loop runs without bounds checks
             // (which kept it from the vector lanes).
             let range = start..start + block.len();
@@ -310,7 +338,7 @@ impl hht::fast::Kernel for BlockStrains<'_> {
             let gamma0 = [&g0[range.clone()], &g1[range.clone()], &g2[range.clone()]];
             let phi0 = [&p0[range.clone()], &p1[range.clone()], &p2[range]];
             for k in 0..block.len() {
-                let l = lane(&g, k, inverse[k]);
+                let l = lane(g, k, inverse[k]);
                 angle2[k] = l.angle2;
                 for c in 0..3 {
                     strains[c][k] = l.gamma_full[c] - gamma0[c][k];

@@ -602,8 +602,7 @@ impl BeamModel {
     fn inertial_force_inline(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
         out.fill(0.0);
         let masses = self.table.translational_masses();
-        for (e, &m) in self.mesh.elements.iter().zip(masses) {
-            let [na, nb] = e.nodes;
+        for (&[na, nb], &m) in self.table.nodes().iter().zip(masses) {
             let (aa, ab) = (self.node_vector(a, na, 0), self.node_vector(a, nb, 0));
             self.add_node_vector(out, na, 0, &((2.0 * aa + ab) * m));
             self.add_node_vector(out, nb, 0, &((aa + 2.0 * ab) * m));
