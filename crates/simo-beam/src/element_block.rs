@@ -155,8 +155,7 @@ fn gather(
     rotations: &[UnitQuaternion<f64>],
 ) {
     for (k, e) in nodes.iter().enumerate() {
-        for end in 0..2 {
-            let node = e[end];
+        for (end, &node) in e.iter().enumerate() {
             let (p, r) = (&positions[node], rotations[node].quaternion());
             for c in 0..3 {
                 g.x[end][c][k] = p[c];
