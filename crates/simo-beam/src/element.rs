@@ -274,7 +274,8 @@ impl Element {
     }
 
     /// Internal force and its exact derivative with respect to `[dx1, th1, dx2, th2]`, where
-    /// the rotations are updated as `Lambda_i exp(th_i^)`: one column a pass ([`seeded_along`]).
+    /// the rotations are updated as `Lambda_i exp(th_i^)`: one column a pass, in dual numbers of
+    /// that one direction.
     pub fn force_and_tangent(
         &self,
         x: [&Vector3<f64>; 2],
