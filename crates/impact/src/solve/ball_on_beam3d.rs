@@ -186,8 +186,8 @@ fn approach_of<T: nalgebra::RealField + Copy>(
     let xb = b.0.map(lift) + part(9);
     // A node's section axes `normal` and `across` turned by its rotation increment theta to
     // second order: R (I + theta^ + theta^2 / 2) e_k = R (e_k + theta x e_k + theta x (theta x
-    // e_k) / 2), by cross products (the derivatives' dual numbers carry 15 or 120 parts each:
-    // no 3x3 products of them).
+    // e_k) / 2), by cross products (in the derivatives' dual numbers, fewer products than
+    // through 3x3 matrices).
     let turned = |r: &Matrix3<f64>, theta: Vector3<T>| {
         let axis = |k: usize| {
             let e = Vector3::from_fn(|i, _| if i == k { T::one() } else { T::zero() });
