@@ -305,26 +305,26 @@ impl BlockForces<'_> {
     }
 }
 
-/// Writes every element's strains to `out` (one an element), a block at a time as
-/// [`BlockForces`] (the accepted steps' stresses and energy ask them of every element).
-pub(crate) struct BlockStrains<'a> {
+/// Hands every element's strains to `each` (its index and strains, in the mesh's order), a
+/// block at a time as [`BlockForces`] (the accepted steps' stresses and energy ask them of
+/// every element).
+pub(crate) struct BlockStrains<'a, F: FnMut(usize, Strains<f64>)> {
     pub elements: &'a [Element],
     pub table: &'a ElementTable,
     pub positions: &'a [Vector3<f64>],
     pub rotations: &'a [UnitQuaternion<f64>],
-    pub out: &'a mut [Strains<f64>],
+    pub each: F,
 }
 
-impl hht::fast::Kernel for BlockStrains<'_> {
+impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
     type Output = ();
 
     #[inline(always)]
-    fn run<A: hht::fast::MulAdd>(self, _: A) {
+    fn run<A: hht::fast::MulAdd>(mut self, _: A) {
         let t = self.table;
         let mut scratch = Scratch::new();
         let Scratch { nodes: g, lanes: strains, angle2 } = &mut scratch;
-        let blocks = self.elements.chunks(BLOCK).zip(self.out.chunks_mut(BLOCK));
-        for (b, (block, out)) in blocks.enumerate() {
+        for (b, block) in self.elements.chunks(BLOCK).enumerate() {
             let start = b * BLOCK;
             gather(g, &t.nodes[start..start + block.len()], self.positions, self.rotations);
             // [Gamma; K] by lanes, then the elements the series do not hold again exactly.
@@ -344,9 +344,9 @@ impl hht::fast::Kernel for BlockStrains<'_> {
                     strains[3 + c][k] = (l.phi[c] - phi0[c][k]) * inverse[k];
                 }
             }
-            for (k, (element, out)) in block.iter().zip(out.iter_mut()).enumerate() {
+            for (k, element) in block.iter().enumerate() {
                 let e = start + k;
-                *out = if t.straight[e] && angle2[k] < SERIES_BELOW {
+                let s = if t.straight[e] && angle2[k] < SERIES_BELOW {
                     Strains {
                         gamma: Vector3::from_fn(|c, _| strains[c][k]),
                         kappa: Vector3::from_fn(|c, _| strains[3 + c][k]),
@@ -358,6 +358,7 @@ impl hht::fast::Kernel for BlockStrains<'_> {
                         [&self.rotations[a], &self.rotations[b]],
                     )
                 };
+                (self.each)(e, s);
             }
         }
     }
@@ -445,8 +446,9 @@ mod tests {
         for (i, f) in expected.iter().enumerate() {
             assert!((force[i] - f).abs() <= 1e-9 * scale, "unknown {i}: {} vs {f}", force[i]);
         }
-        let mut strains = Vec::new();
-        model.all_strains(&q, &mut strains);
+        let zero = Strains { gamma: Vector3::zeros(), kappa: Vector3::zeros() };
+        let mut strains = vec![zero; elements.len()];
+        model.each_strain(&q, |e, s| strains[e] = s);
         let mut series = 0;
         for (e, s) in elements.iter().zip(&strains) {
             let [a, b] = e.nodes;

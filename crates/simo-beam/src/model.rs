@@ -494,17 +494,15 @@ impl BeamModel {
         })
     }
 
-    /// Every element's strains at `q` (one an element, in the mesh's order) in `out`, its
-    /// allocation reused.
-    pub fn all_strains(&self, q: &BeamState, out: &mut Vec<Strains<f64>>) {
-        let zero = Strains { gamma: Vector3::zeros(), kappa: Vector3::zeros() };
-        out.resize(self.mesh.elements.len(), zero);
+    /// Hands every element's strains at `q` to `each` (the element's index and its strains,
+    /// in the mesh's order): no buffer, for a loop that reads them at every step.
+    pub fn each_strain(&self, q: &BeamState, each: impl FnMut(usize, Strains<f64>)) {
         hht::fast::run(BlockStrains {
             elements: &self.mesh.elements,
             table: &self.table,
             positions: &q.positions,
             rotations: &q.rotations,
-            out,
+            each,
         });
     }
 

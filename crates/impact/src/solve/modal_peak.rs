@@ -761,8 +761,7 @@ impl Search<'_> {
                         let (i, j) = (pair[0], pair[1]);
                         let corners = [b.grid[0][i], b.grid[0][j], b.grid[1][i], b.grid[1][j]];
                         let hx = f.points[j] - f.points[i];
-                        let largest = corners.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
-                        let bound = largest + hx * hx / 8.0 * xx + in_time;
+                        let bound = self.bound_of(&corners, hx, (xx, in_time));
                         if bound > target {
                             let (xa, xb) = (i as u32, j as u32);
                             let block = k as u32;
@@ -814,10 +813,15 @@ impl Search<'_> {
     /// The largest corner, plus what the second derivatives allow inside, plus how far the
     /// force's term can rise above its chord where the cell holds a change of slope.
     fn cell_bound(&self, c: &Cell) -> f64 {
-        let corners = c.corners.iter().map(|v| self.measure(*v)).fold(f64::NEG_INFINITY, f64::max);
         let hx = self.xs[c.xb as usize] - self.xs[c.xa as usize];
-        let (xx, in_time) = self.time_terms(c.block, c.full, (c.ta, c.tb));
-        corners + hx * hx / 8.0 * xx + in_time
+        self.bound_of(&c.corners, hx, self.time_terms(c.block, c.full, (c.ta, c.tb)))
+    }
+
+    /// [`Self::cell_bound`] from a cell's corners, its width `hx` (m) and its block's
+    /// [`Self::time_terms`].
+    fn bound_of(&self, corners: &[f64; 4], hx: f64, (xx, in_time): (f64, f64)) -> f64 {
+        let largest = corners.iter().map(|v| self.measure(*v)).fold(f64::NEG_INFINITY, f64::max);
+        largest + hx * hx / 8.0 * xx + in_time
     }
 
     /// What a cell of `block` between its nodes `ta` and `tb` adds to its largest corner

@@ -300,12 +300,10 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         out: &mut [(f64, f64, f64)],
         out_of_plane: &mut [OutOfPlane],
     ) {
-        let mut strains = Vec::new();
-        self.beam().all_strains(&q.beam, &mut strains);
-        for ((s, o), p) in strains.iter().zip(out.iter_mut()).zip(out_of_plane.iter_mut()) {
-            *o = (s.gamma[0], s.gamma[2], -s.kappa[1]);
-            *p = (s.kappa[2], s.kappa[0], s.gamma[1]);
-        }
+        self.beam().each_strain(&q.beam, |e, s| {
+            out[e] = (s.gamma[0], s.gamma[2], -s.kappa[1]);
+            out_of_plane[e] = (s.kappa[2], s.kappa[0], s.gamma[1]);
+        });
     }
     /// The elements' strain energy from the strains `section_strains` gave (not a second pass
     /// over the elements' rotations), plus the springs' and the kinetic energy.
