@@ -66,6 +66,20 @@ impl Triplets {
         self.vals.push(value);
     }
 
+    /// Keeps the first `len` entries pushed.
+    pub(crate) fn truncate(&mut self, len: usize) {
+        self.rows.truncate(len);
+        self.cols.truncate(len);
+        self.vals.truncate(len);
+    }
+
+    /// Pushes every entry of `other`, in its order.
+    pub(crate) fn append(&mut self, other: &Triplets) {
+        self.rows.extend_from_slice(&other.rows);
+        self.cols.extend_from_slice(&other.cols);
+        self.vals.extend_from_slice(&other.vals);
+    }
+
     /// Number of entries pushed (duplicates counted).
     pub fn len(&self) -> usize {
         self.vals.len()
@@ -149,6 +163,29 @@ pub trait Model {
         w: NewtonWeights,
         out: &mut Triplets,
     );
+
+    /// [`Model::tangent`] in two parts: into `slow` (if given) the terms a Newton matrix kept
+    /// over many steps may take from an earlier state (a structure's stiffness under small
+    /// strains: building it is most of a matrix's cost), into `fast` those it must take at the
+    /// iterate (a contact's, which switches on and off and stiffens with the approach, and the
+    /// mass of a body that carries nothing else). Their sum must be the tangent, for any
+    /// weights. The integrator keeps the slow part of the last matrix it built in full and,
+    /// for a new step size, adds to it the slow part's change in `da` and `dv` alone (the
+    /// weights' difference with `dq = 0`: no stiffness) and a fresh fast part. The default
+    /// puts everything in `fast` (every matrix built in full).
+    #[allow(clippy::too_many_arguments)] // the tangent's arguments and the two lists
+    fn tangent_parts(
+        &self,
+        t: f64,
+        q: &Self::Config,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        w: NewtonWeights,
+        _slow: Option<&mut Triplets>,
+        fast: &mut Triplets,
+    ) {
+        self.tangent(t, q, v, a, w, fast);
+    }
 
     /// Magnitude of the largest terms that cancel inside the internal force (model units): for
     /// a beam, EA times an axial stretch of order one. It sets the round-off floor of the

@@ -375,6 +375,27 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
     fn ball(&self, x: ColRef<'_, f64>) -> Vector2<f64> {
         Vector2::new(x[self.nb], x[self.nb + 1])
     }
+
+    /// The Newton matrix's terms of the ball: its mass and, in contact, the contact's block.
+    fn ball_tangent(
+        &self,
+        q: &BallOnBeamConfig,
+        v: ColRef<'_, f64>,
+        w: NewtonWeights,
+        out: &mut Triplets,
+    ) {
+        let nb = self.nb;
+        for k in 0..2 {
+            out.push(nb + k, nb + k, w.inertia * w.da * self.mass);
+        }
+        // The contact block couples the ball to the element nearest to it, the border of the
+        // banded Newton matrix; it is pushed only in contact.
+        let Some(p) = self.touching(q, Order::Hessian) else {
+            return;
+        };
+        let cf = self.law.force(&self.law_state, p.delta, self.rate(&p, v));
+        p.push_block(&self.local_dofs[p.element], &cf, w, out);
+    }
 }
 
 impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
@@ -448,16 +469,26 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
     ) {
         let nb = self.nb;
         self.beam.tangent(t, &q.beam, v.subrows(0, nb), a.subrows(0, nb), w, out);
-        for k in 0..2 {
-            out.push(nb + k, nb + k, w.inertia * w.da * self.mass);
+        self.ball_tangent(q, v, w, out);
+    }
+
+    /// The beam's terms slow (its stiffness changes little from step to step), the ball's and
+    /// the contact's fast.
+    fn tangent_parts(
+        &self,
+        t: f64,
+        q: &BallOnBeamConfig,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        w: NewtonWeights,
+        slow: Option<&mut Triplets>,
+        fast: &mut Triplets,
+    ) {
+        let nb = self.nb;
+        if let Some(slow) = slow {
+            self.beam.tangent(t, &q.beam, v.subrows(0, nb), a.subrows(0, nb), w, slow);
         }
-        // The contact block couples the ball to the element nearest to it, the border of the
-        // banded Newton matrix; it is pushed only in contact.
-        let Some(p) = self.touching(q, Order::Hessian) else {
-            return;
-        };
-        let cf = self.law.force(&self.law_state, p.delta, self.rate(&p, v));
-        p.push_block(&self.local_dofs[p.element], &cf, w, out);
+        self.ball_tangent(q, v, w, fast);
     }
 
     fn force_scale(&self, q: &BallOnBeamConfig) -> f64 {

@@ -431,6 +431,25 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     fn ball(&self, x: ColRef<'_, f64>) -> Vector3<f64> {
         Vector3::new(x[self.nb], x[self.nb + 1], x[self.nb + 2])
     }
+
+    /// The Newton matrix's terms of the ball: its mass and, in contact, the contact's block.
+    fn ball_tangent(
+        &self,
+        q: &BallOnBeam3dConfig,
+        v: ColRef<'_, f64>,
+        w: NewtonWeights,
+        out: &mut Triplets,
+    ) {
+        let nb = self.nb;
+        for k in 0..3 {
+            out.push(nb + k, nb + k, w.inertia * w.da * self.mass);
+        }
+        let Some(p) = self.touching(q, Order::Hessian) else {
+            return;
+        };
+        let cf = self.law.force(&self.law_state, p.delta, self.rate(&p, v));
+        p.push_block(&self.local_dofs[p.element], &cf, w, out);
+    }
 }
 
 impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
@@ -500,14 +519,26 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
     ) {
         let nb = self.nb;
         self.beam.tangent(t, &q.beam, v.subrows(0, nb), a.subrows(0, nb), w, out);
-        for k in 0..3 {
-            out.push(nb + k, nb + k, w.inertia * w.da * self.mass);
+        self.ball_tangent(q, v, w, out);
+    }
+
+    /// The beam's terms slow (its stiffness changes little from step to step), the ball's and
+    /// the contact's fast.
+    fn tangent_parts(
+        &self,
+        t: f64,
+        q: &BallOnBeam3dConfig,
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        w: NewtonWeights,
+        slow: Option<&mut Triplets>,
+        fast: &mut Triplets,
+    ) {
+        let nb = self.nb;
+        if let Some(slow) = slow {
+            self.beam.tangent(t, &q.beam, v.subrows(0, nb), a.subrows(0, nb), w, slow);
         }
-        let Some(p) = self.touching(q, Order::Hessian) else {
-            return;
-        };
-        let cf = self.law.force(&self.law_state, p.delta, self.rate(&p, v));
-        p.push_block(&self.local_dofs[p.element], &cf, w, out);
+        self.ball_tangent(q, v, w, fast);
     }
 
     fn force_scale(&self, q: &BallOnBeam3dConfig) -> f64 {
