@@ -601,6 +601,18 @@ impl BeamModel {
         out.fill(0.0);
         let masses = self.table.translational_masses();
         for (&[na, nb], &m) in self.table.nodes().iter().zip(masses) {
+            // Both nodes' three translations in a row (the usual case): read and written as
+            // arrays, not looked up an unknown at a time.
+            if let (Some(ia), Some(ib)) = (self.rows[na], self.rows[nb]) {
+                let (x, y) = (&a[ia..ia + 3], &a[ib..ib + 3]);
+                let (fa, fb): ([f64; 3], [f64; 3]) = (
+                    std::array::from_fn(|c| m * (2.0 * x[c] + y[c])),
+                    std::array::from_fn(|c| m * (x[c] + 2.0 * y[c])),
+                );
+                out[ia..ia + 3].iter_mut().zip(fa).for_each(|(o, f)| *o += f);
+                out[ib..ib + 3].iter_mut().zip(fb).for_each(|(o, f)| *o += f);
+                continue;
+            }
             let (aa, ab) = (self.node_vector(a, na, 0), self.node_vector(a, nb, 0));
             self.add_node_vector(out, na, 0, &((2.0 * aa + ab) * m));
             self.add_node_vector(out, nb, 0, &((aa + 2.0 * ab) * m));
@@ -610,7 +622,20 @@ impl BeamModel {
             self.add_node_vector(out, *node, 0, &(a * *m));
         }
         for (node, j) in self.node_inertia.iter().enumerate() {
-            // Euler's equation in the body frame: J dW/dt + W x J W.
+            // Euler's equation in the body frame: J dW/dt + W x J W; with J diagonal (a
+            // section's principal axes, the usual case) term by term.
+            if let (Some(i), true) = (self.rows[node], is_diagonal(j)) {
+                let (w, dw) = (&v[i + 3..i + 6], &a[i + 3..i + 6]);
+                let d = [j[(0, 0)], j[(1, 1)], j[(2, 2)]];
+                let jw = [d[0] * w[0], d[1] * w[1], d[2] * w[2]];
+                let f = [
+                    d[0] * dw[0] + (w[1] * jw[2] - w[2] * jw[1]),
+                    d[1] * dw[1] + (w[2] * jw[0] - w[0] * jw[2]),
+                    d[2] * dw[2] + (w[0] * jw[1] - w[1] * jw[0]),
+                ];
+                out[i + 3..i + 6].iter_mut().zip(f).for_each(|(o, f)| *o += f);
+                continue;
+            }
             let w = self.node_vector(v, node, 3);
             let dw = self.node_vector(a, node, 3);
             self.add_node_vector(out, node, 3, &(j * dw + w.cross(&(j * w))));
@@ -636,6 +661,12 @@ impl BeamModel {
             self.add_node_vector(out, load.node, 3, &(-m));
         }
     }
+}
+
+/// Whether `j`'s off-diagonal entries are all zero.
+#[inline(always)]
+fn is_diagonal(j: &Matrix3<f64>) -> bool {
+    (0..3).all(|r| (0..3).all(|c| r == c || j[(r, c)] == 0.0))
 }
 
 /// [`hht::Model::displaced`] of the 3D beam as a [`hht::fast::Kernel`]: `out = q (+) dq`.
