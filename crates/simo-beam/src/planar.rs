@@ -816,7 +816,13 @@ impl Model for PlanarBeam {
         let inertia = w.inertia * w.da;
         let stiffness = w.force * w.dq;
         for e in 0..self.elements() {
-            let mut block = self.element_stiffness(&self.strains(e, q));
+            // The mass alone (the eigen-solver's M, a Newton matrix re-weighted for a new step
+            // size) needs no element stiffness: the same entries are pushed, its zero.
+            let mut block = if stiffness == 0.0 {
+                [[0.0; 6]; 6]
+            } else {
+                self.element_stiffness(&self.strains(e, q))
+            };
             for row in &mut block {
                 for x in row.iter_mut() {
                     *x *= stiffness;
