@@ -273,7 +273,7 @@ pub struct StructureSpec {
     /// member's axis.
     #[serde(default, rename = "mass", skip_serializing_if = "Vec::is_empty")]
     pub masses: Vec<MassSpec>,
-    /// Translational springs at nodes (`at` = arc length, m).
+    /// Springs at nodes (`at` = arc length, m): translational, and rotational if given.
     #[serde(default, rename = "spring", skip_serializing_if = "Vec::is_empty")]
     pub springs: Vec<StructureSpringSpec>,
 }
@@ -288,6 +288,12 @@ pub struct StructureSpringSpec {
     /// Stiffness along x, y and z (N/m) against the node's displacement.
     #[schemars(extend("x-unit" = "N/m"))]
     pub stiffness: [f64; 3],
+    /// Stiffness against the node's section rotation from its reference orientation, about
+    /// the section's axes E1 (the member's axis: its twist), E2 (the width axis) and E3 (the
+    /// thickness axis) (N m/rad), default none: a bolted joint, a partly fixed end.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("x-unit" = "N m/rad"))]
+    pub rotational_stiffness: Option<[f64; 3]>,
 }
 
 /// A point mass (`[[beam.mass]]`, `[[structure.mass]]`): a sensor, a tip mass.

@@ -134,6 +134,41 @@ fn springs_and_masses_sit_on_the_structures_nodes() {
 }
 
 #[test]
+fn a_rotational_spring_on_a_structure_holds_its_node_s_section() {
+    // A torsional spring k_t about E1 (x) at s = 0.25 m on the clamped member: the member's
+    // twist from the clamp to it (GJ / 0.25) and the spring hold that node in parallel, the
+    // rest of the member twists on (0.25 / GJ). The frame's flexibility of the first test with
+    // a^2 L1 / GJ replaced by a^2 (1 / (GJ / 0.25 + k_t) + 0.25 / GJ); k_t = 300 N m/rad, about
+    // GJ / 0.25, takes 446.4 N/m to 508.81 (measured 508.87, 1.1e-4). The same 5e-4 as the
+    // frame's (the one-point element's error at 40 elements a member).
+    let with = |k: &str| {
+        frame(&[
+            ("end_time = 0.002", "end_time = 0.0002"),
+            (
+                "[ball]",
+                &format!("[[structure.spring]]\nat = 0.25\nstiffness = [0.0, 0.0, 0.0]\nrotational_stiffness = {k}\n[ball]"),
+            ),
+        ])
+    };
+    let report = simulate(&with("[300.0, 0.0, 0.0]").unwrap()).unwrap().report;
+    let (e, g) = (2.1e11, 2.1e11 / 2.6);
+    let (b, t): (f64, f64) = (0.025, 0.005);
+    let ei = e * b * t.powi(3) / 12.0;
+    let gj = g * b * t.powi(3) * (1.0 / 3.0 - 0.21 * (t / b) * (1.0 - (t / b).powi(4) / 12.0));
+    let kga = 5.0 / 6.0 * g * b * t;
+    let (l1, a, kt): (f64, f64, f64) = (0.5, 0.4, 300.0);
+    let twist = a * a * (1.0 / (gj / 0.25 + kt) + 0.25 / gj);
+    let flexibility = l1.powi(3) / (3.0 * ei) + l1 / kga + twist + a.powi(3) / (3.0 * ei) + a / kga;
+    let k = report.static_stiffness.unwrap();
+    assert!((k * flexibility - 1.0).abs() < 5e-4, "{k} vs {}", 1.0 / flexibility);
+    let en = &report.energy;
+    assert!((en.balance_error / en.initial).abs() < 1e-4, "{en:?}");
+    // A negative stiffness is refused, naming the component.
+    let err = Plan::new(&with("[0.0, -1.0, 0.0]").unwrap()).unwrap_err().to_string();
+    assert!(err.contains("structure.spring[0].rotational_stiffness[1]"), "{err}");
+}
+
+#[test]
 fn a_structures_field_runs_along_its_arc_length() {
     // The field of the frame: at its nodes' arc lengths, the displacement along the strike and
     // the rotation about each section's width axis; at the struck node it is the history's

@@ -324,6 +324,11 @@ impl BeamModel {
         Ok(self)
     }
 
+    /// The nodes that carry a rotational spring ([`BeamModel::attach_rotational_spring`]).
+    pub fn rotational_spring_nodes(&self) -> impl Iterator<Item = usize> + '_ {
+        self.rotational_springs.iter().map(|(node, _)| *node)
+    }
+
     /// A node's rotation from its reference frame, psi = log(Lambda_0^T Lambda) (rad, material).
     fn turned(&self, q: &BeamState, node: usize) -> Vector3<f64> {
         (self.mesh.frames[node].inverse() * q.rotations[node]).scaled_axis()

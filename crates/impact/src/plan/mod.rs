@@ -454,7 +454,7 @@ fn beam_method(
             } else {
                 "modes from the beam's finite elements (solver.modal_basis = \"fe\", the default here): it carries point masses or springs, which the uniform beam's analytic modes do not hold; the [structure] it is (one member, a node at each attachment and at the impact point)".into()
             });
-            let (lowered, spec) = structure::lowered(scene, beam, position, pulse)?;
+            let (lowered, spec) = structure::lowered(scene, beam, position, pulse);
             let mut plan = structure::modal_plan(&lowered, &spec, pulse, (reasons, warnings))?;
             plan.damping = damping;
             return Ok(Method::Modal(plan));

@@ -61,7 +61,8 @@ impl StructurePlan {
 impl StructurePlan {
     /// The interior nodes where the stress along the arc length may jump: where segments meet
     /// (a corner turns one member's bending into the next one's torsion; a step changes the
-    /// section) and where a support holds a node between the ends (its reaction moment).
+    /// section) and where a support or a rotational spring holds a node between the ends (its
+    /// reaction moment).
     pub(crate) fn joints(&self) -> Vec<usize> {
         let (scene, _) = &*self.source;
         let segments = scene.structure.as_ref().map_or(&[][..], |st| &st.segments[..]);
@@ -77,6 +78,7 @@ impl StructurePlan {
             .filter(|node| *node < last)
             .collect();
         joints.extend((1..last).filter(|&node| (0..6).any(|k| self.model.dof(node, k).is_none())));
+        joints.extend(self.model.rotational_spring_nodes().filter(|&node| 0 < node && node < last));
         joints.sort_unstable();
         joints.dedup();
         joints
@@ -208,21 +210,13 @@ pub(super) fn modal_plan(
 /// member along x, struck on its thickness face from +z, a node at each attachment and at the
 /// impact point), for the modal method on its finite-element basis. The mesh: elements of at
 /// most an eighth of the bending wavelength at the cutoff (omega t_c = 20) and at most L / 64.
-///
-/// # Errors
-/// `Inconsistent` for a rotational spring (the fe basis' springs are translational: it needs
-/// `solver.method = "fe"`).
+/// A spring's rotational stiffness is about the section's width axis, as the fe method's.
 pub(super) fn lowered(
     scene: &Scene,
     beam: &crate::scene::BeamSpec,
     position: f64,
     pulse: &Pulse,
-) -> Result<(Scene, StructureSpec), ImpactError> {
-    if let Some(k) =
-        beam.springs.iter().position(|s| s.rotational_stiffness.is_some_and(|r| r > 0.0))
-    {
-        return Err(ImpactError::Inconsistent(format!("beam.spring[{k}].rotational_stiffness on a [beam] by the modal method: its modes would come from the beam's finite elements, whose springs are translational only; give solver.method = \"fe\"")));
-    }
+) -> (Scene, StructureSpec) {
     let length = beam.length;
     let area = beam.width * beam.thickness;
     let ei = beam.youngs_modulus * beam.width * beam.thickness.powi(3) / 12.0;
@@ -273,6 +267,8 @@ pub(super) fn lowered(
             .map(|s| crate::scene::StructureSpringSpec {
                 at: s.at,
                 stiffness: [0.0, 0.0, s.stiffness],
+                // Against the bending rotation: about the section's width axis E2.
+                rotational_stiffness: s.rotational_stiffness.map(|r| [0.0, r, 0.0]),
             })
             .collect(),
     };
@@ -282,7 +278,7 @@ pub(super) fn lowered(
     lowered.impact.position = None;
     lowered.impact.at = Some(position);
     lowered.impact.direction = Some([0.0, 0.0, -1.0]);
-    Ok((lowered, spec))
+    (lowered, spec)
 }
 
 /// A structure's modal basis as planned: its 3D beam and strike (the fe method's plan) and
@@ -327,8 +323,9 @@ struct Uncoupled {
 
 /// The unknowns of `st`'s beam that a strike along `-st.up` at `offset` cannot move when
 /// linearised at rest, and why: where every node lies in one plane normal to the strike, the
-/// strike is along a coordinate axis (the springs act along the axes) and every node's and
-/// element end's section has a principal axis along it, the motions in the plane (the two
+/// strike is along a coordinate axis (the springs act along the axes, the rotational ones about
+/// the section's) and every node's and element end's section has a principal axis along it,
+/// the motions in the plane (the two
 /// translations in it, the rotation about its normal) uncouple from those out of it, and only
 /// these are loaded; where, besides, the nodes lie on one line and the strike is on the
 /// centre line, the twist uncouples too (a rectangle's shear centre is its centroid). The
@@ -540,6 +537,16 @@ fn build(
             not_negative(&format!("structure.spring[{k}].stiffness[{i}]"), *v, "N/m")?;
         }
         model = model.attach_spring(n, Vector3::from(sp.stiffness))?;
+        if let Some(rotational) = sp.rotational_stiffness {
+            for (i, v) in rotational.iter().enumerate() {
+                not_negative(
+                    &format!("structure.spring[{k}].rotational_stiffness[{i}]"),
+                    *v,
+                    "N m/rad",
+                )?;
+            }
+            model = model.attach_rotational_spring(n, Vector3::from(rotational))?;
+        }
     }
     if !(spec.masses.is_empty() && spec.springs.is_empty()) {
         reasons.push(format!(
