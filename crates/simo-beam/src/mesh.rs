@@ -46,15 +46,39 @@ impl Mesh {
         section: Section,
         e3_hint: Vector3<f64>,
     ) -> Result<Self, BeamError> {
-        let axis = end - start;
-        positive("beam length", axis.norm())?;
         if elements == 0 {
             return Err(BeamError::Mesh("a beam needs at least one element".into()));
         }
+        let fractions: Vec<f64> = (0..=elements).map(|i| i as f64 / elements as f64).collect();
+        Self::straight_through(start, end, &fractions, section, e3_hint)
+    }
+
+    /// [`Mesh::straight`] with its nodes at `fractions` of the way from `start` to `end`
+    /// (increasing, from 0 to 1: a graded mesh).
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for fewer than two fractions or fractions that do not rise from 0
+    /// to 1, and as [`Mesh::straight`].
+    pub fn straight_through(
+        start: Vector3<f64>,
+        end: Vector3<f64>,
+        fractions: &[f64],
+        section: Section,
+        e3_hint: Vector3<f64>,
+    ) -> Result<Self, BeamError> {
+        let axis = end - start;
+        positive("beam length", axis.norm())?;
+        let rising = fractions.windows(2).all(|w| w[0] < w[1]);
+        if !(fractions.len() >= 2
+            && rising
+            && fractions[0] == 0.0
+            && fractions.last() == Some(&1.0))
+        {
+            return Err(BeamError::Mesh(format!("a straight piece's nodes at fractions of its length need at least two values rising from 0 to 1, not {fractions:?}")));
+        }
         let q = frame(&axis, &e3_hint)?;
-        let positions: Vec<_> =
-            (0..=elements).map(|i| start + axis * (i as f64 / elements as f64)).collect();
-        Ok(Self::from_nodes(positions, vec![q; elements + 1], section))
+        let positions: Vec<_> = fractions.iter().map(|f| start + axis * *f).collect();
+        Ok(Self::from_nodes(positions, vec![q; fractions.len()], section))
     }
 
     /// A circular arc in the plane normal to `normal` (E3 of every section), centred at

@@ -279,6 +279,13 @@ pub struct SegmentSpec {
     /// The segment's own section (a stepped member), in place of the scene's `[section]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub section: Option<SectionSpec>,
+    /// The nodes' places along a straight piece, as fractions of its length (`elements + 1`
+    /// values rising from 0 to 1); equally spaced when `None`. Not read from a scene file: set
+    /// where another description lowers onto this one (an impact scene's `[beam]` on its
+    /// graded mesh).
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub nodes: Option<Vec<f64>>,
 }
 
 /// A support at the node at arc length `at`.
@@ -596,7 +603,20 @@ impl SegmentSpec {
                         "a direction not along the segment",
                     ));
                 }
-                Ok((Mesh::straight(start, end, self.elements, section, hint)?, axis.norm()))
+                let mesh = match &self.nodes {
+                    Some(fractions) if fractions.len() != self.elements + 1 => {
+                        return Err(SceneError::Inconsistent(format!(
+                            "segment[{index}]: {} node places for {} elements",
+                            fractions.len(),
+                            self.elements
+                        )))
+                    }
+                    Some(fractions) => {
+                        Mesh::straight_through(start, end, fractions, section, hint)?
+                    }
+                    None => Mesh::straight(start, end, self.elements, section, hint)?,
+                };
+                Ok((mesh, axis.norm()))
             }
             (None, Some(centre), Some(normal), Some(angle)) => {
                 let centre = vector(&field("centre"), centre)?;
@@ -612,6 +632,11 @@ impl SegmentSpec {
                     return Err(SceneError::Inconsistent(format!(
                         "{}: an arc's thickness direction is its normal",
                         field("thickness_direction")
+                    )));
+                }
+                if self.nodes.is_some() {
+                    return Err(SceneError::Inconsistent(format!(
+                        "segment[{index}]: an arc's nodes are equally spaced"
                     )));
                 }
                 let radial = start - centre;
@@ -711,8 +736,12 @@ pub fn structure(
         };
         let (piece, length) = seg.build(i, previous_end, own)?;
         let s0 = stations.last().copied().unwrap_or(0.0);
-        // Nodes are equally spaced along each piece (in length or in angle).
-        stations.extend((1..=seg.elements).map(|k| s0 + length * k as f64 / seg.elements as f64));
+        // Nodes are equally spaced along each piece (in length or in angle), or where given.
+        match &seg.nodes {
+            Some(fractions) => stations.extend(fractions[1..].iter().map(|f| s0 + length * f)),
+            None => stations
+                .extend((1..=seg.elements).map(|k| s0 + length * k as f64 / seg.elements as f64)),
+        }
         mesh = Some(match mesh {
             None => piece,
             Some(m) => m.join(piece)?,

@@ -340,3 +340,48 @@ fn a_beam_scene_s_modes_are_its_cantilever_s() {
     let e = s.modes_below(-1.0).unwrap_err().to_string();
     assert!(e.contains("omega_max = -1"), "{e}");
 }
+
+#[test]
+fn a_segment_lowered_with_its_nodes_is_meshed_on_them() {
+    // `SegmentSpec::nodes` (set by a lowering, not read from files): a straight piece's nodes
+    // at the fractions given, their arc lengths the fractions times its length; a count that
+    // is not elements + 1, fractions that do not rise from 0 to 1, or nodes on an arc are
+    // refused.
+    use simo_beam::scene::{structure, SectionSpec, SegmentSpec};
+    let section = SectionSpec {
+        youngs_modulus: Some(2.1e11),
+        poisson_ratio: Some(0.3),
+        density: Some(7850.0),
+        width: Some(0.025),
+        thickness: Some(0.005),
+        ..Default::default()
+    };
+    let straight = |nodes: Vec<f64>, elements: usize| SegmentSpec {
+        start: Some([0.0, 0.0, 0.0]),
+        end: Some([2.0, 0.0, 0.0]),
+        centre: None,
+        normal: None,
+        angle_degrees: None,
+        thickness_direction: None,
+        elements,
+        section: None,
+        nodes: Some(nodes),
+    };
+    let (model, stations) =
+        structure(&section, &[straight(vec![0.0, 0.5, 0.75, 1.0], 3)], &[]).unwrap();
+    assert_eq!(stations, vec![0.0, 1.0, 1.5, 2.0]);
+    let x: Vec<f64> = model.mesh().positions.iter().map(|p| p.x).collect();
+    assert_eq!(x, vec![0.0, 1.0, 1.5, 2.0]);
+    for (nodes, elements) in [(vec![0.0, 0.5, 1.0], 3), (vec![0.0, 0.6, 0.5, 1.0], 3)] {
+        assert!(structure(&section, &[straight(nodes, elements)], &[]).is_err());
+    }
+    let arc = SegmentSpec {
+        end: None,
+        centre: Some([0.0, 1.0, 0.0]),
+        normal: Some([0.0, 0.0, 1.0]),
+        angle_degrees: Some(90.0),
+        ..straight(vec![0.0, 0.5, 1.0], 2)
+    };
+    let err = structure(&section, &[arc], &[]).unwrap_err().to_string();
+    assert!(err.contains("segment[0]") && err.contains("equally spaced"), "{err}");
+}

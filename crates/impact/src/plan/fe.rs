@@ -76,8 +76,9 @@ pub struct FePlan {
     /// static twist enters the equivalent static force).
     pub(crate) offset: f64,
     pub(crate) torsion: Option<modal::Torsion>,
-    /// A `[structure]`'s beam and strike (then `analytic` is `None` and `nodes` are the nodes'
-    /// arc lengths).
+    /// The 3D beam and the strike: a `[structure]`'s (then `analytic` is `None` and `nodes` are
+    /// the nodes' arc lengths), or the structure a 3D `[beam]` lowers onto
+    /// ([`super::structure::of_beam`]); `None` for the planar beam.
     pub(crate) structure: Option<Box<super::structure::StructurePlan>>,
 }
 
@@ -173,41 +174,23 @@ impl FePlan {
         Ok(beam)
     }
 
-    /// The 3D beam of the plan: straight along x, width along y, thickness along z, its ends
-    /// held, its masses (with their rotary inertia about the axis) and springs (along z, and
-    /// against the bending rotation about the width axis) attached.
+    /// The 3D beam of the plan: a `[structure]`'s, or the one a 3D `[beam]` is lowered onto
+    /// ([`super::structure::of_beam`]: straight along x, width along y, thickness along z, its
+    /// ends held, its masses and springs attached).
     ///
     /// # Errors
-    /// From `simo_beam` for a section or mesh it refuses (checked before, not expected).
+    /// `Inconsistent` for a plan without a 3D beam (a planar one).
     pub(crate) fn beam3d(&self) -> Result<simo_beam::BeamModel, ImpactError> {
-        use nalgebra::Vector3;
-        if let Some(s) = &self.structure {
-            return Ok(s.model.clone());
+        match &self.structure {
+            Some(s) => Ok(s.model.clone()),
+            None => Err(ImpactError::Inconsistent("a planar fe plan has no 3D beam".into())),
         }
-        let section = simo_beam::Section::rectangle(&self.material, self.width, self.thickness)?;
-        let points: Vec<Vector3<f64>> =
-            self.nodes.iter().map(|x| Vector3::new(*x, 0.0, 0.0)).collect();
-        // Section axes E1 = x, E2 = y (the width), E3 = z (the thickness): the identity.
-        let frames = vec![nalgebra::UnitQuaternion::identity(); points.len()];
-        let mesh = simo_beam::Mesh::from_nodes(points, frames, section);
-        let last = self.nodes.len() - 1;
-        let (first, end) = self.ends;
-        let mut beam = simo_beam::BeamModel::new(mesh)?.support(0, first)?.support(last, end)?;
-        for a in &self.attachments {
-            let node = node_at(&self.nodes, a.at);
-            if a.mass > 0.0 || a.rotary_inertia > 0.0 {
-                beam = beam.attach_mass(node, a.mass, a.rotary_inertia)?;
-            }
-            if a.stiffness > 0.0 {
-                beam = beam.attach_spring(node, Vector3::new(0.0, 0.0, a.stiffness))?;
-            }
-            if a.rotational_stiffness > 0.0 {
-                // Against the bending rotation: about the section's width axis E2.
-                let k = Vector3::new(0.0, a.rotational_stiffness, 0.0);
-                beam = beam.attach_rotational_spring(node, k)?;
-            }
-        }
-        Ok(beam)
+    }
+
+    /// A `[structure]` scene's plan; `None` for a `[beam]` (also when lowered onto a structure
+    /// for its 3D beam: its mesh, static flexibility and ladder stay the beam's).
+    pub(crate) fn scene_structure(&self) -> Option<&super::structure::StructurePlan> {
+        self.structure.as_deref().filter(|_| self.analytic.is_none())
     }
 
     /// Each element's section: E (Pa), G (Pa), width and thickness (m): a structure's own, or
@@ -275,7 +258,7 @@ impl FePlan {
     /// # Errors
     /// From rebuilding a structure (not expected: it was built once).
     pub(crate) fn remeshed(&self, elements: usize) -> Result<FePlan, ImpactError> {
-        if let Some(st) = &self.structure {
+        if let Some(st) = self.scene_structure() {
             let factor = (elements / st.base_elements).max(1);
             let mut refined = st.refined(factor)?;
             refined.free_time_step = self.free_time_step;
@@ -284,7 +267,14 @@ impl FePlan {
         }
         let length = self.nodes.last().copied().unwrap_or(0.0);
         let nodes = with_nodes_at(uniform(length, elements), &self.attachments);
-        Ok(FePlan { nodes, ..self.clone() })
+        let mut remeshed = FePlan { nodes, ..self.clone() };
+        if let Some(st) = &self.structure {
+            // A 3D [beam]: lowered again, onto the new mesh.
+            let (scene, pulse) = st.source();
+            remeshed.structure =
+                Some(Box::new(super::structure::of_beam(&remeshed, scene, pulse)?));
+        }
+        Ok(remeshed)
     }
 }
 
@@ -650,5 +640,52 @@ mod tests {
         let omega = 1.557298 * (ei / rho_a).sqrt() / 1.15f64.powi(2);
         let period = plan.first_period.unwrap();
         assert!((period * omega / (2.0 * std::f64::consts::PI) - 1.0).abs() < 1e-3, "{period}");
+    }
+
+    #[test]
+    fn a_3d_beam_is_the_structure_it_lowers_onto() {
+        // The paper's tip struck 10 mm off the centreline by the fe method (3D), with a sensor
+        // and a rotational spring: its 3D beam is the structure description's (one segment on
+        // the plan's graded nodes, its supports, mass and springs), not a [structure] scene's
+        // (its mesh ladder and analytic static flexibility stay the beam's), and a remeshed plan
+        // is lowered again onto its new nodes. The planar plan has none.
+        let text = std::fs::read_to_string(format!(
+            "{}/../../validation/scenes/paper-tip-offset.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap();
+        let carried = |method: &str| {
+            let text = text.replace(
+                "[ball]",
+                "[[beam.mass]]\nat = 0.9\nmass = 0.02\n[[beam.spring]]\nat = 0.5\nstiffness = 2000.0\nrotational_stiffness = 20.0\n[ball]",
+            );
+            let mut scene = Scene::from_toml(&text).unwrap();
+            scene.solver = crate::scene::SolverSpec::default();
+            scene.solver.method = crate::scene::MethodName::Fe;
+            scene.solver.end_time = Some(1e-4);
+            if method == "planar" {
+                scene.impact.offset = None;
+            }
+            Plan::new(&scene).unwrap()
+        };
+        let plan = carried("3d");
+        let crate::plan::Method::Fe(fe) = &plan.method else { panic!("not fe") };
+        let st = fe.structure.as_deref().unwrap();
+        assert!(fe.scene_structure().is_none() && fe.analytic.is_some());
+        let model = fe.beam3d().unwrap();
+        let x: Vec<f64> = model.mesh().positions.iter().map(|p| p.x).collect();
+        assert_eq!(x.len(), fe.nodes.len());
+        for (a, b) in x.iter().zip(&fe.nodes) {
+            assert!((a - b).abs() <= 4.0 * f64::EPSILON * 1.15, "{a} vs {b}");
+        }
+        assert_eq!(st.sections.len(), fe.elements());
+        assert_eq!(model.rotational_spring_nodes().count(), 1);
+        assert_eq!(fe.stress_breaks(), vec![super::node_at(&fe.nodes, 0.5)]);
+        let coarse = fe.remeshed(64).unwrap();
+        let lowered = coarse.structure.as_deref().unwrap();
+        assert_eq!(lowered.model.mesh().positions.len(), coarse.nodes.len());
+        let planar = carried("planar");
+        let crate::plan::Method::Fe(fe) = &planar.method else { panic!("not fe") };
+        assert!(fe.structure.is_none() && !fe.three_d);
     }
 }

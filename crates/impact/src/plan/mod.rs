@@ -514,6 +514,9 @@ fn beam_method(
         let mut fe =
             fe::plan(beam, s, m, position, damping, attachments, pulse, (reasons, warnings))?;
         fe::model(&mut fe, s.fe_model, offset, torsion, reasons)?;
+        if fe.three_d {
+            fe.structure = Some(Box::new(structure::of_beam(&fe, scene, pulse)?));
+        }
         Ok(Method::Fe(fe))
     } else {
         let (chosen, twin) = theory::choose(s.beam_theory, beam, both, pulse, reasons);

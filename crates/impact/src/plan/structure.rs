@@ -240,6 +240,7 @@ pub(super) fn lowered(
             thickness_direction: None,
             elements: ((w[1] - w[0]) / size).ceil().max(1.0) as usize,
             section: None,
+            nodes: None,
         });
     }
     let [first, last] = beam.support.ends();
@@ -279,6 +280,112 @@ pub(super) fn lowered(
     lowered.impact.at = Some(position);
     lowered.impact.direction = Some([0.0, 0.0, -1.0]);
     (lowered, spec)
+}
+
+/// A `[beam]`'s 3D beam for the fe method, as the `[structure]` it is: one straight member
+/// along x on the fe plan's own nodes (its graded mesh: `SegmentSpec::nodes`), thickness along
+/// z, its ends held as the beam's, its masses and springs (along z and, where given, about the
+/// width axis E2: against the bending rotation), struck on its thickness face from +z at
+/// `fe.position`, `fe.offset` across the width. The same description, parser and model as a
+/// `[structure]`'s ([`model_of`]); the plan's other parts stay the beam's (its analytic static
+/// flexibility, its mesh ladder).
+///
+/// # Errors
+/// From the description (not expected: the beam was checked).
+pub(super) fn of_beam(
+    fe: &FePlan,
+    scene: &Scene,
+    pulse: &Pulse,
+) -> Result<StructurePlan, ImpactError> {
+    let beam = scene.beam.as_ref().ok_or_else(|| {
+        ImpactError::Inconsistent("a [beam]'s structure without its [beam]".into())
+    })?;
+    let length = fe.nodes.last().copied().unwrap_or(0.0);
+    let elements = fe.elements();
+    let segment = simo_beam::scene::SegmentSpec {
+        start: Some([0.0, 0.0, 0.0]),
+        end: Some([length, 0.0, 0.0]),
+        centre: None,
+        normal: None,
+        angle_degrees: None,
+        thickness_direction: None,
+        elements,
+        section: None,
+        nodes: Some(fe.nodes.iter().map(|x| x / length).collect()),
+    };
+    let (first, last) = fe.ends;
+    let supports = [(0.0, first), (length, last)]
+        .into_iter()
+        .filter(|(_, kind)| *kind != Support::Free)
+        .map(|(at, kind)| simo_beam::scene::SupportSpec { at, kind })
+        .collect();
+    // What the fe plan attaches, as the beam's own 3D model did: a mass where it has mass or
+    // rotary inertia, a spring where it has stiffness.
+    let masses = fe
+        .attachments
+        .iter()
+        .filter(|a| a.mass > 0.0 || a.rotary_inertia > 0.0)
+        .map(|a| crate::scene::MassSpec {
+            at: a.at,
+            mass: a.mass,
+            rotary_inertia: Some(a.rotary_inertia),
+        })
+        .collect();
+    let springs = fe
+        .attachments
+        .iter()
+        .filter(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0)
+        .map(|a| crate::scene::StructureSpringSpec {
+            at: a.at,
+            stiffness: [0.0, 0.0, a.stiffness],
+            rotational_stiffness: (a.rotational_stiffness > 0.0).then_some([
+                0.0,
+                a.rotational_stiffness,
+                0.0,
+            ]),
+        })
+        .collect();
+    let spec = StructureSpec {
+        section: simo_beam::scene::SectionSpec {
+            youngs_modulus: Some(beam.youngs_modulus),
+            poisson_ratio: Some(beam.poisson_ratio),
+            density: Some(beam.density),
+            width: Some(beam.width),
+            thickness: Some(beam.thickness),
+            ..Default::default()
+        },
+        segments: vec![segment],
+        supports,
+        yield_stress: beam.yield_stress,
+        masses,
+        springs,
+    };
+    let (model, _) = model_of(&spec)?;
+    let m = &fe.material;
+    let half_depth = 0.5 * fe.thickness;
+    let clamped = [first, last].contains(&Support::Clamped);
+    let rigid_modes = if clamped { 0 } else { simo_beam::rigid_body_modes(&model)? };
+    let mut source = scene.clone();
+    source.structure = Some(spec);
+    Ok(StructurePlan {
+        model,
+        ball_start: Vector3::new(fe.position, fe.offset, half_depth + scene.ball.radius),
+        up: Vector3::z(),
+        face: Face::Thickness,
+        half_depth,
+        sections: vec![[m.youngs_modulus, m.shear_modulus, fe.width, fe.thickness]; elements],
+        rigid_modes,
+        source: Box::new((source, *pulse)),
+        base_elements: elements,
+    })
+}
+
+impl StructurePlan {
+    /// The scene and pulse the plan was made from.
+    pub(super) fn source(&self) -> (&Scene, &Pulse) {
+        let (scene, pulse) = &*self.source;
+        (scene, pulse)
+    }
 }
 
 /// A structure's modal basis as planned: its 3D beam and strike (the fe method's plan) and
@@ -500,23 +607,12 @@ impl FeBasis {
     }
 }
 
-/// The 3D beam of `spec` and the strike on it, as `scene.impact` says (the steps are the
-/// caller's).
-fn build(
-    scene: &Scene,
-    spec: &StructureSpec,
-    pulse: &Pulse,
-    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
-) -> Result<FePlan, ImpactError> {
-    let s = &scene.solver;
-    let impact = &scene.impact;
-    if impact.position.is_some() {
-        return Err(ImpactError::Inconsistent("impact.position belongs to a [beam]; a [structure] takes impact.at (the arc length along its segments, m) and impact.direction (the ball's velocity)".into()));
-    }
+/// The 3D beam of `spec` (its segments, supports, masses and springs) and its nodes' arc
+/// lengths (m): what a `[structure]` and a `[beam]` lowered onto one share.
+fn model_of(spec: &StructureSpec) -> Result<(BeamModel, Vec<f64>), ImpactError> {
     let (mut model, stations) =
         simo_beam::scene::structure(&spec.section, &spec.segments, &spec.supports)
             .map_err(prefixed)?;
-    let total = stations.last().copied().unwrap_or(0.0);
     // A mass or a spring sits on a node: the node at its arc length, or refused naming the
     // nearest.
     let node =
@@ -548,6 +644,24 @@ fn build(
             model = model.attach_rotational_spring(n, Vector3::from(rotational))?;
         }
     }
+    Ok((model, stations))
+}
+
+/// The 3D beam of `spec` and the strike on it, as `scene.impact` says (the steps are the
+/// caller's).
+fn build(
+    scene: &Scene,
+    spec: &StructureSpec,
+    pulse: &Pulse,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) -> Result<FePlan, ImpactError> {
+    let s = &scene.solver;
+    let impact = &scene.impact;
+    if impact.position.is_some() {
+        return Err(ImpactError::Inconsistent("impact.position belongs to a [beam]; a [structure] takes impact.at (the arc length along its segments, m) and impact.direction (the ball's velocity)".into()));
+    }
+    let (model, stations) = model_of(spec)?;
+    let total = stations.last().copied().unwrap_or(0.0);
     if !(spec.masses.is_empty() && spec.springs.is_empty()) {
         reasons.push(format!(
             "{} point mass(es) and {} spring(s) at their nodes",

@@ -28,7 +28,7 @@ use crate::plan::{FePlan, Plan};
 use faer::Col;
 use hertz::ContactLaw;
 use hht::{Integrator, NewtonOptions, Scheme, State};
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector2;
 use simo_beam::PlanarState;
 
 /// Local position error of the ball allowed per contact step, as a fraction of the largest
@@ -62,6 +62,7 @@ impl WithLaw for FeRun<'_> {
     fn apply<L: ContactLaw>(self, law: &L) -> Self::Output {
         let (plan, target) = (self.plan, self.target);
         let (half, radius) = (0.5 * target.thickness, plan.ball_radius);
+        // The 3D beam, a [structure]'s or a [beam]'s lowered onto one; else the planar beam.
         if let Some(st) = &target.structure {
             let model = BallOnBeam3d::striking(
                 target.beam3d()?,
@@ -72,19 +73,6 @@ impl WithLaw for FeRun<'_> {
             );
             let q =
                 BallOnBeam3dConfig { beam: model.beam().reference_state(), ball: st.ball_start };
-            Run::new(plan, target, model, q, self.progress)?.run()
-        } else if target.three_d {
-            let model = BallOnBeam3d::new(
-                target.beam3d()?,
-                (plan.ball_mass, plan.gravity, radius),
-                target.offset,
-                half,
-                law,
-            );
-            let q = BallOnBeam3dConfig {
-                beam: model.beam().reference_state(),
-                ball: Vector3::new(target.position, target.offset, half + radius),
-            };
             Run::new(plan, target, model, q, self.progress)?.run()
         } else {
             let model =
@@ -581,7 +569,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             .attachments
             .iter()
             .any(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0);
-        let flexibility = if let Some(st) = &self.target.structure {
+        let flexibility = if let Some(st) = self.target.scene_structure() {
             // A free body or a mechanism has no static stiffness (see `StructurePlan`).
             (st.rigid_modes == 0)
                 .then(|| self.model.static_flexibility(self.impact_element))

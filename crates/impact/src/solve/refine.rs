@@ -48,7 +48,7 @@ pub(super) fn run_fe(
 ) -> Result<Outcome, ImpactError> {
     // A beam's ladder starts at FE_LADDER_START equal elements (its plan's mesh, less the
     // nodes of its attachments), a structure's at its segments' own elements.
-    let start = target.structure.as_ref().map_or(FE_LADDER_START, |s| s.base_elements);
+    let start = target.scene_structure().map_or(FE_LADDER_START, |s| s.base_elements);
     let ladder = Ladder { start, end: FE_LADDER_END, unit: "elements", share: 1.0 / 3.0 };
     let uniform_mesh = |elements| target.remeshed(elements);
     let (space, elements) = ladder.climb(tolerance, |elements| {
