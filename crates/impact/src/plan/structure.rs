@@ -243,13 +243,30 @@ pub(super) fn lowered(
             nodes: None,
         });
     }
+    let spec = beam_as_structure(beam, segments);
+    let mut lowered = scene.clone();
+    lowered.beam = None;
+    lowered.structure = Some(spec.clone());
+    lowered.impact.position = None;
+    lowered.impact.at = Some(position);
+    lowered.impact.direction = Some([0.0, 0.0, -1.0]);
+    (lowered, spec)
+}
+
+/// A `[beam]` written as the `[structure]` it is, on `segments` (along x from 0 to its length,
+/// thickness along z): its section, its ends' supports, its masses, and its springs along z
+/// and, where given, about the section's width axis E2 (against the bending rotation).
+fn beam_as_structure(
+    beam: &crate::scene::BeamSpec,
+    segments: Vec<simo_beam::scene::SegmentSpec>,
+) -> StructureSpec {
     let [first, last] = beam.support.ends();
-    let supports = [(0.0, first), (length, last)]
+    let supports = [(0.0, first), (beam.length, last)]
         .into_iter()
         .filter(|(_, kind)| *kind != Support::Free)
         .map(|(at, kind)| simo_beam::scene::SupportSpec { at, kind })
         .collect();
-    let spec = StructureSpec {
+    StructureSpec {
         section: simo_beam::scene::SectionSpec {
             youngs_modulus: Some(beam.youngs_modulus),
             poisson_ratio: Some(beam.poisson_ratio),
@@ -268,25 +285,18 @@ pub(super) fn lowered(
             .map(|s| crate::scene::StructureSpringSpec {
                 at: s.at,
                 stiffness: [0.0, 0.0, s.stiffness],
-                // Against the bending rotation: about the section's width axis E2.
-                rotational_stiffness: s.rotational_stiffness.map(|r| [0.0, r, 0.0]),
+                rotational_stiffness: s
+                    .rotational_stiffness
+                    .filter(|r| *r > 0.0)
+                    .map(|r| [0.0, r, 0.0]),
             })
             .collect(),
-    };
-    let mut lowered = scene.clone();
-    lowered.beam = None;
-    lowered.structure = Some(spec.clone());
-    lowered.impact.position = None;
-    lowered.impact.at = Some(position);
-    lowered.impact.direction = Some([0.0, 0.0, -1.0]);
-    (lowered, spec)
+    }
 }
 
-/// A `[beam]`'s 3D beam for the fe method, as the `[structure]` it is: one straight member
-/// along x on the fe plan's own nodes (its graded mesh: `SegmentSpec::nodes`), thickness along
-/// z, its ends held as the beam's, its masses and springs (along z and, where given, about the
-/// width axis E2: against the bending rotation), struck on its thickness face from +z at
-/// `fe.position`, `fe.offset` across the width. The same description, parser and model as a
+/// A `[beam]`'s 3D beam for the fe method, as the `[structure]` it is ([`beam_as_structure`]):
+/// one straight member on the fe plan's own nodes (its graded mesh: `SegmentSpec::nodes`),
+/// struck on its thickness face from +z at `fe.position`, `fe.offset` across the width. The same description, parser and model as a
 /// `[structure]`'s ([`model_of`]); the plan's other parts stay the beam's (its analytic static
 /// flexibility, its mesh ladder).
 ///
@@ -313,57 +323,11 @@ pub(super) fn of_beam(
         section: None,
         nodes: Some(fe.nodes.iter().map(|x| x / length).collect()),
     };
-    let (first, last) = fe.ends;
-    let supports = [(0.0, first), (length, last)]
-        .into_iter()
-        .filter(|(_, kind)| *kind != Support::Free)
-        .map(|(at, kind)| simo_beam::scene::SupportSpec { at, kind })
-        .collect();
-    // What the fe plan attaches, as the beam's own 3D model did: a mass where it has mass or
-    // rotary inertia, a spring where it has stiffness.
-    let masses = fe
-        .attachments
-        .iter()
-        .filter(|a| a.mass > 0.0 || a.rotary_inertia > 0.0)
-        .map(|a| crate::scene::MassSpec {
-            at: a.at,
-            mass: a.mass,
-            rotary_inertia: Some(a.rotary_inertia),
-        })
-        .collect();
-    let springs = fe
-        .attachments
-        .iter()
-        .filter(|a| a.stiffness > 0.0 || a.rotational_stiffness > 0.0)
-        .map(|a| crate::scene::StructureSpringSpec {
-            at: a.at,
-            stiffness: [0.0, 0.0, a.stiffness],
-            rotational_stiffness: (a.rotational_stiffness > 0.0).then_some([
-                0.0,
-                a.rotational_stiffness,
-                0.0,
-            ]),
-        })
-        .collect();
-    let spec = StructureSpec {
-        section: simo_beam::scene::SectionSpec {
-            youngs_modulus: Some(beam.youngs_modulus),
-            poisson_ratio: Some(beam.poisson_ratio),
-            density: Some(beam.density),
-            width: Some(beam.width),
-            thickness: Some(beam.thickness),
-            ..Default::default()
-        },
-        segments: vec![segment],
-        supports,
-        yield_stress: beam.yield_stress,
-        masses,
-        springs,
-    };
+    let spec = beam_as_structure(beam, vec![segment]);
     let (model, _) = model_of(&spec)?;
     let m = &fe.material;
     let half_depth = 0.5 * fe.thickness;
-    let clamped = [first, last].contains(&Support::Clamped);
+    let clamped = [fe.ends.0, fe.ends.1].contains(&Support::Clamped);
     let rigid_modes = if clamped { 0 } else { simo_beam::rigid_body_modes(&model)? };
     let mut source = scene.clone();
     source.structure = Some(spec);
