@@ -725,6 +725,10 @@ mod tests {
         let mut seed = 3;
         for (n, kd, k, weak) in [
             (1, 0, 0, false),
+            // The planar beam's path two rows ahead on fewer rows than its half-bandwidth.
+            (1, 5, 0, false),
+            (3, 5, 1, false),
+            (6, 5, 2, false),
             (12, 2, 0, false),
             (40, 5, 2, false),
             (41, 5, 2, false),
