@@ -511,6 +511,23 @@ impl BeamModel {
         });
     }
 
+    /// [`hht::Model::net_force`] that also writes every element's strains at `q` into
+    /// `strains` (Gamma1, Gamma2, Gamma3, K1, K2, K3: an array each, an entry an element,
+    /// resized to the elements), from the same pass: a step's last force evaluation then
+    /// gives its state's strains without a second pass over the elements' rotations.
+    pub fn net_force_and_strains(
+        &self,
+        t: f64,
+        q: &BeamState,
+        out: ColMut<'_, f64>,
+        strains: &mut [Vec<f64>; 6],
+    ) {
+        for s in strains.iter_mut() {
+            s.resize(self.mesh.elements.len(), 0.0);
+        }
+        write_to(out, |out| self.net_force_into(t, q, out, Some(strains)));
+    }
+
     /// Strain energy (J).
     pub fn strain_energy(&self, q: &BeamState) -> f64 {
         self.mesh
@@ -547,11 +564,11 @@ impl BeamModel {
     /// Internal forces at `q` as a full vector over free unknowns (N, N m).
     pub fn internal_force(&self, q: &BeamState) -> Col<f64> {
         let mut out = Col::zeros(self.ndof);
-        write_to(out.as_mut(), |out| self.add_internal(q, out));
+        write_to(out.as_mut(), |out| self.add_internal(q, out, None));
         out
     }
 
-    fn add_internal(&self, q: &BeamState, out: &mut [f64]) {
+    fn add_internal(&self, q: &BeamState, out: &mut [f64], strains: Option<&mut [Vec<f64>; 6]>) {
         hht::fast::run(BlockForces {
             elements: &self.mesh.elements,
             table: &self.table,
@@ -560,6 +577,7 @@ impl BeamModel {
             dofs: &self.dofs,
             rows: &self.rows,
             out,
+            strains,
         });
     }
 
@@ -647,9 +665,15 @@ impl BeamModel {
         }
     }
 
-    fn net_force_into(&self, t: f64, q: &BeamState, out: &mut [f64]) {
+    fn net_force_into(
+        &self,
+        t: f64,
+        q: &BeamState,
+        out: &mut [f64],
+        strains: Option<&mut [Vec<f64>; 6]>,
+    ) {
         out.fill(0.0);
-        self.add_internal(q, out);
+        self.add_internal(q, out, strains);
         for (node, k) in &self.springs {
             let u = q.positions[*node] - self.mesh.positions[*node];
             self.add_node_vector(out, *node, 0, &k.component_mul(&u));
@@ -765,7 +789,7 @@ impl hht::Model for BeamModel {
     }
 
     fn net_force(&self, t: f64, q: &BeamState, _v: ColRef<'_, f64>, out: ColMut<'_, f64>) {
-        write_to(out, |out| self.net_force_into(t, q, out));
+        write_to(out, |out| self.net_force_into(t, q, out, None));
     }
 
     fn tangent(

@@ -34,6 +34,7 @@ use hht::{Band, Model, NewtonWeights, Triplets};
 use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
 use num_dual::{Dual2SVec64, Dual64};
 use simo_beam::{BeamModel, BeamState};
+use std::cell::RefCell;
 
 use super::ball_on_beam::{ContactPoint, Order, STICKY_REACH};
 
@@ -105,6 +106,17 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     local_dofs: Vec<[Option<usize>; LOCAL]>,
     /// The contact element of the last accepted step (as the planar model's).
     sticky_element: Option<usize>,
+    /// The beam's configuration at the last net force and its elements' strains there, from
+    /// the same pass (see [`BallOnBeam3d::strains_at`]).
+    last_strains: RefCell<StrainsAt>,
+}
+
+/// Every element's strains (Gamma1..3, K1..3, an array each) at a beam configuration.
+#[derive(Default)]
+struct StrainsAt {
+    positions: Vec<Vector3<f64>>,
+    rotations: Vec<UnitQuaternion<f64>>,
+    strains: [Vec<f64>; 6],
 }
 
 /// The node's position and rotation matrix.
@@ -298,7 +310,25 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
             law_state: L::State::default(),
             local_dofs,
             sticky_element: None,
+            last_strains: RefCell::default(),
         }
+    }
+
+    /// Every element's strains (Gamma1..3, K1..3) at `beam` if the last net force was evaluated
+    /// there (the same positions and rotations, to the bit), as [`Struck::section_strains`]
+    /// hands them on.
+    pub(crate) fn strains_at(&self, beam: &BeamState, each: impl FnMut(usize, [f64; 6])) -> bool {
+        let last = self.last_strains.borrow();
+        if !(last.positions == beam.positions && last.rotations == beam.rotations) {
+            return false;
+        }
+        let [g0, g1, g2, k0, k1, k2] = &last.strains;
+        let mut each = each;
+        for (e, s) in g0.iter().zip(g1).zip(g2).zip(k0).zip(k1).zip(k2).enumerate() {
+            let (((((g0, g1), g2), k0), k1), k2) = s;
+            each(e, [*g0, *g1, *g2, *k0, *k1, *k2]);
+        }
+        !g0.is_empty()
     }
 
     /// The beam model.
@@ -496,7 +526,14 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
         mut out: ColMut<'_, f64>,
     ) {
         let nb = self.nb;
-        self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
+        // The pass's strains kept with the configuration they are of: an accepted state is its
+        // step's last iterate, whose strains then need no pass of their own.
+        let mut last = self.last_strains.borrow_mut();
+        let StrainsAt { positions, rotations, strains } = &mut *last;
+        self.beam.net_force_and_strains(t, &q.beam, out.as_mut().subrows_mut(0, nb), strains);
+        positions.clone_from(&q.beam.positions);
+        rotations.clone_from(&q.beam.rotations);
+        drop(last);
         // Gravity pulls the ball along -up: net force = -(external) = +m g up.
         for k in 0..3 {
             out[nb + k] = self.mass * self.gravity * self.up[k];
@@ -594,6 +631,60 @@ mod tests {
             (twist_rank(&frame, &turned) - pseudo_angle((0.4_f64.cos(), 0.4_f64.sin()))).abs()
                 < 1e-15
         );
+    }
+
+    #[test]
+    fn an_accepted_state_s_strains_are_its_last_force_pass_s_or_their_own() {
+        // The strains handed on for the configuration of the last net force come from that
+        // pass; for any other they are computed: both the same as a pass of the strains alone,
+        // to the bit, on a bent and twisted strip.
+        #![allow(clippy::unwrap_used)]
+        use crate::solve::struck::Struck;
+        let steel = simo_beam::Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let section = simo_beam::Section::rectangle(&steel, 0.025, 0.005).unwrap();
+        let mesh = simo_beam::Mesh::straight(
+            Vector3::zeros(),
+            Vector3::new(1.0, 0.0, 0.0),
+            6,
+            section,
+            Vector3::z(),
+        )
+        .unwrap();
+        let beam = BeamModel::new(mesh).unwrap().support(0, simo_beam::Support::Clamped).unwrap();
+        let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
+        let model = BallOnBeam3d::new(beam, (0.01, 0.0, 0.005), 0.0, 0.0025, &law);
+        let state = |k: f64| {
+            let mut beam = model.beam().reference_state();
+            for (i, (x, r)) in beam.positions.iter_mut().zip(&mut beam.rotations).enumerate() {
+                let s = i as f64 / 6.0;
+                x.z += 1e-3 * k * s * s;
+                *r = UnitQuaternion::from_scaled_axis(Vector3::new(
+                    2e-3 * k * s,
+                    -2e-3 * k * s,
+                    0.0,
+                ));
+            }
+            BallOnBeam3dConfig { beam, ball: Vector3::new(1.0, 0.0, 0.01) }
+        };
+        let alone = |q: &BallOnBeam3dConfig| {
+            let mut out = vec![(0.0, 0.0, 0.0); 6];
+            let mut plane = vec![(0.0, 0.0, 0.0); 6];
+            model.beam().each_strain(&q.beam, |e, s| {
+                out[e] = (s.gamma[0], s.gamma[2], -s.kappa[1]);
+                plane[e] = (s.kappa[2], s.kappa[0], s.gamma[1]);
+            });
+            (out, plane)
+        };
+        let (a, b) = (state(1.0), state(2.0));
+        let n = hht::Model::ndof(&model);
+        let mut force = faer::Col::<f64>::zeros(n);
+        hht::Model::net_force(&model, 0.0, &a, faer::Col::zeros(n).as_ref(), force.as_mut());
+        for q in [&a, &b] {
+            let (mut out, mut plane) = (vec![(9.0, 9.0, 9.0); 6], vec![(9.0, 9.0, 9.0); 6]);
+            model.section_strains(q, &mut out, &mut plane);
+            assert_eq!((out, plane), alone(q));
+        }
+        assert!(model.strains_at(&a.beam, |_, _| {}) && !model.strains_at(&b.beam, |_, _| {}));
     }
 
     #[test]

@@ -300,10 +300,17 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         out: &mut [(f64, f64, f64)],
         out_of_plane: &mut [OutOfPlane],
     ) {
-        self.beam().each_strain(&q.beam, |e, s| {
-            out[e] = (s.gamma[0], s.gamma[2], -s.kappa[1]);
-            out_of_plane[e] = (s.kappa[2], s.kappa[0], s.gamma[1]);
+        // An accepted state is its step's last iterate, whose net force wrote its strains.
+        let taken = self.strains_at(&q.beam, |e, [g0, g1, g2, k0, k1, k2]| {
+            out[e] = (g0, g2, -k1);
+            out_of_plane[e] = (k2, k0, g1);
         });
+        if !taken {
+            self.beam().each_strain(&q.beam, |e, s| {
+                out[e] = (s.gamma[0], s.gamma[2], -s.kappa[1]);
+                out_of_plane[e] = (s.kappa[2], s.kappa[0], s.gamma[1]);
+            });
+        }
     }
     /// The elements' strain energy from the strains `section_strains` gave (not a second pass
     /// over the elements' rotations), plus the springs' and the kinetic energy.
