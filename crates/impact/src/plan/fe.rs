@@ -70,8 +70,6 @@ pub struct FePlan {
     pub(crate) tolerance: Option<f64>,
     /// Point masses and elastic supports, each at a node of the mesh.
     pub(crate) attachments: Vec<Attachment>,
-    /// Whether the beam is the 3D one (`solver.fe_model`, or an off-centre strike).
-    pub(crate) three_d: bool,
     /// The strike's offset across the width (m), and the beam in torsion when it is not 0 (its
     /// static twist enters the equivalent static force).
     pub(crate) offset: f64,
@@ -185,6 +183,12 @@ impl FePlan {
             Some(s) => Ok(s.model.clone()),
             None => Err(ImpactError::Inconsistent("a planar fe plan has no 3D beam".into())),
         }
+    }
+
+    /// Whether the beam is the 3D one (a `[structure]`, or a `[beam]` by `solver.fe_model` or
+    /// an off-centre strike): the one with a structure.
+    pub(crate) fn three_d(&self) -> bool {
+        self.structure.is_some()
     }
 
     /// A `[structure]` scene's plan; `None` for a `[beam]` (also when lowered onto a structure
@@ -387,7 +391,6 @@ pub(super) fn plan(
         approach_scale: pulse.max_approach,
         tolerance: s.tolerance,
         attachments,
-        three_d: false,
         offset: 0.0,
         torsion: None,
         structure: None,
@@ -395,14 +398,14 @@ pub(super) fn plan(
 }
 
 /// The beam model of an fe plan: planar unless asked (`solver.fe_model`) or the strike is off
-/// the centreline (a planar beam cannot twist), with the reason.
+/// the centreline (a planar beam cannot twist), with the reason; whether it is the 3D one.
 pub(super) fn model(
     fe: &mut FePlan,
     asked: Option<FeModelName>,
     offset: f64,
     torsion: Option<modal::Torsion>,
     reasons: &mut Vec<String>,
-) -> Result<(), ImpactError> {
+) -> Result<bool, ImpactError> {
     let three_d = match asked {
         Some(FeModelName::Planar) if offset != 0.0 => {
             return Err(ImpactError::Inconsistent(format!(
@@ -422,10 +425,9 @@ pub(super) fn model(
         });
         reasons.push("3D: the bending stress is the struck face's worst corner's (the extension and the bending about both axes) and torsion_shear the Saint-Venant shear stress k G t theta', each at the elements' midpoints and every accepted step; the twist (the struck section's and the largest anywhere) at every accepted step".into());
     }
-    fe.three_d = three_d;
     fe.offset = offset;
     fe.torsion = torsion;
-    Ok(())
+    Ok(three_d)
 }
 
 /// The node positions (m): `solver.elements` equal elements, or a mesh graded from the impact
@@ -686,6 +688,6 @@ mod tests {
         assert_eq!(lowered.model.mesh().positions.len(), coarse.nodes.len());
         let planar = carried("planar");
         let crate::plan::Method::Fe(fe) = &planar.method else { panic!("not fe") };
-        assert!(fe.structure.is_none() && !fe.three_d);
+        assert!(fe.structure.is_none() && !fe.three_d());
     }
 }

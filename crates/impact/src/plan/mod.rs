@@ -513,8 +513,7 @@ fn beam_method(
     if use_fe {
         let mut fe =
             fe::plan(beam, s, m, position, damping, attachments, pulse, (reasons, warnings))?;
-        fe::model(&mut fe, s.fe_model, offset, torsion, reasons)?;
-        if fe.three_d {
+        if fe::model(&mut fe, s.fe_model, offset, torsion, reasons)? {
             fe.structure = Some(Box::new(structure::of_beam(&fe, scene, pulse)?));
         }
         Ok(Method::Fe(fe))

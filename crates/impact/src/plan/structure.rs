@@ -766,7 +766,6 @@ fn build(
         approach_scale: pulse.max_approach,
         tolerance: None,
         attachments: Vec::new(),
-        three_d: true,
         offset,
         torsion: None,
         structure: Some(Box::new(StructurePlan {

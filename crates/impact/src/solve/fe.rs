@@ -163,7 +163,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
         let mut out_of_plane = vec![(0.0, 0.0, 0.0); target.elements()];
         model.section_strains(&q, &mut strains, &mut out_of_plane);
-        let lateral = if target.three_d { vec![0.0; target.elements()] } else { Vec::new() };
+        let lateral = if target.three_d() { vec![0.0; target.elements()] } else { Vec::new() };
         stress.observe_strains(0.0, &strains, &lateral);
         let (lateral_per_curvature, shear_per_rate) = out_of_plane_factors(&sections);
         let scheme = Scheme::hht(target.alpha)
@@ -312,7 +312,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         self.integrator.recycle(old);
         self.model.section_strains(&self.state.q, &mut self.strains, &mut self.out_of_plane);
         self.steps += 1;
-        if self.target.three_d {
+        if self.target.three_d() {
             let per = self.lateral_per_curvature.iter();
             for ((l, (lateral, _, _)), c) in
                 self.lateral.iter_mut().zip(&self.out_of_plane).zip(per)
@@ -600,7 +600,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
                 energy,
                 wall_time,
                 bending_stress,
-                twist: self.target.three_d.then_some(self.max_twist),
+                twist: self.target.three_d().then_some(self.max_twist),
                 largest_twist: self.largest_twist.map(|(max, node, time)| Twist {
                     max,
                     position: self.target.nodes[node],
