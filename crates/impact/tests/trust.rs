@@ -52,8 +52,12 @@ fn assert_same(a: &(f64, f64, f64, Vec<f64>), b: &(f64, f64, f64, Vec<f64>), wha
     let rel = |x: f64, y: f64| (x - y).abs() / y.abs().max(f64::MIN_POSITIVE);
     assert!(rel(a.0, b.0) < 1e-9, "{what}: displacement {} vs {}", a.0, b.0);
     assert!(rel(a.2, b.2) < 1e-9, "{what}: stress {} vs {}", a.2, b.2);
+    // A support's stress below 1e-4 of the largest (a pinned end's, round-off) is certified
+    // only to that (what the largest itself is certified to): any two values below it agree.
+    let floor = 1e-4 * b.2.abs();
     for (x, y) in a.3.iter().zip(&b.3) {
-        assert!(rel(*x, *y) < 1e-9, "{what}: support {x} vs {y}");
+        let below = x.abs() <= floor && y.abs() <= floor;
+        assert!(below || rel(*x, *y) < 1e-9, "{what}: support {x} vs {y}");
     }
 }
 
@@ -235,4 +239,30 @@ fn a_search_past_its_budget_stops_and_says_how_certain_its_maxima_are() {
     let w = r.warnings.join("\n");
     assert!(w.contains("the largest stress is certain only to"), "{w}");
     assert!(r.bending_stress.unwrap().max.is_finite());
+}
+
+#[test]
+fn a_support_stress_far_below_the_largest_is_certified_to_what_the_largest_is() {
+    // The paper's tip with 256 modes over its first contact (60 us): no bending or shear wave
+    // reaches the clamp in that time (the shear wave, sqrt(kappa G / rho) = 3.0 km/s, needs
+    // 0.38 ms for 1.15 m), so the clamp's stress is the truncated series' noise, about 130 Pa
+    // against the largest 55 MPa. Certifying it to 1e-10 of itself took 9400 splits of its
+    // search, 4/5 of the run's time; it is now certified to 1e-4 of the largest stress (what
+    // that one is certified to), and the report's note counts its gap as a share of that.
+    let text = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/paper-tip.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("modes = 128", "modes = 256")
+    .replace("end_time = 0.005", "end_time = 6e-5");
+    let r = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let b = r.bending_stress.as_ref().unwrap();
+    let clamp = b.supports[0].max;
+    assert!(clamp > 0.0 && clamp < 1e-4 * b.max, "clamp {clamp} Pa, largest {} Pa", b.max);
+    let note = r.plan.reasons.iter().find(|s| s.contains("each within")).unwrap();
+    let gap: f64 =
+        note.split("each within ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(gap <= 1e-4, "{note}");
+    assert!(!r.warnings.iter().any(|w| w.contains("certain only")), "{:?}", r.warnings);
 }

@@ -457,6 +457,19 @@ impl OneStep {
         }
         (w, energy)
     }
+
+    /// [`OneStep::advance`] without the sums: the same state, to the bit, for a caller that
+    /// replays steps and reads neither the displacement nor the energy (the sums' chains of
+    /// additions set the loop's time).
+    pub fn advance_state(&self, modes: &PointModes, state: &mut ModalState, f0: f64, f1: f64) {
+        let n = self.modes.len();
+        let (gain, q, v) = (&modes.gain[..n], &mut state.q[..n], &mut state.v[..n]);
+        for (i, s) in self.modes.iter().enumerate() {
+            let (q0, v0) = (q[i], v[i]);
+            q[i] = s.e[0] * q0 + s.e[1] * v0 + gain[i] * (s.g0[0] * f0 + s.g1[0] * f1);
+            v[i] = s.e[2] * q0 + s.e[3] * v0 + gain[i] * (s.g0[1] * f0 + s.g1[1] * f1);
+        }
+    }
 }
 
 /// The step's update of every mode, with the sums of the displacement at the point, the

@@ -506,8 +506,11 @@ pub(crate) enum Field<'a> {
     /// blocks' value 0), at x.
     Signed(&'a Row, f64),
     /// The largest magnitude of one point's field (support `k`'s stress, the blocks' value
-    /// 1 + k), at x.
-    Magnitude(&'a Row, f64, usize),
+    /// 1 + k), at x, certified to [`POINT_TOLERANCE`] of itself or to below a floor, whichever
+    /// is larger: a value below the floor need not be told apart from the floor (a support's
+    /// stress: [`PEAK_TOLERANCE`] of the largest stress over the beam, what that one is
+    /// certified to; 0 for none).
+    Magnitude(&'a Row, f64, usize, f64),
     /// The largest stress magnitude over the beam.
     Stress(&'a StressField<'a>),
 }
@@ -591,7 +594,7 @@ impl Stepper {
             if step.step_size().to_bits() != tau.to_bits() && modes.one_step(tau, step).is_err() {
                 return;
             }
-            step.advance(modes, state, f0, f1);
+            step.advance_state(modes, state, f0, f1);
         }
     }
 }
@@ -670,7 +673,7 @@ pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, b
     let slot = match field {
         Field::Stress(_) => 0,
         Field::Signed(..) => 1,
-        Field::Magnitude(_, _, k) => 2 + k,
+        Field::Magnitude(_, _, k, _) => 2 + k,
     };
     let mut s = Search {
         data,
@@ -707,7 +710,15 @@ impl Search<'_> {
             Field::Stress(_) => PEAK_TOLERANCE,
             _ => POINT_TOLERANCE,
         };
-        b + tolerance * b.abs().max(f64::MIN_POSITIVE)
+        (b + tolerance * b.abs().max(f64::MIN_POSITIVE)).max(self.floor())
+    }
+
+    /// The floor a search need not tell values below apart from (see [`Field::Magnitude`]).
+    fn floor(&self) -> f64 {
+        match self.field {
+            Field::Magnitude(.., floor) => *floor,
+            _ => 0.0,
+        }
     }
 
     fn offer(&mut self, value: f64, x: f64, t: f64) {
@@ -719,7 +730,7 @@ impl Search<'_> {
     fn run(&mut self) -> Peak {
         let mut heap = BinaryHeap::new();
         match self.field {
-            Field::Signed(row, x) | Field::Magnitude(row, x, _) => {
+            Field::Signed(row, x) | Field::Magnitude(row, x, ..) => {
                 self.rows.push((*row).clone());
                 self.xs.push(*x);
                 let value = self.slot - 1;
@@ -798,7 +809,10 @@ impl Search<'_> {
             }
         }
         let reached = self.measure(self.best.value);
-        self.best.bound = reached.max(left).max(self.stuck);
+        // Cells below the floor were dropped unsearched: the floor is then what is certain.
+        let floor = self.floor();
+        let dropped = if self.target() <= floor { floor } else { f64::NEG_INFINITY };
+        self.best.bound = reached.max(left).max(self.stuck).max(dropped);
         self.best
     }
 
@@ -840,7 +854,7 @@ impl Search<'_> {
         let inside = b.ends[first..last.max(first)].iter().map(|e| e.1);
         let rise = inside.fold(f64::NEG_INFINITY, f64::max) - na.force.min(nb.force);
         let force_term = match self.field {
-            Field::Signed(row, _) | Field::Magnitude(row, _, _) => row.p.abs(),
+            Field::Signed(row, _) | Field::Magnitude(row, ..) => row.p.abs(),
             Field::Stress(f) => f.correction,
         };
         let rise = if rise > 0.0 { force_term * rise } else { 0.0 };
@@ -881,6 +895,25 @@ impl Search<'_> {
         (b.nodes.len() - 1) as u32
     }
 
+    /// Where a cell of `block` between ta and tb is split in time: at the end of one of the
+    /// force's pieces in its middle half, the one nearest its middle, else at its middle. A
+    /// node at a piece's end is reached by whole pieces, whose exact steps the solver's few
+    /// step lengths make once for the whole search, where a node inside a piece needs a step
+    /// of its own length (a sine and a cosine a mode) there and from there on: on the paper's
+    /// tip over its first contact that was a third of the search's time.
+    fn split_time(&self, block: u32, (ta, tb): (f64, f64)) -> f64 {
+        let (tm, quarter) = (0.5 * (ta + tb), 0.25 * (tb - ta));
+        let ends = &self.blocks[block as usize].ends;
+        let after = ends.partition_point(|e| e.0 < tm);
+        [after.checked_sub(1), Some(after)]
+            .into_iter()
+            .flatten()
+            .filter_map(|k| ends.get(k).map(|e| e.0))
+            .filter(|t| (t - tm).abs() <= quarter && *t > ta && *t < tb)
+            .min_by(|a, b| (a - tm).abs().total_cmp(&(b - tm).abs()))
+            .unwrap_or(tm)
+    }
+
     fn split(&mut self, c: &Cell, heap: &mut BinaryHeap<Cell>) {
         let (xx, tt) = self.blocks[c.block as usize].rates[self.slot];
         let (xa, xb) = (self.xs[c.xa as usize], self.xs[c.xb as usize]);
@@ -898,6 +931,7 @@ impl Search<'_> {
             self.push(Cell { xb: m, corners: [aa, va, ab, vb], ..*c }, heap);
             self.push(Cell { xa: m, corners: [va, ba, vb, bb], ..*c }, heap);
         } else if tm > ta && tm < tb {
+            let tm = self.split_time(c.block, (ta, tb));
             let m = self.node(c.block, tm);
             let (va, vb) = (self.value(c.xa, c.block, m), self.value(c.xb, c.block, m));
             self.offer(va, xa, tm);

@@ -642,7 +642,8 @@ impl ModalStress {
             let (i, max, time) = self.envelope.supports()[k];
             let x = self.envelope.points[i];
             let seen = Peak { value: max, x, t: time, bound: max };
-            let field = modal_peak::Field::Magnitude(row, x, k);
+            let floor = modal_peak::PEAK_TOLERANCE * peak.value.abs();
+            let field = modal_peak::Field::Magnitude(row, x, k, floor);
             supports.push(modal_peak::search(&self.peaks.data, &mut kept, &field, seen));
         }
         for (k, found) in supports.iter().enumerate() {
@@ -652,7 +653,7 @@ impl ModalStress {
         for (k, (p, row)) in points.iter_mut().zip(&rows[count..]).enumerate() {
             let (max, time) = p.seen;
             let seen = Peak { value: max, x: p.x, t: time, bound: max };
-            let field = modal_peak::Field::Magnitude(row, p.x, count + k);
+            let field = modal_peak::Field::Magnitude(row, p.x, count + k, 0.0);
             p.peak = Some(modal_peak::search(data, &mut kept, &field, seen));
         }
         self.peaks.trajectory.kept = kept;
@@ -778,8 +779,20 @@ impl Peaks {
         out.extend(
             self.displacement_peak.iter().map(|p| ("the largest displacement".to_string(), gap(p))),
         );
+        // A support's stress below the floor of its search (PEAK_TOLERANCE of the largest
+        // stress) is certified to that floor: its gap as a share of the largest stress.
+        let largest = self.stress_peak.map_or(0.0, |p| p.value.abs());
+        let support_gap = |p: &Peak| {
+            if p.bound <= modal_peak::PEAK_TOLERANCE * largest {
+                (p.bound - p.value.abs()) / largest
+            } else {
+                gap(p)
+            }
+        };
         out.extend(
-            self.support_peaks.iter().map(|p| (format!("the stress at x = {} m", p.x), gap(p))),
+            self.support_peaks
+                .iter()
+                .map(|p| (format!("the stress at x = {} m", p.x), support_gap(p))),
         );
         for p in &self.points {
             let name = match p.kind {
