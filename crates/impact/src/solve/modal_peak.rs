@@ -576,6 +576,8 @@ struct Search<'a> {
     best: Peak,
     /// The largest bound of a cell that could not be split further.
     stuck: f64,
+    /// The instants this search added to the blocks (its budget counts its own).
+    nodes_made: usize,
 }
 
 /// Exact steps of the modes by length, each built once (a sine and a cosine per mode): the
@@ -627,25 +629,23 @@ impl Block {
             .unwrap_or(&self.nodes[0]);
         let mut state = ModalState::clone(&start.state);
         let (mut time, mut force) = (start.t, start.force);
-        // The force at t: linear between the breakpoints around it.
-        let mut previous = (self.nodes[0].t, self.f0);
+        // The force at t: linear on the piece that ends first at or after t (the pieces found
+        // by bisection: a long contact's stretch holds thousands).
+        let k = self.ends.partition_point(|e| e.0 < t);
         let (mut at_t, mut slope, mut piece) = (self.f0, 0.0, (t, t));
-        for &(te, fe) in &self.ends {
-            if te >= t {
-                let span = te - previous.0;
-                (slope, at_t) = if span > 0.0 {
-                    let slope = (fe - previous.1) / span;
-                    (slope, previous.1 + slope * (t - previous.0))
-                } else {
-                    (0.0, fe)
-                };
-                piece = (previous.0, te);
-                break;
-            }
-            previous = (te, fe);
+        if let Some(&(te, fe)) = self.ends.get(k) {
+            let previous = k.checked_sub(1).map_or((self.nodes[0].t, self.f0), |j| self.ends[j]);
+            let span = te - previous.0;
+            (slope, at_t) = if span > 0.0 {
+                let slope = (fe - previous.1) / span;
+                (slope, previous.1 + slope * (t - previous.0))
+            } else {
+                (0.0, fe)
+            };
+            piece = (previous.0, te);
         }
-        let from = time;
-        let stops = self.ends.iter().copied().filter(|e| e.0 > from && e.0 < t).chain([(t, at_t)]);
+        let first = self.ends.partition_point(|e| e.0 <= time);
+        let stops = self.ends[first..k.max(first)].iter().copied().chain([(t, at_t)]);
         for (te, fe) in stops {
             stepper.advance(modes, &mut state, te - time, force, fe);
             (time, force) = (te, fe);
@@ -675,9 +675,10 @@ pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, b
         Field::Signed(..) => 1,
         Field::Magnitude(_, _, k, _) => 2 + k,
     };
+    let before: Vec<usize> = blocks.iter().map(|b| b.nodes.len()).collect();
     let mut s = Search {
         data,
-        blocks,
+        blocks: &mut *blocks,
         field,
         slot,
         rows: Vec::new(),
@@ -686,8 +687,17 @@ pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, b
         stepper: Stepper::default(),
         best,
         stuck: f64::NEG_INFINITY,
+        nodes_made: 0,
     };
-    s.run()
+    let peak = s.run();
+    // A one-point search's instants go with it: each has its own budget, and the memory
+    // they hold stays that of the stress's search plus one other.
+    if !matches!(field, Field::Stress(_)) {
+        for (b, &count) in blocks.iter_mut().zip(&before) {
+            b.nodes.truncate(count);
+        }
+    }
+    peak
 }
 
 impl Search<'_> {
@@ -786,8 +796,7 @@ impl Search<'_> {
         let mut splits = 0;
         let mut left = f64::NEG_INFINITY;
         while let Some(cell) = heap.pop() {
-            let made =
-                self.rows.len() + 2 * self.blocks.iter().map(|b| b.nodes.len()).sum::<usize>();
+            let made = self.rows.len() + 2 * self.nodes_made;
             let spent = made * self.rows.first().map_or(1, |r| r.r.len().max(1));
             if cell.bound <= self.target() || splits >= MAX_SPLITS || spent >= MAX_MODE_VALUES {
                 left = cell.bound;
@@ -892,6 +901,7 @@ impl Search<'_> {
         }
         let (node, ..) = b.at(t, &self.data.modes, &mut self.stepper);
         b.nodes.push(node);
+        self.nodes_made += 1;
         (b.nodes.len() - 1) as u32
     }
 

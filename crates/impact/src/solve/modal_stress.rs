@@ -146,6 +146,15 @@ struct PointSearch {
     peak: Option<Peak>,
 }
 
+/// The largest torsion shear the run observed over the sections searched (Pa).
+fn largest_shear_seen(points: &[PointSearch]) -> f64 {
+    points
+        .iter()
+        .filter(|p| matches!(p.kind, PointKind::TorsionShear(_)))
+        .map(|p| p.seen.0)
+        .fold(0.0, f64::max)
+}
+
 /// What the modal stress recovery needs besides the beam and its modes.
 pub(crate) struct StressSetup {
     /// The impact point (m).
@@ -650,10 +659,18 @@ impl ModalStress {
             self.envelope.raise_support(k, found.value.abs(), found.t);
         }
         let Peaks { data, supports: rows, points, .. } = &mut self.peaks;
+        // The torsion shear's sections, like the supports' stresses, to 1e-4 of the largest
+        // torsion shear seen (a section the twist has not reached yet holds the truncated
+        // series' noise).
+        let shear_floor = modal_peak::PEAK_TOLERANCE * largest_shear_seen(points);
         for (k, (p, row)) in points.iter_mut().zip(&rows[count..]).enumerate() {
             let (max, time) = p.seen;
             let seen = Peak { value: max, x: p.x, t: time, bound: max };
-            let field = modal_peak::Field::Magnitude(row, p.x, count + k, 0.0);
+            let floor = match p.kind {
+                PointKind::Twist => 0.0,
+                PointKind::TorsionShear(_) => shear_floor,
+            };
+            let field = modal_peak::Field::Magnitude(row, p.x, count + k, floor);
             p.peak = Some(modal_peak::search(data, &mut kept, &field, seen));
         }
         self.peaks.trajectory.kept = kept;
@@ -779,29 +796,31 @@ impl Peaks {
         out.extend(
             self.displacement_peak.iter().map(|p| ("the largest displacement".to_string(), gap(p))),
         );
-        // A support's stress below the floor of its search (PEAK_TOLERANCE of the largest
-        // stress) is certified to that floor: its gap as a share of the largest stress.
-        let largest = self.stress_peak.map_or(0.0, |p| p.value.abs());
-        let support_gap = |p: &Peak| {
-            if p.bound <= modal_peak::PEAK_TOLERANCE * largest {
+        // A search certified below its floor (PEAK_TOLERANCE of the largest of its kind: a
+        // support's stress, a section's torsion shear) counts its gap as a share of that
+        // largest.
+        let floored = |p: &Peak, largest: f64| {
+            if largest > 0.0 && p.bound <= modal_peak::PEAK_TOLERANCE * largest {
                 (p.bound - p.value.abs()) / largest
             } else {
                 gap(p)
             }
         };
+        let largest = self.stress_peak.map_or(0.0, |p| p.value.abs());
         out.extend(
             self.support_peaks
                 .iter()
-                .map(|p| (format!("the stress at x = {} m", p.x), support_gap(p))),
+                .map(|p| (format!("the stress at x = {} m", p.x), floored(p, largest))),
         );
+        let shear = largest_shear_seen(&self.points);
         for p in &self.points {
-            let name = match p.kind {
-                PointKind::Twist => "the largest twist".to_string(),
+            let (name, largest) = match p.kind {
+                PointKind::Twist => ("the largest twist".to_string(), 0.0),
                 PointKind::TorsionShear(which) => {
-                    format!("the torsion shear at x = {:.4} m{which}", p.x)
+                    (format!("the torsion shear at x = {:.4} m{which}", p.x), shear)
                 }
             };
-            out.extend(p.peak.iter().map(|found| (name.clone(), gap(found))));
+            out.extend(p.peak.iter().map(|found| (name.clone(), floored(found, largest))));
         }
         out
     }
