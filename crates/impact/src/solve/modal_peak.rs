@@ -195,6 +195,10 @@ struct Stretch {
     variation: f64,
     slope_max: f64,
     length: f64,
+    /// The largest |F - chord| over the stretch (N), the chord from its start to its end: F
+    /// is linear between breakpoints, so at one of them. (It was bounded by how far F rose
+    /// above the lower end, which missed F below the chord: a Hertz onset is convex.)
+    off_chord: f64,
 }
 
 impl Stretch {
@@ -212,6 +216,9 @@ impl Stretch {
             (t, f, slope) = (t1, f1, next);
         }
         s.length = t - t0;
+        let slope = if s.length > 0.0 { (f - f0) / s.length } else { 0.0 };
+        s.off_chord =
+            ends.iter().map(|&(te, fe)| (fe - (f0 + slope * (te - t0))).abs()).fold(0.0, f64::max);
         s
     }
 }
@@ -399,7 +406,7 @@ impl Trajectory {
 
     /// The open stretch's bounds (stress, displacement, supports): the larger end plus what
     /// the second derivatives allow between grid points and instants, plus how far the force's
-    /// term can rise above its chord (the stress's also plus the bound of the modes the grid
+    /// term can depart from its chord (the stress's also plus the bound of the modes the grid
     /// left out, and capped by the triangle bound over the modes); per field, its bounds of the
     /// second derivatives in x and t; and the modes' shares.
     fn bounds(
@@ -434,8 +441,6 @@ impl Trajectory {
             b.marks.iter().position(|m| *m == k).map_or(f64::INFINITY, |i| sums[i])
         };
         let (q_sums, acc_sums, xx_sums) = (&b.q_sums[..], &b.acc_sums[..], &b.dev_sums[..]);
-        let f_end = self.ends.last().map_or(start.force, |e| e.1);
-        let rise = stretch.force_max - start.force.min(f_end);
         let reach = stretch.length * stretch.length / 8.0;
         let largest = hht::fast::largest_magnitude;
         let low = self.low.min(n);
@@ -446,7 +451,7 @@ impl Trajectory {
         let on_grid = largest(&self.grid).max(largest(grid))
             + weights.spacing * weights.spacing / 8.0 * low_rates.0
             + reach * low_rates.1
-            + weights.correction * rise
+            + weights.correction * stretch.off_chord
             + tail;
         let mut bounds = vec![on_grid.min(triangle)];
         let mut rates = vec![(xx, tt)];
@@ -454,7 +459,7 @@ impl Trajectory {
         let w =
             (self.values.first().copied().unwrap_or(0.0), values.first().copied().unwrap_or(0.0));
         let dtt = weighted(&d.r, &b.acc);
-        bounds.push(w.0.max(w.1) + reach * dtt + d.p.abs() * rise);
+        bounds.push(w.0.max(w.1) + reach * dtt + d.p.abs() * stretch.off_chord);
         rates.push((0.0, dtt));
         for (k, row) in weights.supports.iter().enumerate() {
             let ends = (
@@ -462,7 +467,9 @@ impl Trajectory {
                 values.get(1 + k).copied().unwrap_or(0.0),
             );
             let stt = weighted(&row.r, &b.acc);
-            bounds.push(ends.0.abs().max(ends.1.abs()) + reach * stt + row.p.abs() * rise);
+            bounds.push(
+                ends.0.abs().max(ends.1.abs()) + reach * stt + row.p.abs() * stretch.off_chord,
+            );
             rates.push((0.0, stt));
         }
         // Each candidate count's share.
@@ -834,7 +841,7 @@ impl Search<'_> {
     }
 
     /// The largest corner, plus what the second derivatives allow inside, plus how far the
-    /// force's term can rise above its chord where the cell holds a change of slope.
+    /// force's term can depart from its chord where the cell holds a change of slope.
     fn cell_bound(&self, c: &Cell) -> f64 {
         let hx = self.xs[c.xb as usize] - self.xs[c.xa as usize];
         self.bound_of(&c.corners, hx, self.time_terms(c.block, c.full, (c.ta, c.tb)))
@@ -848,26 +855,27 @@ impl Search<'_> {
     }
 
     /// What a cell of `block` between its nodes `ta` and `tb` adds to its largest corner
-    /// besides the space term: the time term, the force's rise above its chord where the
-    /// cell holds a change of slope, and (a cell of the grid's modes only) the other modes'
-    /// bound; with the space term's rate (the same for every cell of a block between two
+    /// besides the space term: the time term, how far the force's term departs from its
+    /// chord where the cell holds a change of slope, and (a cell of the grid's modes only) the
+    /// other modes' bound; with the space term's rate (the same for every cell of a block between two
     /// nodes, so seeding a block's cells takes it once).
     fn time_terms(&self, block: u32, full: bool, (ta, tb): (u32, u32)) -> (f64, f64) {
         let b = &self.blocks[block as usize];
         let ((xx, tt), tail) = if full { (b.rates[self.slot], 0.0) } else { (b.low_rates, b.tail) };
         let (na, nb) = (&b.nodes[ta as usize], &b.nodes[tb as usize]);
         let ht = nb.t - na.t;
-        // The force's breakpoints strictly inside (ta, tb) (the ends are in time order).
+        // How far the force departs from its chord over the cell: F is linear between its
+        // breakpoints, so at one of those strictly inside (ta, tb) (the ends are in time order).
         let first = b.ends.partition_point(|e| e.0 <= na.t);
         let last = b.ends.partition_point(|e| e.0 < nb.t);
-        let inside = b.ends[first..last.max(first)].iter().map(|e| e.1);
-        let rise = inside.fold(f64::NEG_INFINITY, f64::max) - na.force.min(nb.force);
+        let slope = if ht > 0.0 { (nb.force - na.force) / ht } else { 0.0 };
+        let chord = |e: &(f64, f64)| (e.1 - (na.force + slope * (e.0 - na.t))).abs();
+        let off_chord = b.ends[first..last.max(first)].iter().map(chord).fold(0.0, f64::max);
         let force_term = match self.field {
             Field::Signed(row, _) | Field::Magnitude(row, ..) => row.p.abs(),
             Field::Stress(f) => f.correction,
         };
-        let rise = if rise > 0.0 { force_term * rise } else { 0.0 };
-        (xx, ht * ht / 8.0 * tt + rise + tail)
+        (xx, ht * ht / 8.0 * tt + force_term * off_chord + tail)
     }
 
     /// The field at row `row` and node `node` of `block`.

@@ -780,7 +780,7 @@ impl Peaks {
         let worst = all.iter().map(|g| g.1).fold(0.0, f64::max);
         (!all.is_empty()).then(|| {
             format!(
-                "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e} for the stress, {:.0e} at a point)",
+                "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e} for the stress, {:.0e} at a point; a support's stress or a section's torsion shear below 1e-4 of the largest of its kind to 1e-4 of that largest)",
                 self.point_names(),
                 modal_peak::PEAK_TOLERANCE,
                 modal_peak::POINT_TOLERANCE
@@ -788,39 +788,40 @@ impl Peaks {
         })
     }
 
-    /// Each search's name and the gap it left, as a fraction of its value.
-    fn gaps(&self) -> Vec<(String, f64)> {
+    /// Each search's name, the gap it left and what that is a fraction of: its value, or, for
+    /// a support's stress or a section's torsion shear below 1e-4 of the largest of its kind
+    /// (the floor its search was certified to), that largest.
+    fn gaps(&self) -> Vec<(String, f64, &'static str)> {
         let gap = |p: &Peak| if p.value.abs() > 0.0 { p.bound / p.value.abs() - 1.0 } else { 0.0 };
-        let mut out: Vec<(String, f64)> = Vec::new();
-        out.extend(self.stress_peak.iter().map(|p| ("the largest stress".to_string(), gap(p))));
-        out.extend(
-            self.displacement_peak.iter().map(|p| ("the largest displacement".to_string(), gap(p))),
-        );
-        // A search certified below its floor (PEAK_TOLERANCE of the largest of its kind: a
-        // support's stress, a section's torsion shear) counts its gap as a share of that
-        // largest.
-        let floored = |p: &Peak, largest: f64| {
-            if largest > 0.0 && p.bound <= modal_peak::PEAK_TOLERANCE * largest {
-                (p.bound - p.value.abs()) / largest
+        let floored = |p: &Peak, largest: f64, of: &'static str| {
+            if largest > 0.0 && p.value.abs() < modal_peak::PEAK_TOLERANCE * largest {
+                ((p.bound - p.value.abs()) / largest, of)
             } else {
-                gap(p)
+                (gap(p), "itself")
             }
         };
+        let mut out: Vec<(String, f64, &'static str)> = Vec::new();
+        let mut push = |name: String, (g, of): (f64, &'static str)| out.push((name, g, of));
+        if let Some(p) = &self.stress_peak {
+            push("the largest stress".to_string(), (gap(p), "itself"));
+        }
+        if let Some(p) = &self.displacement_peak {
+            push("the largest displacement".to_string(), (gap(p), "itself"));
+        }
         let largest = self.stress_peak.map_or(0.0, |p| p.value.abs());
-        out.extend(
-            self.support_peaks
-                .iter()
-                .map(|p| (format!("the stress at x = {} m", p.x), floored(p, largest))),
-        );
+        for p in &self.support_peaks {
+            push(format!("the stress at x = {} m", p.x), floored(p, largest, "the largest stress"));
+        }
         let shear = largest_shear_seen(&self.points);
         for p in &self.points {
-            let (name, largest) = match p.kind {
-                PointKind::Twist => ("the largest twist".to_string(), 0.0),
-                PointKind::TorsionShear(which) => {
-                    (format!("the torsion shear at x = {:.4} m{which}", p.x), shear)
-                }
-            };
-            out.extend(p.peak.iter().map(|found| (name.clone(), floored(found, largest))));
+            let Some(found) = &p.peak else { continue };
+            match p.kind {
+                PointKind::Twist => push("the largest twist".to_string(), (gap(found), "itself")),
+                PointKind::TorsionShear(which) => push(
+                    format!("the torsion shear at x = {:.4} m{which}", p.x),
+                    floored(found, shear, "the largest torsion shear"),
+                ),
+            }
         }
         out
     }
@@ -859,10 +860,10 @@ impl Peaks {
     fn warnings(&self) -> Vec<String> {
         self.gaps()
             .into_iter()
-            .filter(|(_, g)| *g > 10.0 * modal_peak::PEAK_TOLERANCE)
-            .map(|(what, g)| {
+            .filter(|(_, g, _)| *g > 10.0 * modal_peak::PEAK_TOLERANCE)
+            .map(|(what, g, of)| {
                 format!(
-                    "{what} is certain only to {g:.1e} of itself: the search between the observed instants stopped at its budget ({} modes make its bounds loose); fewer modes, or solver.tolerance",
+                    "{what} is certain only to {g:.1e} of {of}: the search between the observed instants stopped at its budget ({} modes make its bounds loose); fewer modes, or solver.tolerance",
                     self.displacement.r.len()
                 )
             })
