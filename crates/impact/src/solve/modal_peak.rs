@@ -216,11 +216,17 @@ impl Stretch {
             (t, f, slope) = (t1, f1, next);
         }
         s.length = t - t0;
-        let slope = if s.length > 0.0 { (f - f0) / s.length } else { 0.0 };
-        s.off_chord =
-            ends.iter().map(|&(te, fe)| (fe - (f0 + slope * (te - t0))).abs()).fold(0.0, f64::max);
+        s.off_chord = off_chord((t0, f0), (t, f), ends);
         s
     }
+}
+
+/// The largest |F - chord| at the breakpoints `inside` (t, F), the chord from `start` to `end`
+/// (t, F): where a piecewise-linear force departs most from its chord.
+fn off_chord(start: (f64, f64), end: (f64, f64), inside: &[(f64, f64)]) -> f64 {
+    let length = end.0 - start.0;
+    let slope = if length > 0.0 { (end.1 - start.1) / length } else { 0.0 };
+    inside.iter().map(|&(t, f)| (f - (start.1 + slope * (t - start.0))).abs()).fold(0.0, f64::max)
 }
 
 /// An instant of a kept stretch: time, force, the modes (shared: a stretch's end is the
@@ -868,9 +874,8 @@ impl Search<'_> {
         // breakpoints, so at one of those strictly inside (ta, tb) (the ends are in time order).
         let first = b.ends.partition_point(|e| e.0 <= na.t);
         let last = b.ends.partition_point(|e| e.0 < nb.t);
-        let slope = if ht > 0.0 { (nb.force - na.force) / ht } else { 0.0 };
-        let chord = |e: &(f64, f64)| (e.1 - (na.force + slope * (e.0 - na.t))).abs();
-        let off_chord = b.ends[first..last.max(first)].iter().map(chord).fold(0.0, f64::max);
+        let inside = &b.ends[first..last.max(first)];
+        let off_chord = off_chord((na.t, na.force), (nb.t, nb.force), inside);
         let force_term = match self.field {
             Field::Signed(row, _) | Field::Magnitude(row, ..) => row.p.abs(),
             Field::Stress(f) => f.correction,
@@ -960,5 +965,23 @@ impl Search<'_> {
             // Too small to split in floating point: its bound stands as what is left.
             self.stuck = self.stuck.max(c.bound);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_force_departs_from_its_chord_below_it_too() {
+        // A convex stretch (a Hertz onset): 0 -> 1 -> 10 N over 2 s sits 4 N below its chord
+        // at t = 1 s, where the rise above the lower end, 1 N, is what the cells counted.
+        assert_eq!(off_chord((0.0, 0.0), (2.0, 10.0), &[(1.0, 1.0)]), 4.0);
+        // A concave one sits above it: 0 -> 9 -> 10 N, 4 N above.
+        assert_eq!(off_chord((0.0, 0.0), (2.0, 10.0), &[(1.0, 9.0)]), 4.0);
+        // The stretch's, from its start through its pieces' ends to the last.
+        let s = Stretch::new(0.0, 0.0, &[(1.0, 1.0), (2.0, 10.0)]);
+        assert_eq!(s.off_chord, 4.0);
+        assert_eq!(off_chord((0.0, 3.0), (1.0, 3.0), &[]), 0.0);
     }
 }
