@@ -973,6 +973,7 @@ mod tests {
     use super::*;
 
     #[test]
+    #[allow(clippy::float_cmp)] // exact in binary: small integers
     fn the_force_departs_from_its_chord_below_it_too() {
         // A convex stretch (a Hertz onset): 0 -> 1 -> 10 N over 2 s sits 4 N below its chord
         // at t = 1 s, where the rise above the lower end, 1 N, is what the cells counted.
