@@ -221,6 +221,22 @@ fn the_accuracy_study_and_the_report_measure_the_same_model_error() {
     assert!((model - curve).abs() <= 0.25 * curve, "report {model:e}, study {curve:e}");
 }
 
+/// The report of validation/scenes/`file` with each (from, to) of `edits` replaced.
+fn edited_scene(file: &str, edits: &[(&str, &str)]) -> Report {
+    let path = format!("{}/../../validation/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+    let text = edits
+        .iter()
+        .fold(std::fs::read_to_string(path).unwrap(), |text, (from, to)| text.replace(from, to));
+    simulate(&Scene::from_toml(&text).unwrap()).unwrap().report
+}
+
+/// The searches' worst gap the report's note gives, with the note.
+fn searches_gap(r: &Report) -> (f64, &str) {
+    let note = r.plan.reasons.iter().find(|s| s.contains("each within")).unwrap();
+    let gap = note.split("each within ").nth(1).unwrap().split(' ').next().unwrap();
+    (gap.parse().unwrap(), note)
+}
+
 #[test]
 fn a_search_past_its_budget_stops_and_says_how_certain_its_maxima_are() {
     // 20000 modes (a scene's most) over the first contact: the bounds of the highest modes
@@ -232,19 +248,11 @@ fn a_search_past_its_budget_stops_and_says_how_certain_its_maxima_are() {
     // largest stress itself, which stopped at its budget 8.9e-2 short of itself while its
     // cells were bounded by how far the force rose above the lower end rather than by how
     // far it leaves its chord, is now certified.
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-tip.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("modes = 128", "modes = 20000")
-    .replace("end_time = 0.005", "end_time = 5e-5");
-    let r = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let edits = [("modes = 128", "modes = 20000"), ("end_time = 0.005", "end_time = 5e-5")];
+    let r = edited_scene("paper-tip.toml", &edits);
     let w = r.warnings.join("\n");
     assert!(!w.contains("the largest stress is certain only"), "{w}");
-    let note = r.plan.reasons.iter().find(|s| s.contains("each within")).unwrap();
-    let gap: f64 =
-        note.split("each within ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let (gap, note) = searches_gap(&r);
     assert!(gap > 1e-4 && gap < 1e-3, "{note}");
     assert!(r.bending_stress.unwrap().max.is_finite());
 }
@@ -257,20 +265,12 @@ fn a_support_stress_far_below_the_largest_is_certified_to_what_the_largest_is() 
     // against the largest 55 MPa. Certifying it to 1e-10 of itself took 9400 splits of its
     // search, 4/5 of the run's time; it is now certified to 1e-4 of the largest stress (what
     // that one is certified to), and the report's note counts its gap as a share of that.
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-tip.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("modes = 128", "modes = 256")
-    .replace("end_time = 0.005", "end_time = 6e-5");
-    let r = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let edits = [("modes = 128", "modes = 256"), ("end_time = 0.005", "end_time = 6e-5")];
+    let r = edited_scene("paper-tip.toml", &edits);
     let b = r.bending_stress.as_ref().unwrap();
     let clamp = b.supports[0].max;
     assert!(clamp > 0.0 && clamp < 1e-4 * b.max, "clamp {clamp} Pa, largest {} Pa", b.max);
-    let note = r.plan.reasons.iter().find(|s| s.contains("each within")).unwrap();
-    let gap: f64 =
-        note.split("each within ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let (gap, note) = searches_gap(&r);
     assert!(gap <= 1e-4, "{note}");
     assert!(!r.warnings.iter().any(|w| w.contains("certain only")), "{:?}", r.warnings);
 }
@@ -285,16 +285,8 @@ fn every_search_of_a_window_ending_inside_a_long_contact_is_certified() {
     // largest displacement's search, the last, started spent: the report warned that it and
     // the torsion shear were certain only to 7e-3 and 3.9 of themselves. Each search now has
     // its own budget and the sections' torsion shear is certified to 1e-4 of the largest.
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-tip-offset.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("end_time = 0.001", "end_time = 1e-4");
-    let r = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let r = edited_scene("paper-tip-offset.toml", &[("end_time = 0.001", "end_time = 1e-4")]);
     assert!(!r.warnings.iter().any(|w| w.contains("certain only")), "{:?}", r.warnings);
-    let note = r.plan.reasons.iter().find(|s| s.contains("each within")).unwrap();
-    let gap: f64 =
-        note.split("each within ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let (gap, note) = searches_gap(&r);
     assert!(gap <= 1e-4, "{note}");
 }
