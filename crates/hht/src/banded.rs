@@ -277,8 +277,8 @@ impl BandedLu {
         // fixed-width path one row ahead: its multiply-adds set its time, and the weight more a
         // row made it slower two rows ahead.
         match (self.kd, self.upper) {
-            (5, 5) => return crate::fast::run(AheadSolve::<5> { lu: self, b }),
-            (11, 11) => return crate::fast::run(FixedSolve::<11> { lu: self, b }),
+            (5, 5) => return crate::fast::run(FixedSolve::<5, true> { lu: self, b }),
+            (11, 11) => return crate::fast::run(FixedSolve::<11, false> { lu: self, b }),
             _ => {}
         }
         self.solve_band_general(b);
@@ -343,41 +343,17 @@ impl BandedLu {
     fn solve_band_ahead<const KD: usize, A: MulAdd>(&self, b: &mut [f64], arith: A) {
         let n = self.n;
         let b = &mut b[..n];
-        // Forward: known[j] = y[row - 2 - j], newest = y[row - 1], last_b = b[row - 1].
-        let mut known = [0.0; KD];
-        let (mut newest, mut last_b) = (0.0, 0.0);
+        // Forward, on the rows in order.
+        let mut chain = Ahead::<KD>::default();
         for (value, l) in b.iter_mut().zip(self.lower_ahead[..n * (KD + 1)].chunks_exact(KD + 1)) {
-            let b_now = *value;
-            let mut far = arith.mul_add(-l[0], last_b, b_now);
-            for j in (1..KD).rev() {
-                far = arith.mul_add(-l[j + 1], known[j], far);
-            }
-            let y = arith.mul_add(-l[1], known[0], far);
-            *value = y;
-            for j in (1..KD).rev() {
-                known[j] = known[j - 1];
-            }
-            known[0] = newest;
-            (newest, last_b) = (y, b_now);
+            *value = chain.next(*value, l, arith);
         }
-        // Backward on y_i / u_ii: solved[j] = x[row + 2 + j], newest = x[row + 1].
+        // Backward on y_i / u_ii, on the rows in reverse.
         let upper = self.upper_ahead[..n * (KD + 1)].chunks_exact(KD + 1);
         let rows = b.iter_mut().zip(upper).zip(&self.inverse_diagonal[..n]);
-        let mut solved = [0.0; KD];
-        let (mut newest, mut last_b) = (0.0, 0.0);
+        let mut chain = Ahead::<KD>::default();
         for ((value, u), inverse) in rows.rev() {
-            let b_now = *value * inverse;
-            let mut far = arith.mul_add(-u[0], last_b, b_now);
-            for j in (1..KD).rev() {
-                far = arith.mul_add(-u[j + 1], solved[j], far);
-            }
-            let x = arith.mul_add(-u[1], solved[0], far);
-            *value = x;
-            for j in (1..KD).rev() {
-                solved[j] = solved[j - 1];
-            }
-            solved[0] = newest;
-            (newest, last_b) = (x, b_now);
+            *value = chain.next(*value * inverse, u, arith);
         }
     }
 
@@ -545,33 +521,23 @@ fn dense_solve(a: &[f64], k: usize, pivots: &[usize], b: &mut [f64]) {
     }
 }
 
-/// [`BandedLu::solve_band_fixed`] as a [`crate::fast::Kernel`].
-struct FixedSolve<'a, const KD: usize> {
+/// The substitution for half-bandwidth `KD` as a [`crate::fast::Kernel`]: two rows ahead
+/// ([`BandedLu::solve_band_ahead`]) or one ([`BandedLu::solve_band_fixed`]).
+struct FixedSolve<'a, const KD: usize, const AHEAD: bool> {
     lu: &'a BandedLu,
     b: &'a mut [f64],
 }
 
-impl<const KD: usize> crate::fast::Kernel for FixedSolve<'_, KD> {
+impl<const KD: usize, const AHEAD: bool> crate::fast::Kernel for FixedSolve<'_, KD, AHEAD> {
     type Output = ();
 
     #[inline(always)]
     fn run<A: MulAdd>(self, arith: A) {
-        self.lu.solve_band_fixed::<KD, A>(self.b, arith);
-    }
-}
-
-/// [`BandedLu::solve_band_ahead`] as a [`crate::fast::Kernel`].
-struct AheadSolve<'a, const KD: usize> {
-    lu: &'a BandedLu,
-    b: &'a mut [f64],
-}
-
-impl<const KD: usize> crate::fast::Kernel for AheadSolve<'_, KD> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run<A: MulAdd>(self, arith: A) {
-        self.lu.solve_band_ahead::<KD, A>(self.b, arith);
+        if AHEAD {
+            self.lu.solve_band_ahead::<KD, A>(self.b, arith);
+        } else {
+            self.lu.solve_band_fixed::<KD, A>(self.b, arith);
+        }
     }
 }
 
@@ -660,6 +626,40 @@ impl Lanes for ZeroSum<'_> {
         }
         let (head, tail) = self.0.split_at(whole::<S>(self.0.len()));
         sum(simd, head) + sum(Scalar::new(), tail)
+    }
+}
+
+/// The substitution two rows ahead ([`BandedLu::solve_band_ahead`]) in one direction: the
+/// values solved two and more rows back (`known[j]` = the row `2 + j` back), the last one and
+/// the last right-hand side.
+struct Ahead<const KD: usize> {
+    known: [f64; KD],
+    newest: f64,
+    last_b: f64,
+}
+
+impl<const KD: usize> Default for Ahead<KD> {
+    fn default() -> Self {
+        Self { known: [0.0; KD], newest: 0.0, last_b: 0.0 }
+    }
+}
+
+impl<const KD: usize> Ahead<KD> {
+    /// The next row's value from its right-hand side `b_now` and its `KD + 1` weights
+    /// (`w[0]` on the last right-hand side, `w[1 + j]` on the value `2 + j` rows back).
+    #[inline(always)]
+    fn next<A: MulAdd>(&mut self, b_now: f64, w: &[f64], arith: A) -> f64 {
+        let mut far = arith.mul_add(-w[0], self.last_b, b_now);
+        for j in (1..KD).rev() {
+            far = arith.mul_add(-w[j + 1], self.known[j], far);
+        }
+        let y = arith.mul_add(-w[1], self.known[0], far);
+        for j in (1..KD).rev() {
+            self.known[j] = self.known[j - 1];
+        }
+        self.known[0] = self.newest;
+        (self.newest, self.last_b) = (y, b_now);
+        y
     }
 }
 

@@ -547,6 +547,23 @@ impl SectionSpec {
 }
 
 impl SegmentSpec {
+    /// A straight piece to `end` from `start` (from the previous segment's end if `None`) in
+    /// `elements` equal elements, of the structure's section, its thickness direction the
+    /// default.
+    pub fn straight(start: Option<[f64; 3]>, end: [f64; 3], elements: usize) -> Self {
+        Self {
+            start,
+            end: Some(end),
+            centre: None,
+            normal: None,
+            angle_degrees: None,
+            thickness_direction: None,
+            elements,
+            section: None,
+            nodes: None,
+        }
+    }
+
     fn build(
         &self,
         index: usize,

@@ -357,15 +357,8 @@ fn a_segment_lowered_with_its_nodes_is_meshed_on_them() {
         ..Default::default()
     };
     let straight = |nodes: Vec<f64>, elements: usize| SegmentSpec {
-        start: Some([0.0, 0.0, 0.0]),
-        end: Some([2.0, 0.0, 0.0]),
-        centre: None,
-        normal: None,
-        angle_degrees: None,
-        thickness_direction: None,
-        elements,
-        section: None,
         nodes: Some(nodes),
+        ..SegmentSpec::straight(Some([0.0; 3]), [2.0, 0.0, 0.0], elements)
     };
     let (model, stations) =
         structure(&section, &[straight(vec![0.0, 0.5, 0.75, 1.0], 3)], &[]).unwrap();

@@ -231,17 +231,11 @@ pub(super) fn lowered(
     cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * length);
     let mut segments = Vec::new();
     for (k, w) in cuts.windows(2).enumerate() {
-        segments.push(simo_beam::scene::SegmentSpec {
-            start: (k == 0).then_some([0.0, 0.0, 0.0]),
-            end: Some([w[1], 0.0, 0.0]),
-            centre: None,
-            normal: None,
-            angle_degrees: None,
-            thickness_direction: None,
-            elements: ((w[1] - w[0]) / size).ceil().max(1.0) as usize,
-            section: None,
-            nodes: None,
-        });
+        segments.push(simo_beam::scene::SegmentSpec::straight(
+            (k == 0).then_some([0.0, 0.0, 0.0]),
+            [w[1], 0.0, 0.0],
+            ((w[1] - w[0]) / size).ceil().max(1.0) as usize,
+        ));
     }
     let spec = beam_as_structure(beam, segments);
     let mut lowered = scene.clone();
@@ -313,15 +307,8 @@ pub(super) fn of_beam(
     let length = fe.nodes.last().copied().unwrap_or(0.0);
     let elements = fe.elements();
     let segment = simo_beam::scene::SegmentSpec {
-        start: Some([0.0, 0.0, 0.0]),
-        end: Some([length, 0.0, 0.0]),
-        centre: None,
-        normal: None,
-        angle_degrees: None,
-        thickness_direction: None,
-        elements,
-        section: None,
         nodes: Some(fe.nodes.iter().map(|x| x / length).collect()),
+        ..simo_beam::scene::SegmentSpec::straight(Some([0.0; 3]), [length, 0.0, 0.0], elements)
     };
     let spec = beam_as_structure(beam, vec![segment]);
     let (model, _) = model_of(&spec)?;
