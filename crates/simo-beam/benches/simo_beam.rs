@@ -198,5 +198,52 @@ fn planar(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, element, assembly, statics, comparison_run, planar, frame_modes);
+/// The 3D beam the impact's fe method runs on with `solver.fe_model = "3d"` (the paper's strip
+/// at 256 elements, bent and twisted): one net (internal) force, one inertial force (with
+/// spin: the gyroscopic term), the net force with the strains (the impact's every net force), one configuration update and one banded back-substitution with
+/// the impact's band (half-bandwidth 11), the kernels of its every Newton iteration.
+fn spatial(c: &mut Criterion) {
+    use hht::{Band, BandedLu};
+    use nalgebra::UnitQuaternion;
+    let elements = 256;
+    let beam = paper_cantilever(elements).expect("beam");
+    let mut q = beam.reference_state();
+    for (i, (x, r)) in q.positions.iter_mut().zip(&mut q.rotations).enumerate() {
+        let s = i as f64 / elements as f64;
+        x.z += 1e-3 * s * s;
+        *r = UnitQuaternion::from_scaled_axis(Vector3::new(2e-3 * s, -2e-3 * s, 0.0));
+    }
+    let n = beam.ndof();
+    let v = Col::<f64>::from_fn(n, |i| 1e-2 * ((i % 5) as f64 - 2.0));
+    let a = Col::<f64>::from_fn(n, |i| 1e2 * ((i % 3) as f64 - 1.0));
+    let dq = Col::<f64>::from_fn(n, |i| 1e-7 * ((i % 7) as f64 - 3.0));
+    let mut group = c.benchmark_group("simo_beam/spatial");
+    let mut force = Col::<f64>::zeros(n);
+    group.bench_function(format!("net_force_{elements}"), |b| {
+        b.iter(|| beam.net_force(0.0, &q, v.as_ref(), force.as_mut()))
+    });
+    let mut strains: [Vec<f64>; 6] = Default::default();
+    group.bench_function(format!("net_force_and_strains_{elements}"), |b| {
+        b.iter(|| beam.net_force_and_strains(0.0, &q, force.as_mut(), &mut strains))
+    });
+    group.bench_function(format!("inertial_force_{elements}"), |b| {
+        b.iter(|| beam.inertial_force(&q, v.as_ref(), a.as_ref(), force.as_mut()))
+    });
+    let mut moved = q.clone();
+    group.bench_function(format!("displaced_{elements}"), |b| {
+        b.iter(|| beam.displaced(&q, dq.as_ref(), &mut moved))
+    });
+    let w = NewtonWeights { inertia: 1.0, force: 1.05, da: 1e13, dv: 1e6, dq: 1.0 };
+    let mut t = Triplets::new();
+    beam.tangent(0.0, &q, v.as_ref(), a.as_ref(), w, &mut t);
+    let mut lu = BandedLu::new();
+    lu.factor(n, Band { half_bandwidth: 11, border: 0 }, &t, 0.0).expect("factor");
+    let mut rhs = Col::<f64>::from_fn(n, |i| (i % 7) as f64 - 3.0);
+    group.bench_function(format!("solve_{elements}"), |b| {
+        b.iter(|| lu.solve_in_place(rhs.as_mut(), 0.0).expect("solve"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, element, assembly, statics, comparison_run, planar, spatial, frame_modes);
 criterion_main!(benches);
