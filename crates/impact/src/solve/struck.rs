@@ -282,14 +282,8 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
         // Ranked without an arc tangent a node (every accepted step asks): one for the node.
         let frames = &self.beam().mesh().frames;
-        let mut best: Option<(usize, f64)> = None;
-        for (node, (frame, r)) in frames.iter().zip(&q.beam.rotations).enumerate() {
-            let rank = super::ball_on_beam3d::twist_rank(frame, r);
-            if best.is_none_or(|b| rank >= b.1) {
-                best = Some((node, rank));
-            }
-        }
-        best.map(|(node, _)| (node, self.node_twist(q, node).abs()))
+        let node = super::ball_on_beam3d::most_twisted_node(frames, &q.beam.rotations)?;
+        Some((node, self.node_twist(q, node).abs()))
     }
     /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x
