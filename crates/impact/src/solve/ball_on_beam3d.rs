@@ -57,19 +57,11 @@ fn turned_width_axis(frame: &UnitQuaternion<f64>, r: &UnitQuaternion<f64>) -> (f
     (1.0 - 2.0 * (i * i + k * k), 2.0 * (j * k + w * i))
 }
 
-/// A number that grows with the size of the section's twist `atan2(z, y)` of
-/// [`turned_width_axis`] over [0, pi] (a pseudo-angle: `|z| / (|y| + |z|)`, and 2 less that
-/// past a right angle; near zero it is the angle to relative round-off; an axis turned onto E1
-/// ranks 0, as atan2(0, 0)), to rank the nodes without an arc tangent each.
-pub(crate) fn twist_rank(frame: &UnitQuaternion<f64>, r: &UnitQuaternion<f64>) -> f64 {
-    pseudo_angle(turned_width_axis(frame, r))
-}
-
 /// The node whose section is twisted most (the last of equals; `None` without nodes): the
-/// largest [`twist_rank`] of `rotations` from their reference `frames`, the same numbers by
-/// the same operations, a block of nodes at a time in plain arithmetic that the vector lanes
-/// run (node by node through nalgebra's quaternions it took 3.5 % of a 3D run: every
-/// accepted step asks).
+/// largest [`pseudo_angle`] of the width axis [`turned_width_axis`] of `rotations` from their
+/// reference `frames`, the same numbers by the same operations, a block of nodes at a time in
+/// plain arithmetic that the vector lanes run (node by node through nalgebra's quaternions it
+/// took 3.5 % of a 3D run: every accepted step asks).
 pub(crate) fn most_twisted_node(
     frames: &[UnitQuaternion<f64>],
     rotations: &[UnitQuaternion<f64>],
@@ -94,19 +86,14 @@ impl hht::fast::Kernel for MostTwisted<'_> {
         let blocks = self.frames.chunks(BLOCK).zip(self.rotations.chunks(BLOCK));
         for (b, (frames, rotations)) in blocks.enumerate() {
             for ((rank, f), r) in ranks.iter_mut().zip(frames).zip(rotations) {
-                // conj(f) r as nalgebra's product (i, j, k, w), to the bit; then
-                // `turned_width_axis` and `pseudo_angle` without branches.
+                // conj(f) r as nalgebra's product (i, j, k, w), to the bit, and the axis.
                 let (f, r) = (&f.coords, &r.coords);
                 let s = [-f[0], -f[1], -f[2], f[3]];
                 let w = s[3] * r[3] - s[0] * r[0] - s[1] * r[1] - s[2] * r[2];
                 let i = s[3] * r[0] + s[0] * r[3] + s[1] * r[2] - s[2] * r[1];
                 let j = s[3] * r[1] - s[0] * r[2] + s[1] * r[3] + s[2] * r[0];
                 let k = s[3] * r[2] + s[0] * r[1] - s[1] * r[0] + s[2] * r[3];
-                let (y, z) = (1.0 - 2.0 * (i * i + k * k), 2.0 * (j * k + w * i));
-                let size = y.abs() + z.abs();
-                let share = z.abs() / size;
-                let turned = if y > 0.0 { share } else { 2.0 - share };
-                *rank = if size == 0.0 { 0.0 } else { turned };
+                *rank = pseudo_angle((1.0 - 2.0 * (i * i + k * k), 2.0 * (j * k + w * i)));
             }
             for (k, &rank) in ranks[..frames.len()].iter().enumerate() {
                 if best.is_none_or(|b| rank >= b.1) {
@@ -118,16 +105,20 @@ impl hht::fast::Kernel for MostTwisted<'_> {
     }
 }
 
+/// A number that grows with the size of the twist `atan2(z, y)` of a width axis turned to
+/// `(y, z)` over [0, pi] (a pseudo-angle: `|z| / (|y| + |z|)`, and 2 less that past a right
+/// angle; near zero it is the angle to relative round-off; an axis turned onto E1 ranks 0, as
+/// atan2(0, 0)), to rank the nodes without an arc tangent each. Both sides of each choice
+/// computed, then chosen (no branches in a block loop).
+#[inline(always)]
 fn pseudo_angle((y, z): (f64, f64)) -> f64 {
     let size = y.abs() + z.abs();
-    if size == 0.0 {
-        return 0.0;
-    }
     let share = z.abs() / size;
-    if y > 0.0 {
-        share
+    let turned = if y > 0.0 { share } else { 2.0 - share };
+    if size == 0.0 {
+        0.0
     } else {
-        2.0 - share
+        turned
     }
 }
 
@@ -746,6 +737,11 @@ mod tests {
         let r = UnitQuaternion::from_scaled_axis(Vector3::new(twist, 0.0, 0.0));
         let b = (Vector3::new(1.0, 0.0, 0.0), r.to_rotation_matrix().into_inner());
         approach_of(u, &c, &a, &b, (0.005, 0.0025, Face::Thickness), (false, true))
+    }
+
+    /// The rank of the twist of `r` from `frame`, a node alone.
+    fn twist_rank(frame: &UnitQuaternion<f64>, r: &UnitQuaternion<f64>) -> f64 {
+        pseudo_angle(turned_width_axis(frame, r))
     }
 
     #[test]
