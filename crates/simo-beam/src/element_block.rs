@@ -161,34 +161,16 @@ fn gather(
     positions: &[Vector3<f64>],
     rotations: &[UnitQuaternion<f64>],
 ) {
-    let put = |g: &mut Gathered, end: usize, k: usize, node: usize| {
-        let (p, r) = (&positions[node], rotations[node].quaternion());
-        for c in 0..3 {
-            g.x[end][c][k] = p[c];
-        }
-        g.q[end][0][k] = r.w;
-        g.q[end][1][k] = r.i;
-        g.q[end][2][k] = r.j;
-        g.q[end][3][k] = r.k;
-    };
-    // A chain (each element's second node the next one's first, as along a straight member):
-    // the second ends are the first ends a lane on, copied between the lanes' arrays rather
-    // than read from the nodes again.
-    let len = nodes.len();
-    if len > 0 && nodes.windows(2).all(|w| w[0][1] == w[1][0]) {
-        for (k, e) in nodes.iter().enumerate() {
-            put(g, 0, k, e[0]);
-        }
-        put(g, 1, len - 1, nodes[len - 1][1]);
-        let ([xa, xb], [qa, qb]) = (&mut g.x, &mut g.q);
-        for (a, b) in xa.iter().zip(xb.iter_mut()).chain(qa.iter().zip(qb.iter_mut())) {
-            b[..len - 1].copy_from_slice(&a[1..len]);
-        }
-        return;
-    }
     for (k, e) in nodes.iter().enumerate() {
         for (end, &node) in e.iter().enumerate() {
-            put(g, end, k, node);
+            let (p, r) = (&positions[node], rotations[node].quaternion());
+            for c in 0..3 {
+                g.x[end][c][k] = p[c];
+            }
+            g.q[end][0][k] = r.w;
+            g.q[end][1][k] = r.i;
+            g.q[end][2][k] = r.j;
+            g.q[end][3][k] = r.k;
         }
     }
 }
@@ -304,36 +286,28 @@ impl BlockForces<'_> {
                 f[9 + i][k] = f_th2[i];
             }
         }
-        // The elements the series do not hold, again by the exact formulas into their lanes.
         for k in 0..m {
             let e = start + k;
-            if t.straight[e] && angle2[k] < SERIES_BELOW {
-                continue;
-            }
             let [a, b] = t.nodes[e];
-            let (x, r) = (
-                [&self.positions[a], &self.positions[b]],
-                [&self.rotations[a], &self.rotations[b]],
-            );
-            if STRAINS {
-                let exact = self.elements[e].strains(x, r);
-                for c in 0..3 {
-                    f[12 + c][k] = exact.gamma[c];
-                    f[15 + c][k] = exact.kappa[c];
+            let forces: [f64; 12] = if t.straight[e] && angle2[k] < SERIES_BELOW {
+                std::array::from_fn(|i| f[i][k])
+            } else {
+                let (x, r) = (
+                    [&self.positions[a], &self.positions[b]],
+                    [&self.rotations[a], &self.rotations[b]],
+                );
+                if STRAINS {
+                    let exact = self.elements[e].strains(x, r);
+                    for c in 0..3 {
+                        f[12 + c][k] = exact.gamma[c];
+                        f[15 + c][k] = exact.kappa[c];
+                    }
                 }
-            }
-            let exact = self.elements[e].force(x, r);
-            for (i, value) in exact.iter().enumerate() {
-                f[i][k] = *value;
-            }
-        }
-        // Into `out`, the first nodes' forces, then the second nodes': within a pass no
-        // element adds to what the one before added to, so the loop does not wait on its own
-        // stores (neighbours share a node).
-        for end in 0..2 {
-            for k in 0..m {
-                let node = t.nodes[start + k][end];
-                let forces: [f64; 6] = std::array::from_fn(|i| f[6 * end + i][k]);
+                let exact = self.elements[e].force(x, r);
+                std::array::from_fn(|i| exact[i])
+            };
+            for (end, node) in [a, b].into_iter().enumerate() {
+                let forces = &forces[6 * end..6 * end + 6];
                 match self.rows[node] {
                     Some(i) => {
                         for (o, f) in self.out[i..i + 6].iter_mut().zip(forces) {
