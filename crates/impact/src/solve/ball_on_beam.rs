@@ -213,17 +213,64 @@ fn approach_of<T: nalgebra::RealField + Copy>(
     lift(surface.radius) + half - (c - x).dot(&n).abs()
 }
 
+/// The terms of the approach on a face and of its derivatives, in the plane or in space (`D`
+/// = 2, 3), from the ball centre `c`, the element's ends `x_a`, `x_b` and the face normals
+/// there `n_a`, `n_b`: `t = x_b - x_a`, `ca = c - x_a`, `xi = ca.t / t.t`, `x = x_a + xi t`,
+/// `d = (1 - xi) n_a + xi n_b`, `n = d / |d|`, `g = (c - x).n`, and for `dg = n.(dc - dx) +
+/// p.dd`: `p = (I - n n^T)(c - x) / |d|`; `dxi = (dca.t + ca.dt - 2 xi t.dt) / t.t` enters
+/// `dg` times `K = -n.t + p.(n_b - n_a)`. Each model's `approach_gradient` turns `dd` into
+/// its rotation unknowns.
+pub(crate) struct FaceTerms<const D: usize> {
+    /// Where along the element the ball is over, `xi`.
+    pub(crate) xi: f64,
+    /// The ball centre's height over the centre line along the normal, `g` (m).
+    pub(crate) g: f64,
+    /// `p`, whose product with the normal's turn `dd` is `g`'s change by it.
+    pub(crate) p: SVector<f64, D>,
+    /// The gradients of g over c, x_a and x_b.
+    pub(crate) dc: SVector<f64, D>,
+    pub(crate) da: SVector<f64, D>,
+    pub(crate) db: SVector<f64, D>,
+}
+
+impl<const D: usize> FaceTerms<D> {
+    pub(crate) fn new(
+        c: &SVector<f64, D>,
+        (xa, xb): (&SVector<f64, D>, &SVector<f64, D>),
+        (na, nb): (&SVector<f64, D>, &SVector<f64, D>),
+    ) -> Self {
+        let t = xb - xa;
+        let tt = t.dot(&t);
+        let ca = c - xa;
+        let xi = ca.dot(&t) / tt;
+        let x = xa + t * xi;
+        let d = na * (1.0 - xi) + nb * xi;
+        let size = d.norm();
+        let n = d / size;
+        let cx = c - x;
+        let g = cx.dot(&n);
+        let p = (cx - n * g) / size;
+        let k = (p.dot(&(nb - na)) - n.dot(&t)) / tt;
+        Self {
+            xi,
+            g,
+            p,
+            dc: n + t * k,
+            da: -n * (1.0 - xi) + (t * (2.0 * xi) - t - ca) * k,
+            db: -n * xi + (ca - t * (2.0 * xi)) * k,
+        }
+    }
+}
+
 /// The approach at zero increments and its gradient over the local unknowns, by the
 /// derivatives of [`approach_of`]'s formulas written out (one pass of plain arithmetic; the
 /// 3D model's `approach_gradient` has the same derivation). The normal `n(theta) =
 /// (-sin theta, cos theta)` turns at `m = dn/dtheta = (-cos theta, -sin theta)`.
 ///
-/// On the face, with `ca = c - x_a`, `t = x_b - x_a`, `xi = ca.t / t.t`, `x = x_a + xi t`,
-/// `d = (1 - xi) n_a + xi n_b`, `n = d / |d|`, `g = (c - x).n` and
-/// `delta = R + h/2 - |g|`: `dg = n.(dc - dx) + p.dd` with `p = (I - n n^T)(c - x) / |d|`, and
-/// `dxi = (dca.t + ca.dt - 2 xi t.dt) / t.t`, which enters `dg` times
-/// `K = -n.t + p.(n_b - n_a)`. Past an end, the corner `x_e + s n_e` (s = +-h/2, the side),
-/// `w = c - x_e - s n_e` and `delta = R - |w|`: `d|w| = w^.(dc - dx_e - s m_e dtheta_e)`.
+/// On the face, `delta = R + h/2 - |g|` by [`FaceTerms`], the normals' turns
+/// `dd = (1 - xi) m_a dtheta_a + xi m_b dtheta_b`. Past an end, the corner `x_e + s n_e`
+/// (s = +-h/2, the side), `w = c - x_e - s n_e` and `delta = R - |w|`:
+/// `d|w| = w^.(dc - dx_e - s m_e dtheta_e)`.
 fn approach_gradient(
     c: &Vector2<f64>,
     a0: [f64; 3],
@@ -236,12 +283,15 @@ fn approach_gradient(
     let turning = |theta: f64| Vector2::new(-theta.cos(), -theta.sin());
     let (na, nb) = (normal(a0[2]), normal(b0[2]));
     let t = xb - xa;
-    let tt = t.dot(&t);
-    let ca = c - xa;
-    let xi = ca.dot(&t) / tt;
+    let xi = (c - xa).dot(&t) / t.dot(&t);
     let half = surface.half_thickness;
     // Past an end: the corner of the end node `(x, n, theta)`, its unknowns from `at`.
-    let mut corner = |x: Vector2<f64>, n: Vector2<f64>, theta: f64, at: usize| {
+    let past = match surface.ends {
+        (true, _) if xi < 0.0 => Some((xa, na, a0[2], 2)),
+        (_, true) if xi > 1.0 => Some((xb, nb, b0[2], 5)),
+        _ => None,
+    };
+    if let Some((x, n, theta, at)) = past {
         let side = if (c - x).dot(&n) < 0.0 { -half } else { half };
         let w = c - (x + n * side);
         let size = w.norm();
@@ -249,34 +299,17 @@ fn approach_gradient(
         gradient.fixed_rows_mut::<2>(0).copy_from(&-unit);
         gradient.fixed_rows_mut::<2>(at).copy_from(&unit);
         gradient[at + 2] = side * unit.dot(&turning(theta));
-        surface.radius - size
-    };
-    if surface.ends.0 && xi < 0.0 {
-        let delta = corner(xa, na, a0[2], 2);
-        return (delta, gradient);
+        return (surface.radius - size, gradient);
     }
-    if surface.ends.1 && xi > 1.0 {
-        let delta = corner(xb, nb, b0[2], 5);
-        return (delta, gradient);
-    }
-    let x = xa + t * xi;
-    let d = na * (1.0 - xi) + nb * xi;
-    let size = d.norm();
-    let n = d / size;
-    let cx = c - x;
-    let g = cx.dot(&n);
-    let p = (cx - n * g) / size;
-    let k = (p.dot(&(nb - na)) - n.dot(&t)) / tt;
-    // The gradient of g, then of delta = R + h/2 - |g|.
-    let sign = if g < 0.0 { 1.0 } else { -1.0 };
-    gradient.fixed_rows_mut::<2>(0).copy_from(&((n + t * k) * sign));
-    gradient
-        .fixed_rows_mut::<2>(2)
-        .copy_from(&((-n * (1.0 - xi) + (t * (2.0 * xi) - t - ca) * k) * sign));
-    gradient[4] = (1.0 - xi) * p.dot(&turning(a0[2])) * sign;
-    gradient.fixed_rows_mut::<2>(5).copy_from(&((-n * xi + (ca - t * (2.0 * xi)) * k) * sign));
-    gradient[7] = xi * p.dot(&turning(b0[2])) * sign;
-    (surface.radius + half - g.abs(), gradient)
+    let f = FaceTerms::new(c, (&xa, &xb), (&na, &nb));
+    // The gradient of g, then of delta = R + h/2 - |g|; n_a turns by m_a d theta_a.
+    let sign = if f.g < 0.0 { 1.0 } else { -1.0 };
+    gradient.fixed_rows_mut::<2>(0).copy_from(&(f.dc * sign));
+    gradient.fixed_rows_mut::<2>(2).copy_from(&(f.da * sign));
+    gradient[4] = (1.0 - f.xi) * f.p.dot(&turning(a0[2])) * sign;
+    gradient.fixed_rows_mut::<2>(5).copy_from(&(f.db * sign));
+    gradient[7] = f.xi * f.p.dot(&turning(b0[2])) * sign;
+    (surface.radius + half - f.g.abs(), gradient)
 }
 
 impl<'a, L: ContactLaw> BallOnBeam<'a, L> {

@@ -36,7 +36,7 @@ use num_dual::Dual2SVec64;
 use simo_beam::{BeamModel, BeamState};
 use std::cell::RefCell;
 
-use super::ball_on_beam::{ContactPoint, Order, STICKY_REACH};
+use super::ball_on_beam::{ContactPoint, FaceTerms, Order, STICKY_REACH};
 
 /// Configuration of the coupled model: the beam's and the ball centre's (m).
 #[derive(Debug, Clone)]
@@ -289,11 +289,8 @@ fn approach_of<T: nalgebra::RealField + Copy>(
 /// one pass an unknown, 6 % of a 3D run). A rotation increment theta turns a node's section
 /// axis `R e` by `R (theta x e)`, so `v . R (theta x e) = theta . (e x R^T v)`.
 ///
-/// On the face, with `ca = c - x_a`, `t = x_b - x_a`, `xi = ca.t / t.t`, `x = x_a + xi t`,
-/// `d = (1 - xi) R_a e_n + xi R_b e_n`, `n = d / |d|`, `g = (c - x).n` and
-/// `delta = R + h/2 - |g|`: `dg = n.(dc - dx) + p.dd` with `p = (I - n n^T)(c - x) / |d|`, and
-/// `dxi = (dca.t + ca.dt - 2 xi t.dt) / t.t`, which enters `dg` times
-/// `K = -n.t + p.(R_b e_n - R_a e_n)`.
+/// On the face, `delta = R + h/2 - |g|` by [`FaceTerms`] with the normals `R_a e_n`, `R_b e_n`,
+/// whose turns `dd = (1 - xi) R_a (theta_a x e_n) + ...` give `p.dd` in the rotations.
 ///
 /// Past an end, `v = c - (x_e + s R_e e_n)` (s = +-h/2, the side), `w = v - a (v.a)` with
 /// `a = R_e e_across` and `delta = R - |w|`: as `w` is normal to `a`,
@@ -309,15 +306,16 @@ fn approach_gradient(
     let unit = |k: usize| Vector3::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
     let (e_n, e_a) = (unit(normal), unit(across));
     let mut gradient = SVector::<f64, LOCAL>::zeros();
-    let mut put = |at: usize, v: Vector3<f64>| {
-        gradient.fixed_rows_mut::<3>(at).copy_from(&v);
-    };
+    let mut put = |at: usize, v: Vector3<f64>| gradient.fixed_rows_mut::<3>(at).copy_from(&v);
     let t = b.0 - a.0;
-    let tt = t.dot(&t);
-    let ca = c - a.0;
-    let xi = ca.dot(&t) / tt;
+    let xi = (c - a.0).dot(&t) / t.dot(&t);
     // Past an end: the edge of the end node's face (`at`: its place among the unknowns).
-    let edge = |(x, r): &Node, at: usize, put: &mut dyn FnMut(usize, Vector3<f64>)| {
+    let past = match ends {
+        (true, _) if xi < 0.0 => Some((a, 3)),
+        (_, true) if xi > 1.0 => Some((b, 9)),
+        _ => None,
+    };
+    if let Some(((x, r), at)) = past {
         let (n, along) = (r.column(normal).into_owned(), r.column(across).into_owned());
         let side = if (c - x).dot(&n) < 0.0 { -half } else { half };
         let v = c - (x + n * side);
@@ -329,33 +327,18 @@ fn approach_gradient(
         put(0, -unit_w);
         put(at, unit_w);
         put(at + 3, e_n.cross(&local) * side + e_a.cross(&local) * va);
-        radius - size
-    };
-    if ends.0 && xi < 0.0 {
-        let delta = edge(a, 3, &mut put);
-        return (delta, gradient);
-    }
-    if ends.1 && xi > 1.0 {
-        let delta = edge(b, 9, &mut put);
-        return (delta, gradient);
+        return (radius - size, gradient);
     }
     let (na, nb) = (a.1.column(normal).into_owned(), b.1.column(normal).into_owned());
-    let x = a.0 + t * xi;
-    let d = na * (1.0 - xi) + nb * xi;
-    let size = d.norm();
-    let n = d / size;
-    let cx = c - x;
-    let g = cx.dot(&n);
-    let p = (cx - n * g) / size;
-    let k = -n.dot(&t) + p.dot(&(nb - na));
+    let f = FaceTerms::new(c, (&a.0, &b.0), (&na, &nb));
     // The gradient of g, then of delta = R + h/2 - |g|.
-    let sign = if g < 0.0 { 1.0 } else { -1.0 };
-    put(0, (n + t * (k / tt)) * sign);
-    put(3, (-n * (1.0 - xi) + (-t - ca + t * (2.0 * xi)) * (k / tt)) * sign);
-    put(6, e_n.cross(&(a.1.transpose() * p)) * ((1.0 - xi) * sign));
-    put(9, (-n * xi + (ca - t * (2.0 * xi)) * (k / tt)) * sign);
-    put(12, e_n.cross(&(b.1.transpose() * p)) * (xi * sign));
-    (radius + half - g.abs(), gradient)
+    let sign = if f.g < 0.0 { 1.0 } else { -1.0 };
+    put(0, f.dc * sign);
+    put(3, f.da * sign);
+    put(6, e_n.cross(&(a.1.transpose() * f.p)) * ((1.0 - f.xi) * sign));
+    put(9, f.db * sign);
+    put(12, e_n.cross(&(b.1.transpose() * f.p)) * (f.xi * sign));
+    (radius + half - f.g.abs(), gradient)
 }
 
 impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
@@ -739,6 +722,16 @@ mod tests {
         approach_of(u, &c, &a, &b, (0.005, 0.0025, Face::Thickness), (false, true))
     }
 
+    /// The paper's strip, 1 m long along x, thickness along z, in `elements` equal elements,
+    /// free.
+    fn strip(elements: usize) -> BeamModel {
+        let steel = simo_beam::Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let section = simo_beam::Section::rectangle(&steel, 0.025, 0.005).unwrap();
+        let (start, end) = (Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0));
+        let mesh = simo_beam::Mesh::straight(start, end, elements, section, Vector3::z()).unwrap();
+        BeamModel::new(mesh).unwrap()
+    }
+
     /// The rank of the twist of `r` from `frame`, a node alone.
     fn twist_rank(frame: &UnitQuaternion<f64>, r: &UnitQuaternion<f64>) -> f64 {
         pseudo_angle(turned_width_axis(frame, r))
@@ -804,19 +797,8 @@ mod tests {
         // The strains handed on for the configuration of the last net force come from that
         // pass; for any other they are computed: both the same as a pass of the strains alone,
         // to the bit, on a bent and twisted strip.
-        #![allow(clippy::unwrap_used)]
         use crate::solve::struck::Struck;
-        let steel = simo_beam::Material::new(2.1e11, 0.3, 7850.0).unwrap();
-        let section = simo_beam::Section::rectangle(&steel, 0.025, 0.005).unwrap();
-        let mesh = simo_beam::Mesh::straight(
-            Vector3::zeros(),
-            Vector3::new(1.0, 0.0, 0.0),
-            6,
-            section,
-            Vector3::z(),
-        )
-        .unwrap();
-        let beam = BeamModel::new(mesh).unwrap().support(0, simo_beam::Support::Clamped).unwrap();
+        let beam = strip(6).support(0, simo_beam::Support::Clamped).unwrap();
         let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
         let model = BallOnBeam3d::new(beam, (0.01, 0.0, 0.005), 0.0, 0.0025, &law);
         let state = |k: f64| {
@@ -858,20 +840,7 @@ mod tests {
         // The ball pressed 1 um into the last of 4 elements of a 1 m strip, 5 mm off the
         // centreline: the point kept from a value-only call is not served for a gradient, and
         // a moved ball, node or twist gets its own point, the same as a fresh model's.
-        #![allow(clippy::unwrap_used)]
-        let steel = simo_beam::Material::new(2.1e11, 0.3, 7850.0).unwrap();
-        let section = simo_beam::Section::rectangle(&steel, 0.025, 0.005).unwrap();
-        let beam = || {
-            let mesh = simo_beam::Mesh::straight(
-                Vector3::zeros(),
-                Vector3::new(1.0, 0.0, 0.0),
-                4,
-                section,
-                Vector3::z(),
-            )
-            .unwrap();
-            BeamModel::new(mesh).unwrap()
-        };
+        let beam = || strip(4);
         let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
         let model = BallOnBeam3d::new(beam(), (0.01, 0.0, 0.005), 0.005, 0.0025, &law);
         let mut q = BallOnBeam3dConfig {
