@@ -59,6 +59,12 @@ pub struct BandedLu {
     /// solved values two to `kd + 1` rows away.
     lower_ahead: Vec<f64>,
     upper_ahead: Vec<f64>,
+    /// Whether the factors (half-bandwidth 11, no interchange) are those of a chain of nodes of
+    /// six unknowns each coupled to its neighbours only (the 3D beam's): row `6 k + r` of L
+    /// then has weights only at the `6 + r` nearest columns, of U at the `11 - r` nearest, the
+    /// rest exact zeros (elimination keeps a row's envelope), which the substitution then skips
+    /// ([`BandedLu::solve_six_blocks`]).
+    six_blocks: bool,
     /// Super-diagonals of U that may hold non-zeros: kd without a row interchange (a
     /// diagonally dominant Newton matrix, the usual case), 2 kd with.
     upper: usize,
@@ -137,6 +143,14 @@ impl BandedLu {
             self.lower_ahead = two_ahead(&self.lower_rows, n, kd, |i| i.checked_sub(1));
             self.upper_ahead = two_ahead(&self.scaled_upper, n, kd, |i| Some(i + 1));
         }
+        self.six_blocks = self.upper == kd && kd == 11 && n % 6 == 0 && {
+            let beyond = |rows: &[f64], reach: &dyn Fn(usize) -> usize| {
+                rows.chunks_exact(kd)
+                    .enumerate()
+                    .all(|(i, row)| row[reach(i % 6)..].iter().all(|&w| w == 0.0))
+            };
+            beyond(&self.lower_rows, &|r| 6 + r) && beyond(&self.scaled_upper, &|r| 11 - r)
+        };
         self.coupled = self.border_columns.iter().chain(&self.border_rows).any(|&v| v != 0.0);
         self.border_spans = (0..k)
             .map(|r| {
@@ -278,6 +292,7 @@ impl BandedLu {
         // row made it slower two rows ahead.
         match (self.kd, self.upper) {
             (5, 5) => return crate::fast::run(FixedSolve::<5, true> { lu: self, b }),
+            (11, 11) if self.six_blocks => return crate::fast::run(SixBlocks { lu: self, b }),
             (11, 11) => return crate::fast::run(FixedSolve::<11, false> { lu: self, b }),
             _ => {}
         }
@@ -354,6 +369,52 @@ impl BandedLu {
         let mut chain = Ahead::<KD>::default();
         for ((value, u), inverse) in rows.rev() {
             *value = chain.next(*value * inverse, u, arith);
+        }
+    }
+
+    /// [`BandedLu::solve_band_fixed`] at half-bandwidth 11 for factors with
+    /// [`BandedLu::six_blocks`]: a node's six rows at a time, each with only its weights that
+    /// may be non-zero (6 to 11 of them), in the same order (farthest first), so the same
+    /// result to the bit; the last node's and this node's values stay in registers, with no
+    /// window to shift a row. (A 3D step's substitution was set by the count of its
+    /// instructions, 11 multiply-adds and the window's moves a row.)
+    #[inline(always)]
+    fn solve_six_blocks<A: MulAdd>(&self, b: &mut [f64], arith: A) {
+        const KD: usize = 11;
+        let n = self.n;
+        let b = &mut b[..n];
+        let lower = self.lower_rows[..n * KD].chunks_exact(6 * KD);
+        let mut before = [0.0; 6];
+        for (node, l) in b.chunks_exact_mut(6).zip(lower) {
+            for r in 0..6 {
+                let w = &l[r * KD..(r + 1) * KD];
+                // The value d rows back: this node's row r - d, or the last node's.
+                let back =
+                    |node: &[f64], d: usize| if d <= r { node[r - d] } else { before[6 + r - d] };
+                let mut far = node[r];
+                for j in (1..6 + r).rev() {
+                    far = arith.mul_add(-w[j], back(node, j + 1), far);
+                }
+                node[r] = arith.mul_add(-w[0], back(node, 1), far);
+            }
+            before.copy_from_slice(node);
+        }
+        let upper = self.scaled_upper[..n * KD].chunks_exact(6 * KD);
+        let inverse = self.inverse_diagonal[..n].chunks_exact(6);
+        let mut after = [0.0; 6];
+        for ((node, u), inverse) in b.chunks_exact_mut(6).zip(upper).zip(inverse).rev() {
+            for r in (0..6).rev() {
+                let w = &u[r * KD..(r + 1) * KD];
+                // The value d rows on: this node's row r + d, or the next node's.
+                let on =
+                    |node: &[f64], d: usize| if r + d < 6 { node[r + d] } else { after[r + d - 6] };
+                let mut far = node[r] * inverse[r];
+                for j in (1..KD - r).rev() {
+                    far = arith.mul_add(-w[j], on(node, j + 1), far);
+                }
+                node[r] = arith.mul_add(-w[0], on(node, 1), far);
+            }
+            after.copy_from_slice(node);
         }
     }
 
@@ -538,6 +599,21 @@ impl<const KD: usize, const AHEAD: bool> crate::fast::Kernel for FixedSolve<'_, 
         } else {
             self.lu.solve_band_fixed::<KD, A>(self.b, arith);
         }
+    }
+}
+
+/// [`BandedLu::solve_six_blocks`] as a [`crate::fast::Kernel`].
+struct SixBlocks<'a> {
+    lu: &'a BandedLu,
+    b: &'a mut [f64],
+}
+
+impl crate::fast::Kernel for SixBlocks<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: MulAdd>(self, arith: A) {
+        self.lu.solve_six_blocks(self.b, arith);
     }
 }
 
@@ -751,6 +827,49 @@ mod tests {
             let err = (0..total).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
             let tol = if weak { 1e-10 } else { 1e-13 };
             assert!(err < tol, "n {n} kd {kd} k {k} weak {weak}: error {err:e}");
+        }
+    }
+
+    #[test]
+    fn a_chain_of_six_unknown_nodes_skips_the_zeros_to_the_bit() {
+        // A chain of nodes of six unknowns each coupled to its neighbours (the 3D beam's
+        // pattern, half-bandwidth 11) with a border of three: the node-by-node substitution
+        // gives the fixed-width one's result to the bit, and the solution to round-off. One
+        // entry two nodes away (inside the band) turns it off, and the fixed path still solves.
+        let mut seed = 11;
+        let (nodes, k): (usize, usize) = (12, 3);
+        let n = 6 * nodes;
+        for far_entry in [false, true] {
+            let mut a = Triplets::new();
+            for i in 0..n + k {
+                for j in 0..n + k {
+                    let neighbours = i < n && j < n && (i / 6).abs_diff(j / 6) <= 1;
+                    if neighbours || i >= n || j >= n {
+                        let v = noise(&mut seed) + if i == j { 60.0 } else { 0.0 };
+                        a.push(i, j, v);
+                    }
+                }
+            }
+            if far_entry {
+                a.push(30, 30 - 11, 0.5);
+            }
+            let x: Vec<f64> = (0..n + k).map(|_| noise(&mut seed)).collect();
+            let mut b = vec![0.0; n + k];
+            a.mul_vec(&x, &mut b);
+            let mut lu = BandedLu::new();
+            lu.factor(n + k, Band { half_bandwidth: 11, border: k }, &a, 0.0).unwrap();
+            assert_eq!(lu.six_blocks, !far_entry);
+            let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
+            lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
+            let err = (0..n + k).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
+            assert!(err < 1e-13, "far entry {far_entry}: error {err:e}");
+            // The band's substitution alone, both ways.
+            let mut fixed = b[..n].to_vec();
+            crate::fast::run(FixedSolve::<11, false> { lu: &lu, b: &mut fixed });
+            let mut blocks = b[..n].to_vec();
+            lu.solve_band(&mut blocks);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&blocks), bits(&fixed), "far entry {far_entry}");
         }
     }
 
