@@ -403,8 +403,8 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     }
 
     /// Every element's strains (Gamma1..3, K1..3) at `beam` if the last net force was evaluated
-    /// there (the same positions and rotations, to the bit), as [`Struck::section_strains`]
-    /// hands them on.
+    /// there (the same positions and rotations, to the bit), as
+    /// [`super::struck::Struck::section_strains`] hands them on.
     pub(crate) fn strains_at(&self, beam: &BeamState, each: impl FnMut(usize, [f64; 6])) -> bool {
         let last = self.last_strains.borrow();
         if !(last.positions == beam.positions && last.rotations == beam.rotations) {

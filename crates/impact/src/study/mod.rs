@@ -9,8 +9,8 @@
 //!   keys), its lazily numbered grid with a size checked before anything is allocated
 //!   ([`MAX_GRID_POINTS`]), shards, each point's validated scene, the report's scalar columns
 //!   with their units, and the manifest that tells one sweep from another.
-//! - [`variant`]: the scene of one method at one resolution, with the other method's keys
-//!   dropped (a modal scene's `residual_flexibility` has no place in its fe run).
+//! - [`variant`](fn@variant): the scene of one method at one resolution, with the other
+//!   method's keys dropped (a modal scene's `residual_flexibility` has no place in its fe run).
 //! - [`comparison`]: the runs of `compare`, both methods against a converged reference, and
 //!   their table ([`comparison::summary`]).
 //! - [`accuracy`]: the ladders of settings of the work-precision study, the study run one
