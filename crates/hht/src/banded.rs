@@ -59,12 +59,12 @@ pub struct BandedLu {
     /// solved values two to `kd + 1` rows away.
     lower_ahead: Vec<f64>,
     upper_ahead: Vec<f64>,
-    /// Whether the factors (half-bandwidth 11, no interchange) are those of a chain of nodes of
-    /// six unknowns each coupled to its neighbours only (the 3D beam's): row `6 k + r` of L
-    /// then has weights only at the `6 + r` nearest columns, of U at the `11 - r` nearest, the
-    /// rest exact zeros (elimination keeps a row's envelope), which the substitution then skips
-    /// ([`BandedLu::solve_six_blocks`]).
-    six_blocks: bool,
+    /// Whether the factors (no interchange) are those of a chain of nodes of `(kd + 1) / 2`
+    /// unknowns each (three for the planar beam, six in 3D) coupled to its neighbours only: row
+    /// `m k + r` of L then has weights only at the `m + r` nearest columns, of U at the
+    /// `kd - r` nearest, the rest exact zeros (elimination keeps a row's envelope), which the
+    /// substitution then skips ([`BandedLu::solve_node_blocks`]).
+    node_blocks: bool,
     /// Super-diagonals of U that may hold non-zeros: kd without a row interchange (a
     /// diagonally dominant Newton matrix, the usual case), 2 kd with.
     upper: usize,
@@ -143,13 +143,14 @@ impl BandedLu {
             self.lower_ahead = two_ahead(&self.lower_rows, n, kd, |i| i.checked_sub(1));
             self.upper_ahead = two_ahead(&self.scaled_upper, n, kd, |i| Some(i + 1));
         }
-        self.six_blocks = self.upper == kd && kd == 11 && n % 6 == 0 && {
+        let m = kd.div_ceil(2);
+        self.node_blocks = self.upper == kd && kd % 2 == 1 && n % m == 0 && {
             let beyond = |rows: &[f64], reach: &dyn Fn(usize) -> usize| {
                 rows.chunks_exact(kd)
                     .enumerate()
-                    .all(|(i, row)| row[reach(i % 6)..].iter().all(|&w| w == 0.0))
+                    .all(|(i, row)| row[reach(i % m)..].iter().all(|&w| w == 0.0))
             };
-            beyond(&self.lower_rows, &|r| 6 + r) && beyond(&self.scaled_upper, &|r| 11 - r)
+            beyond(&self.lower_rows, &|r| m + r) && beyond(&self.scaled_upper, &|r| kd - r)
         };
         self.coupled = self.border_columns.iter().chain(&self.border_rows).any(|&v| v != 0.0);
         self.border_spans = (0..k)
@@ -288,12 +289,16 @@ impl BandedLu {
         // keeps the last values solved in registers (and runs in its AVX2/FMA copy where there
         // is one): its time was the chain from row to row (2.07 -> 1.77 us a solve on the
         // paper's tip at 256 elements). The 3D beam (six unknowns a node, kd = 11) takes the
-        // path a node at a time where its factors are a chain's (`six_blocks`: 6.1 -> 5.0 us a
+        // path a node at a time where its factors are a chain's (`node_blocks`: 6.1 -> 5.0 us a
         // solve at 256 elements), else the fixed-width path one row ahead: its instructions set
-        // its time, and the weight more a row made it slower two rows ahead.
+        // its time, and the weight more a row made it slower two rows ahead. (The planar beam a
+        // node of three at a time took 1.94 us against 1.77 two rows ahead: its chain, not its
+        // instructions, sets its time.)
         match (self.kd, self.upper) {
             (5, 5) => return crate::fast::run(FixedSolve::<5, true> { lu: self, b }),
-            (11, 11) if self.six_blocks => return crate::fast::run(SixBlocks { lu: self, b }),
+            (11, 11) if self.node_blocks => {
+                return crate::fast::run(NodeBlocks::<11, 6> { lu: self, b })
+            }
             (11, 11) => return crate::fast::run(FixedSolve::<11, false> { lu: self, b }),
             _ => {}
         }
@@ -373,42 +378,45 @@ impl BandedLu {
         }
     }
 
-    /// [`BandedLu::solve_band_fixed`] at half-bandwidth 11 for factors with
-    /// [`BandedLu::six_blocks`]: a node's six rows at a time, each with only its weights that
-    /// may be non-zero (6 to 11 of them), in the same order (farthest first), so the same
-    /// result to the bit; the last node's and this node's values stay in registers, with no
-    /// window to shift a row. (A 3D step's substitution was set by the count of its
-    /// instructions, 11 multiply-adds and the window's moves a row.)
+    /// [`BandedLu::solve_band_fixed`] for factors with [`BandedLu::node_blocks`] (half-bandwidth
+    /// `KD = 2 M - 1`): a node's `M` rows at a time, each with only its weights that may be
+    /// non-zero (`M` to `KD` of them), in the same order (farthest first), so the same result
+    /// to the bit; the last node's and this node's values stay in registers, with no window to
+    /// shift a row. (A 3D step's substitution was set by the count of its instructions, 11
+    /// multiply-adds and the window's moves a row.)
     #[inline(always)]
-    fn solve_six_blocks<A: MulAdd>(&self, b: &mut [f64], arith: A) {
-        const KD: usize = 11;
+    fn solve_node_blocks<const KD: usize, const M: usize, A: MulAdd>(
+        &self,
+        b: &mut [f64],
+        arith: A,
+    ) {
         let n = self.n;
         let b = &mut b[..n];
-        let lower = self.lower_rows[..n * KD].chunks_exact(6 * KD);
-        let mut before = [0.0; 6];
-        for (node, l) in b.chunks_exact_mut(6).zip(lower) {
-            for r in 0..6 {
+        let lower = self.lower_rows[..n * KD].chunks_exact(M * KD);
+        let mut before = [0.0; M];
+        for (node, l) in b.chunks_exact_mut(M).zip(lower) {
+            for r in 0..M {
                 let w = &l[r * KD..(r + 1) * KD];
                 // The value d rows back: this node's row r - d, or the last node's.
                 let back =
-                    |node: &[f64], d: usize| if d <= r { node[r - d] } else { before[6 + r - d] };
+                    |node: &[f64], d: usize| if d <= r { node[r - d] } else { before[M + r - d] };
                 let mut far = node[r];
-                for j in (1..6 + r).rev() {
+                for j in (1..M + r).rev() {
                     far = arith.mul_add(-w[j], back(node, j + 1), far);
                 }
                 node[r] = arith.mul_add(-w[0], back(node, 1), far);
             }
             before.copy_from_slice(node);
         }
-        let upper = self.scaled_upper[..n * KD].chunks_exact(6 * KD);
-        let inverse = self.inverse_diagonal[..n].chunks_exact(6);
-        let mut after = [0.0; 6];
-        for ((node, u), inverse) in b.chunks_exact_mut(6).zip(upper).zip(inverse).rev() {
-            for r in (0..6).rev() {
+        let upper = self.scaled_upper[..n * KD].chunks_exact(M * KD);
+        let inverse = self.inverse_diagonal[..n].chunks_exact(M);
+        let mut after = [0.0; M];
+        for ((node, u), inverse) in b.chunks_exact_mut(M).zip(upper).zip(inverse).rev() {
+            for r in (0..M).rev() {
                 let w = &u[r * KD..(r + 1) * KD];
                 // The value d rows on: this node's row r + d, or the next node's.
                 let on =
-                    |node: &[f64], d: usize| if r + d < 6 { node[r + d] } else { after[r + d - 6] };
+                    |node: &[f64], d: usize| if r + d < M { node[r + d] } else { after[r + d - M] };
                 let mut far = node[r] * inverse[r];
                 for j in (1..KD - r).rev() {
                     far = arith.mul_add(-w[j], on(node, j + 1), far);
@@ -603,18 +611,18 @@ impl<const KD: usize, const AHEAD: bool> crate::fast::Kernel for FixedSolve<'_, 
     }
 }
 
-/// [`BandedLu::solve_six_blocks`] as a [`crate::fast::Kernel`].
-struct SixBlocks<'a> {
+/// [`BandedLu::solve_node_blocks`] as a [`crate::fast::Kernel`].
+struct NodeBlocks<'a, const KD: usize, const M: usize> {
     lu: &'a BandedLu,
     b: &'a mut [f64],
 }
 
-impl crate::fast::Kernel for SixBlocks<'_> {
+impl<const KD: usize, const M: usize> crate::fast::Kernel for NodeBlocks<'_, KD, M> {
     type Output = ();
 
     #[inline(always)]
     fn run<A: MulAdd>(self, arith: A) {
-        self.lu.solve_six_blocks(self.b, arith);
+        self.lu.solve_node_blocks::<KD, M, A>(self.b, arith);
     }
 }
 
@@ -859,7 +867,7 @@ mod tests {
             a.mul_vec(&x, &mut b);
             let mut lu = BandedLu::new();
             lu.factor(n + k, Band { half_bandwidth: 11, border: k }, &a, 0.0).unwrap();
-            assert_eq!(lu.six_blocks, !far_entry);
+            assert_eq!(lu.node_blocks, !far_entry);
             let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
             lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
             let err = (0..n + k).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
