@@ -59,11 +59,11 @@ pub struct BandedLu {
     /// solved values two to `kd + 1` rows away.
     lower_ahead: Vec<f64>,
     upper_ahead: Vec<f64>,
-    /// Whether the factors (no interchange) are those of a chain of nodes of `(kd + 1) / 2`
-    /// unknowns each (three for the planar beam, six in 3D) coupled to its neighbours only: row
-    /// `m k + r` of L then has weights only at the `m + r` nearest columns, of U at the
-    /// `kd - r` nearest, the rest exact zeros (elimination keeps a row's envelope), which the
-    /// substitution then skips ([`BandedLu::solve_node_blocks`]).
+    /// Whether the factors (no interchange) are those of a chain of nodes of `m = (kd + 1) / 2`
+    /// unknowns each (the 3D beam's six at kd = 11, where the substitution uses it) coupled to
+    /// its neighbours only: row `m k + r` of L then has weights only at the `m + r` nearest
+    /// columns, of U at the `kd - r` nearest, the rest exact zeros (elimination keeps a row's
+    /// envelope), which the substitution then skips ([`BandedLu::solve_node_blocks`]).
     node_blocks: bool,
     /// Super-diagonals of U that may hold non-zeros: kd without a row interchange (a
     /// diagonally dominant Newton matrix, the usual case), 2 kd with.
