@@ -161,6 +161,11 @@ fn planar(c: &mut Criterion) {
         group.bench_function(format!("inertial_force_{elements}"), |b| {
             b.iter(|| beam.inertial_force(&q, zero.as_ref(), zero.as_ref(), force.as_mut()))
         });
+        let dq = Col::<f64>::from_fn(n, |i| 1e-7 * ((i % 7) as f64 - 3.0));
+        let mut moved = q.clone();
+        group.bench_function(format!("displaced_{elements}"), |b| {
+            b.iter(|| beam.displaced(&q, dq.as_ref(), &mut moved))
+        });
         // The matrix and its factors made here too: a bench filtered by name runs alone.
         t.clear();
         beam.tangent(0.0, &q, zero.as_ref(), zero.as_ref(), w, &mut t);

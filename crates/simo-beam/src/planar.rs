@@ -764,17 +764,9 @@ impl Model for PlanarBeam {
             out.z[range.clone()].copy_from_slice(&q.z[range.clone()]);
             out.theta[range.clone()].copy_from_slice(&q.theta[range]);
         }
-        // dq interleaves x, z, theta a node: the loop goes element by element (some 4 % of a
-        // step at 256 elements).
-        let to = out.x[k0..k1].iter_mut().zip(&mut out.z[k0..k1]).zip(&mut out.theta[k0..k1]);
-        let from = q.x[k0..k1].iter().zip(&q.z[k0..k1]).zip(&q.theta[k0..k1]);
-        for ((((x, z), theta), ((x0, z0), theta0)), d) in
-            to.zip(from).zip(dq.as_slice().chunks_exact(3))
-        {
-            *x = x0 + d[0];
-            *z = z0 + d[1];
-            *theta = theta0 + d[2];
-        }
+        // dq interleaves x, z, theta a node: the loop goes node by node, in the vector copy
+        // (257 -> 155 ns a pass at 256 elements against the zipped iterators in the baseline one).
+        hht::fast::run(Displace { q, dq: dq.as_slice(), out, nodes: k0..k1 });
     }
 
     fn inertial_force(
@@ -891,6 +883,35 @@ impl hht::fast::Kernel for InternalForce<'_> {
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(self, _: A) {
         self.beam.internal_force_inline(self.q, self.out);
+    }
+}
+
+/// The free nodes' part of [`hht::Model::displaced`] (`out = q + dq` on `nodes`, whose
+/// unknowns `dq` interleaves x, z, theta) as a [`hht::fast::Kernel`].
+struct Displace<'a> {
+    q: &'a PlanarState,
+    dq: &'a [f64],
+    out: &'a mut PlanarState,
+    nodes: std::ops::Range<usize>,
+}
+
+impl hht::fast::Kernel for Displace<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        let (q, out) = (self.q, self.out);
+        // Every slice `len` (or 3 len) long, so the loop runs without bounds checks.
+        let len = self.nodes.len().min(self.dq.len() / 3);
+        let nodes = self.nodes.start..self.nodes.start + len;
+        let (x0, z0, t0) = (&q.x[nodes.clone()], &q.z[nodes.clone()], &q.theta[nodes.clone()]);
+        let (x, z, t) =
+            (&mut out.x[nodes.clone()], &mut out.z[nodes.clone()], &mut out.theta[nodes]);
+        for (k, d) in self.dq[..3 * len].chunks_exact(3).enumerate().take(len) {
+            x[k] = x0[k] + d[0];
+            z[k] = z0[k] + d[1];
+            t[k] = t0[k] + d[2];
+        }
     }
 }
 
