@@ -126,9 +126,9 @@ fn comparison_run(c: &mut Criterion) {
 }
 
 /// The planar beam the impact's fe method runs on, at 64, 256 and 1024 elements: one tangent
-/// assembly, one net (internal) and inertial force, one banded factorisation, one
-/// back-substitution and one HHT step (with the factorisation reused, as the impact solver
-/// runs it).
+/// assembly, one net (internal) and inertial force, one configuration update, one banded
+/// factorisation, one back-substitution and one HHT step (with the factorisation reused, as the
+/// impact solver runs it).
 fn planar(c: &mut Criterion) {
     use hht::BandedLu;
     use simo_beam::{Material, PlanarBeam, Section, Support};
