@@ -280,25 +280,26 @@ fn approach_gradient(
     let mut gradient = SVector::<f64, LOCAL>::zeros();
     let (xa, xb) = (Vector2::new(a0[0], a0[1]), Vector2::new(b0[0], b0[1]));
     let normal = |theta: f64| Vector2::new(-theta.sin(), theta.cos());
-    let turning = |theta: f64| Vector2::new(-theta.cos(), -theta.sin());
+    // m = dn/dtheta is n turned a right angle back: (-cos, -sin) from n = (-sin, cos).
+    let turning = |n: Vector2<f64>| Vector2::new(-n.y, n.x);
     let (na, nb) = (normal(a0[2]), normal(b0[2]));
     let t = xb - xa;
     let xi = (c - xa).dot(&t) / t.dot(&t);
     let half = surface.half_thickness;
-    // Past an end: the corner of the end node `(x, n, theta)`, its unknowns from `at`.
+    // Past an end: the corner of the end node `(x, n)`, its unknowns from `at`.
     let past = match surface.ends {
-        (true, _) if xi < 0.0 => Some((xa, na, a0[2], 2)),
-        (_, true) if xi > 1.0 => Some((xb, nb, b0[2], 5)),
+        (true, _) if xi < 0.0 => Some((xa, na, 2)),
+        (_, true) if xi > 1.0 => Some((xb, nb, 5)),
         _ => None,
     };
-    if let Some((x, n, theta, at)) = past {
+    if let Some((x, n, at)) = past {
         let side = if (c - x).dot(&n) < 0.0 { -half } else { half };
         let w = c - (x + n * side);
         let size = w.norm();
         let unit = w / size;
         gradient.fixed_rows_mut::<2>(0).copy_from(&-unit);
         gradient.fixed_rows_mut::<2>(at).copy_from(&unit);
-        gradient[at + 2] = side * unit.dot(&turning(theta));
+        gradient[at + 2] = side * unit.dot(&turning(n));
         return (surface.radius - size, gradient);
     }
     let f = FaceTerms::new(c, (&xa, &xb), (&na, &nb));
@@ -306,9 +307,9 @@ fn approach_gradient(
     let sign = if f.g < 0.0 { 1.0 } else { -1.0 };
     gradient.fixed_rows_mut::<2>(0).copy_from(&(f.dc * sign));
     gradient.fixed_rows_mut::<2>(2).copy_from(&(f.da * sign));
-    gradient[4] = (1.0 - f.xi) * f.p.dot(&turning(a0[2])) * sign;
+    gradient[4] = (1.0 - f.xi) * f.p.dot(&turning(na)) * sign;
     gradient.fixed_rows_mut::<2>(5).copy_from(&(f.db * sign));
-    gradient[7] = f.xi * f.p.dot(&turning(b0[2])) * sign;
+    gradient[7] = f.xi * f.p.dot(&turning(nb)) * sign;
     (surface.radius + half - f.g.abs(), gradient)
 }
 
