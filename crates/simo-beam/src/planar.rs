@@ -540,7 +540,30 @@ impl PlanarBeam {
     /// unknown is written once, from its two elements (no zeroing, no gradient arrays: this is
     /// the fe method's innermost loop).
     pub fn internal_force(&self, q: &PlanarState, out: &mut [f64]) {
-        hht::fast::run(InternalForce { beam: self, q, out });
+        hht::fast::run(InternalForce::<false> { beam: self, q, out, strains: &mut [] });
+        self.add_spring_forces(q, out);
+    }
+
+    /// [`PlanarBeam::internal_force`] that also writes every element's section strains at `q`
+    /// into `strains` (as [`PlanarBeam::all_section_strains`], by the same operations: the same
+    /// bits), from the same pass: a step's last force evaluation then gives its state's
+    /// strains without a second pass over the sections' sines and cosines.
+    ///
+    /// # Panics
+    /// If `strains` has fewer entries than the beam has elements.
+    pub fn internal_force_and_strains(
+        &self,
+        q: &PlanarState,
+        out: &mut [f64],
+        strains: &mut [(f64, f64, f64)],
+    ) {
+        let strains = &mut strains[..self.elements()];
+        hht::fast::run(InternalForce::<true> { beam: self, q, out, strains });
+        self.add_spring_forces(q, out);
+    }
+
+    /// The springs' forces added to the internal force `out`.
+    fn add_spring_forces(&self, q: &PlanarState, out: &mut [f64]) {
         for &(node, k, kt) in &self.springs {
             if let Some(i) = self.dofs[node][1] {
                 out[i] += k * q.z[node];
@@ -551,8 +574,15 @@ impl PlanarBeam {
         }
     }
 
+    /// The elements' part of the internal force; with `KEEP`, each element's (extension,
+    /// shear, curvature) written to `strains` too (an entry an element).
     #[inline(always)]
-    fn internal_force_inline(&self, q: &PlanarState, out: &mut [f64]) {
+    fn internal_force_inline<const KEEP: bool>(
+        &self,
+        q: &PlanarState,
+        out: &mut [f64],
+        strains: &mut [(f64, f64, f64)],
+    ) {
         // A block of elements at a time: first each element's end forces in arrays (a loop
         // over elements without branches, run on several at once), then the nodes' sums.
         let [mut sines, mut cosines, mut fx, mut fz, mut first, mut second] = [[0.0; BLOCK]; 6];
@@ -577,6 +607,9 @@ impl PlanarBeam {
                 let extension = a * c + b * s - 1.0;
                 let shear = -a * s + b * c;
                 let curvature = (t1[k] - t0[k]) * inv;
+                if KEEP {
+                    strains[start + k] = (extension, shear, curvature);
+                }
                 let (n, v, m) = (self.ea * extension, self.ga * shear, self.ei * curvature);
                 fx[k] = n * c - v * s;
                 fz[k] = n * s + v * c;
@@ -871,18 +904,20 @@ impl Model for PlanarBeam {
 
 /// [`PlanarBeam::internal_force`] as a [`hht::fast::Kernel`] (wider lanes for the rotations'
 /// sines and cosines).
-struct InternalForce<'a> {
+struct InternalForce<'a, const KEEP: bool> {
     beam: &'a PlanarBeam,
     q: &'a PlanarState,
     out: &'a mut [f64],
+    /// The elements' strains (with `KEEP`; empty without).
+    strains: &'a mut [(f64, f64, f64)],
 }
 
-impl hht::fast::Kernel for InternalForce<'_> {
+impl<const KEEP: bool> hht::fast::Kernel for InternalForce<'_, KEEP> {
     type Output = ();
 
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(self, _: A) {
-        self.beam.internal_force_inline(self.q, self.out);
+        self.beam.internal_force_inline::<KEEP>(self.q, self.out, self.strains);
     }
 }
 
@@ -1066,6 +1101,44 @@ mod tests {
                 }
                 assert_eq!(got.2.to_bits(), want.2.to_bits());
             }
+        }
+    }
+
+    #[test]
+    fn the_force_pass_s_strains_are_the_strains_pass_s_to_the_bit() {
+        // A clamped strip of 150 elements with a spring, bent in small rotations (the short
+        // series, blocks of 64) and a bent one past pi/4: the force and the strains of one pass
+        // are those of the two passes alone, bit for bit.
+        let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let section = Section::rectangle(&steel, 0.025, 0.005).unwrap();
+        let nodes: Vec<f64> = (0..=150).map(|i| 1.15 * f64::from(i) / 150.0).collect();
+        let long = PlanarBeam::new(&nodes, &section)
+            .unwrap()
+            .support(0, Support::Clamped)
+            .unwrap()
+            .attach_spring(75, 3e3, 20.0)
+            .unwrap();
+        let mut small = long.reference_state();
+        for i in 0..small.x.len() {
+            let s = i as f64 / 150.0;
+            (small.z[i], small.theta[i]) = (1e-3 * s * s, 2e-3 * s + 1e-6 * (i % 3) as f64);
+        }
+        for (beam, q) in [(strip(), bent(&strip())), (long, small)] {
+            let n = hht::Model::ndof(&beam);
+            let (mut force, mut alone) = (vec![7.0; n], vec![8.0; n]);
+            let mut strains = vec![(9.0, 9.0, 9.0); beam.elements()];
+            let mut expected = strains.clone();
+            beam.internal_force_and_strains(&q, &mut force, &mut strains);
+            beam.internal_force(&q, &mut alone);
+            beam.all_section_strains(&q, &mut expected);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&force), bits(&alone));
+            let bits3 = |v: &[(f64, f64, f64)]| {
+                v.iter()
+                    .flat_map(|s| [s.0.to_bits(), s.1.to_bits(), s.2.to_bits()])
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits3(&strains), bits3(&expected));
         }
     }
 

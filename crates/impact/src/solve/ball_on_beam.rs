@@ -38,7 +38,7 @@ use hht::{Band, Model, NewtonWeights, Triplets};
 use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::Dual2SVec64;
 use simo_beam::{PlanarBeam, PlanarState};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 /// Configuration of the coupled model: the beam's and the ball centre's (x, z) (m).
 #[derive(Debug)]
@@ -149,6 +149,10 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
     /// times (the converged residual, the step's acceptance, the approach's rate, the
     /// separation test, the history), and it is a pure function of those.
     last: RefCell<Option<Memo>>,
+    /// Each element's section strains at the last net force, from the same pass, and how many
+    /// net forces have been evaluated (see [`super::struck::Struck::force_passes`]).
+    last_strains: RefCell<Vec<(f64, f64, f64)>>,
+    force_passes: Cell<u64>,
 }
 
 /// A contact point with what it was computed from: the element, the 8 numbers, the order.
@@ -350,12 +354,31 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
             local_dofs,
             sticky_element: None,
             last: RefCell::new(None),
+            last_strains: RefCell::default(),
+            force_passes: Cell::new(0),
         }
     }
 
     /// The beam model.
     pub fn beam(&self) -> &PlanarBeam {
         &self.beam
+    }
+
+    /// How many net forces have been evaluated (see
+    /// [`super::struck::Struck::force_passes`]).
+    pub(crate) fn force_passes(&self) -> u64 {
+        self.force_passes.get()
+    }
+
+    /// Every element's section strains at the configuration of the last net force, from that
+    /// pass, into `out` (`false`, and `out` untouched, before any).
+    pub(crate) fn last_pass_strains(&self, out: &mut [(f64, f64, f64)]) -> bool {
+        let kept = self.last_strains.borrow();
+        if kept.is_empty() {
+            return false;
+        }
+        out[..kept.len()].copy_from_slice(&kept);
+        true
     }
 
     /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
@@ -544,7 +567,21 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         mut out: ColMut<'_, f64>,
     ) {
         let nb = self.nb;
-        self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
+        // The pass's strains kept: an accepted state is its step's last iterate, whose strains
+        // then need no pass of their own.
+        let mut strains = self.last_strains.borrow_mut();
+        strains.resize(self.beam.elements(), (0.0, 0.0, 0.0));
+        match out.as_mut().subrows_mut(0, nb).try_as_col_major_mut() {
+            Some(beam) => {
+                self.beam.internal_force_and_strains(&q.beam, beam.as_slice_mut(), &mut strains)
+            }
+            None => {
+                self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
+                self.beam.all_section_strains(&q.beam, &mut strains);
+            }
+        }
+        drop(strains);
+        self.force_passes.set(self.force_passes.get() + 1);
         // Gravity pulls the ball along -z: net force = -(external) = +m g e_z.
         out[nb] = 0.0;
         out[nb + 1] = self.mass * self.gravity;
@@ -683,6 +720,46 @@ mod tests {
             );
             assert!((kept.delta - new.delta).abs() == 0.0 && kept.gradient == new.gradient);
             assert!((kept.delta - value.delta).abs() > 5e-8, "{moved}: {}", kept.delta);
+        }
+    }
+
+    #[test]
+    fn an_accepted_state_s_strains_are_its_last_force_pass_s_or_their_own() {
+        // The strains handed on from the last net force's pass are that configuration's;
+        // without it they are computed: both the beam's own strains, to the bit. Each net force
+        // is counted.
+        #![allow(clippy::unwrap_used)]
+        use crate::solve::struck::Struck;
+        let steel = simo_beam::Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let section = simo_beam::Section::rectangle(&steel, 0.025, 0.005).unwrap();
+        let beam = PlanarBeam::new(&[0.0, 0.25, 0.5, 0.75, 1.0], &section)
+            .unwrap()
+            .support(0, simo_beam::Support::Clamped)
+            .unwrap();
+        let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
+        let model = BallOnBeam::new(beam, 0.01, 0.0, 0.005, 0.0025, &law);
+        let state = |k: f64| {
+            let mut beam = model.beam().reference_state();
+            for i in 0..5 {
+                let s = i as f64 / 4.0;
+                (beam.z[i], beam.theta[i]) = (1e-3 * k * s * s, 2e-3 * k * s);
+            }
+            BallOnBeamConfig { beam, ball: Vector2::new(0.9, 0.01) }
+        };
+        let (a, b) = (state(1.0), state(2.0));
+        let n = hht::Model::ndof(&model);
+        let mut force = faer::Col::<f64>::zeros(n);
+        assert!(!model.last_pass_strains(&mut [(0.0, 0.0, 0.0); 4]));
+        hht::Model::net_force(&model, 0.0, &a, faer::Col::zeros(n).as_ref(), force.as_mut());
+        assert_eq!(Struck::force_passes(&model), 1);
+        let mut kept = vec![(9.0, 9.0, 9.0); 4];
+        assert!(model.last_pass_strains(&mut kept) && kept.iter().all(|s| s.2 > 0.0));
+        for (q, last_pass) in [(&a, true), (&b, false), (&a, false)] {
+            let mut out = vec![(9.0, 9.0, 9.0); 4];
+            model.section_strains(q, &mut out, &mut [], last_pass);
+            let mut alone = vec![(0.0, 0.0, 0.0); 4];
+            model.beam().all_section_strains(&q.beam, &mut alone);
+            assert_eq!(out, alone);
         }
     }
 

@@ -34,7 +34,7 @@ use hht::{Band, Model, NewtonWeights, Triplets};
 use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
 use num_dual::Dual2SVec64;
 use simo_beam::{BeamModel, BeamState};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 use super::ball_on_beam::{ContactPoint, FaceTerms, Order, STICKY_REACH};
 
@@ -150,9 +150,11 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     local_dofs: Vec<[Option<usize>; LOCAL]>,
     /// The contact element of the last accepted step (as the planar model's).
     sticky_element: Option<usize>,
-    /// The beam's configuration at the last net force and its elements' strains there, from
-    /// the same pass (see [`BallOnBeam3d::strains_at`]).
-    last_strains: RefCell<StrainsAt>,
+    /// Every element's strains (Gamma1..3, K1..3, an array each) at the last net force, from
+    /// the same pass, and how many net forces have been evaluated (see
+    /// [`super::struck::Struck::force_passes`]).
+    last_strains: RefCell<[Vec<f64>; 6]>,
+    force_passes: Cell<u64>,
     /// The last contact point computed, with its element and the 17 numbers it was computed
     /// from (ball centre, the element's nodes' positions and quaternions), as the planar
     /// model's: a step asks for the same one several times (the converged residual, the
@@ -162,14 +164,6 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
 
 /// A contact point with what it was computed from: the element, the 17 numbers, the order.
 type Memo = (usize, [f64; 17], Order, ContactPoint3d);
-
-/// Every element's strains (Gamma1..3, K1..3, an array each) at a beam configuration.
-#[derive(Default)]
-struct StrainsAt {
-    positions: Vec<Vector3<f64>>,
-    rotations: Vec<UnitQuaternion<f64>>,
-    strains: [Vec<f64>; 6],
-}
 
 /// The node's position and rotation matrix.
 type Node = (Vector3<f64>, Matrix3<f64>);
@@ -398,19 +392,22 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
             local_dofs,
             sticky_element: None,
             last_strains: RefCell::default(),
+            force_passes: Cell::new(0),
             last_contact: RefCell::new(None),
         }
     }
 
-    /// Every element's strains (Gamma1..3, K1..3) at `beam` if the last net force was evaluated
-    /// there (the same positions and rotations, to the bit), as
-    /// [`super::struck::Struck::section_strains`] hands them on.
-    pub(crate) fn strains_at(&self, beam: &BeamState, each: impl FnMut(usize, [f64; 6])) -> bool {
+    /// How many net forces have been evaluated (see
+    /// [`super::struck::Struck::force_passes`]).
+    pub(crate) fn force_passes(&self) -> u64 {
+        self.force_passes.get()
+    }
+
+    /// Every element's strains (Gamma1..3, K1..3) at the configuration of the last net force,
+    /// from that pass, handed to `each` (`false`, and no call, before any).
+    pub(crate) fn last_pass_strains(&self, each: impl FnMut(usize, [f64; 6])) -> bool {
         let last = self.last_strains.borrow();
-        if !(last.positions == beam.positions && last.rotations == beam.rotations) {
-            return false;
-        }
-        let [g0, g1, g2, k0, k1, k2] = &last.strains;
+        let [g0, g1, g2, k0, k1, k2] = &*last;
         let mut each = each;
         for (e, s) in g0.iter().zip(g1).zip(g2).zip(k0).zip(k1).zip(k2).enumerate() {
             let (((((g0, g1), g2), k0), k1), k2) = s;
@@ -641,14 +638,12 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
         mut out: ColMut<'_, f64>,
     ) {
         let nb = self.nb;
-        // The pass's strains kept with the configuration they are of: an accepted state is its
-        // step's last iterate, whose strains then need no pass of their own.
-        let mut last = self.last_strains.borrow_mut();
-        let StrainsAt { positions, rotations, strains } = &mut *last;
-        self.beam.net_force_and_strains(t, &q.beam, out.as_mut().subrows_mut(0, nb), strains);
-        positions.clone_from(&q.beam.positions);
-        rotations.clone_from(&q.beam.rotations);
-        drop(last);
+        // The pass's strains kept: an accepted state is its step's last iterate, whose strains
+        // then need no pass of their own.
+        let mut strains = self.last_strains.borrow_mut();
+        self.beam.net_force_and_strains(t, &q.beam, out.as_mut().subrows_mut(0, nb), &mut strains);
+        drop(strains);
+        self.force_passes.set(self.force_passes.get() + 1);
         // Gravity pulls the ball along -up: net force = -(external) = +m g up.
         for k in 0..3 {
             out[nb + k] = self.mass * self.gravity * self.up[k];
@@ -794,9 +789,9 @@ mod tests {
 
     #[test]
     fn an_accepted_state_s_strains_are_its_last_force_pass_s_or_their_own() {
-        // The strains handed on for the configuration of the last net force come from that
-        // pass; for any other they are computed: both the same as a pass of the strains alone,
-        // to the bit, on a bent and twisted strip.
+        // The strains handed on from the last net force's pass are that configuration's;
+        // without it they are computed: both the same as a pass of the strains alone, to the
+        // bit, on a bent and twisted strip. Each net force is counted.
         use crate::solve::struck::Struck;
         let beam = strip(6).support(0, simo_beam::Support::Clamped).unwrap();
         let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
@@ -826,13 +821,15 @@ mod tests {
         let (a, b) = (state(1.0), state(2.0));
         let n = hht::Model::ndof(&model);
         let mut force = faer::Col::<f64>::zeros(n);
+        assert!(!model.last_pass_strains(|_, _| {}));
         hht::Model::net_force(&model, 0.0, &a, faer::Col::zeros(n).as_ref(), force.as_mut());
-        for q in [&a, &b] {
+        assert_eq!(Struck::force_passes(&model), 1);
+        assert!(model.last_pass_strains(|_, _| {}));
+        for (q, last_pass) in [(&a, true), (&b, false), (&a, false)] {
             let (mut out, mut plane) = (vec![(9.0, 9.0, 9.0); 6], vec![(9.0, 9.0, 9.0); 6]);
-            model.section_strains(q, &mut out, &mut plane);
+            model.section_strains(q, &mut out, &mut plane, last_pass);
             assert_eq!((out, plane), alone(q));
         }
-        assert!(model.strains_at(&a.beam, |_, _| {}) && !model.strains_at(&b.beam, |_, _| {}));
     }
 
     #[test]

@@ -137,6 +137,9 @@ struct Run<'a, L: ContactLaw, M: Struck<L>> {
     /// HHT's numerical dissipation (J) of the last trial step, and summed over accepted steps.
     trial_dissipation: f64,
     numerical_dissipation: f64,
+    /// The model's count of net forces when the last trial step returned
+    /// ([`Struck::force_passes`]).
+    trial_passes: u64,
 }
 
 impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
@@ -162,7 +165,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         }
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
         let mut out_of_plane = vec![(0.0, 0.0, 0.0); target.elements()];
-        model.section_strains(&q, &mut strains, &mut out_of_plane);
+        model.section_strains(&q, &mut strains, &mut out_of_plane, false);
         let lateral = if target.three_d() { vec![0.0; target.elements()] } else { Vec::new() };
         stress.observe_strains(0.0, &strains, &lateral);
         let (lateral_per_curvature, shear_per_rate) = out_of_plane_factors(&sections);
@@ -223,6 +226,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             approach,
             approach_rate: None,
             trial_dissipation: 0.0,
+            trial_passes: u64::MAX,
             numerical_dissipation: 0.0,
         })
     }
@@ -278,6 +282,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             .advance(&self.model, &self.state, h)
             .map_err(|e| fail(self.state.t, e))?;
         self.trial_dissipation = report.dissipation;
+        self.trial_passes = self.model.force_passes();
         self.newton_iterations += report.iterations;
         self.halvings += report.substeps.saturating_sub(1);
         Ok(s)
@@ -310,7 +315,15 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         let before = (self.state.t, self.beam_displacement(), self.beam_velocity());
         let old = std::mem::replace(&mut self.state, s);
         self.integrator.recycle(old);
-        self.model.section_strains(&self.state.q, &mut self.strains, &mut self.out_of_plane);
+        // The state is the last trial's (above), whose step ended with a net force at it: its
+        // strains are that pass's unless the model has evaluated another since.
+        let last_pass = self.model.force_passes() == self.trial_passes;
+        self.model.section_strains(
+            &self.state.q,
+            &mut self.strains,
+            &mut self.out_of_plane,
+            last_pass,
+        );
         self.steps += 1;
         if self.target.three_d() {
             let per = self.lateral_per_curvature.iter();

@@ -42,15 +42,23 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     /// The node whose section is turned most about its own axis, and by how much (rad);
     /// `None` in the plane.
     fn largest_twist(&self, q: &Self::Config) -> Option<(usize, f64)>;
+    /// How many net forces the model has evaluated. A state returned by an integrator step is
+    /// the configuration of the step's last net force (`hht`'s Newton iteration evaluates the
+    /// balance at its last iterate and returns that iterate), so while this count has not
+    /// moved since the step, that pass's strains are the state's.
+    fn force_passes(&self) -> u64;
     /// Each element's (extension, shear, curvature) in the beam's plane (x-z), the planar
     /// beam's sign convention, and out of it (the 3D beam's: the bending curvature about the
     /// thickness axis, the twist rate (1/m) and the shear across the width; left as they are
-    /// in the plane).
+    /// in the plane). With `last_pass`, `q` is the configuration of the last net force (the
+    /// caller knows it by [`Struck::force_passes`]) and the strains are taken from that pass
+    /// (the same bits) instead of a pass of their own.
     fn section_strains(
         &self,
         q: &Self::Config,
         out: &mut [(f64, f64, f64)],
         out_of_plane: &mut [OutOfPlane],
+        last_pass: bool,
     );
     /// The beam's strain (and springs') plus kinetic energy (J), given the section strains
     /// of `q`.
@@ -191,13 +199,19 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
     fn largest_twist(&self, _q: &BallOnBeamConfig) -> Option<(usize, f64)> {
         None
     }
+    fn force_passes(&self) -> u64 {
+        BallOnBeam::force_passes(self)
+    }
     fn section_strains(
         &self,
         q: &BallOnBeamConfig,
         out: &mut [(f64, f64, f64)],
         _out_of_plane: &mut [OutOfPlane],
+        last_pass: bool,
     ) {
-        self.beam().all_section_strains(&q.beam, out);
+        if !(last_pass && self.last_pass_strains(out)) {
+            self.beam().all_section_strains(&q.beam, out);
+        }
     }
     fn beam_energy(
         &self,
@@ -288,17 +302,21 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x
     /// toward z, a rotation about +y turns z toward x); out of the plane (K3, K1).
+    fn force_passes(&self) -> u64 {
+        BallOnBeam3d::force_passes(self)
+    }
     fn section_strains(
         &self,
         q: &BallOnBeam3dConfig,
         out: &mut [(f64, f64, f64)],
         out_of_plane: &mut [OutOfPlane],
+        last_pass: bool,
     ) {
-        // An accepted state is its step's last iterate, whose net force wrote its strains.
-        let taken = self.strains_at(&q.beam, |e, [g0, g1, g2, k0, k1, k2]| {
-            out[e] = (g0, g2, -k1);
-            out_of_plane[e] = (k2, k0, g1);
-        });
+        let taken = last_pass
+            && self.last_pass_strains(|e, [g0, g1, g2, k0, k1, k2]| {
+                out[e] = (g0, g2, -k1);
+                out_of_plane[e] = (k2, k0, g1);
+            });
         if !taken {
             self.beam().each_strain(&q.beam, |e, s| {
                 out[e] = (s.gamma[0], s.gamma[2], -s.kappa[1]);
