@@ -298,10 +298,13 @@ impl Work {
     }
 }
 
-/// The step's predicted increment `h v_n + h^2 a_n / 2` (also the predictor's increment:
-/// its acceleration is `a_n`, copied to `a1`), the predictor's velocity (Newmark's for
-/// `a_{n+1} = a_n`, as [`Kinematics`] would write it), the old-time force terms, and the
-/// old inertial force copied to `inertial` (the predictor's, for a constant mass).
+/// The step's predicted increment `h v_n + h^2 a_n / 2` (also the predictor's increment: its
+/// acceleration is `a_n`), the predictor's velocity (Newmark's for `a_{n+1} = a_n`, as
+/// [`Correct`] would write it) and the old-time force terms. The predictor's acceleration,
+/// increment and (for a constant mass) inertial force are read where they are, `a_n`, this
+/// increment and the old state's, not copied: each sweep of a step streams its vectors from
+/// the second-level cache (a beam of 256 elements: 771 entries, 6 KB a vector), and its time
+/// is the bytes it moves.
 struct Predict<'a> {
     s: Scheme,
     h: f64,
@@ -310,8 +313,6 @@ struct Predict<'a> {
     inertial0: &'a [f64],
     net0: &'a [f64],
     v1: &'a mut [f64],
-    a1: &'a mut [f64],
-    inertial: &'a mut [f64],
     work: &'a mut Work,
 }
 
@@ -322,15 +323,12 @@ impl Lanes for Predict<'_> {
     fn run<S: Simd>(self, simd: S) {
         let (h, s, work) = (self.h, self.s, self.work);
         let m = whole::<S>(work.base.len());
-        let (base, delta) = (work.base.split_at_mut(m), work.delta.split_at_mut(m));
-        let (old, v1) = (work.old_terms.split_at_mut(m), self.v1.split_at_mut(m));
-        let (a1, inertial) = (self.a1.split_at_mut(m), self.inertial.split_at_mut(m));
+        let (base, old) = (work.base.split_at_mut(m), work.old_terms.split_at_mut(m));
+        let v1 = self.v1.split_at_mut(m);
         let (v, a) = (self.v0.split_at(m), self.a0.split_at(m));
         let (i, g) = (self.inertial0.split_at(m), self.net0.split_at(m));
-        let head = [base.0, delta.0, v1.0, a1.0, old.0, inertial.0];
-        predict(simd, h, s, head, (v.0, a.0, i.0, g.0));
-        let tail = [base.1, delta.1, v1.1, a1.1, old.1, inertial.1];
-        predict(Scalar::new(), h, s, tail, (v.1, a.1, i.1, g.1));
+        predict(simd, h, s, [base.0, v1.0, old.0], (v.0, a.0, i.0, g.0));
+        predict(Scalar::new(), h, s, [base.1, v1.1, old.1], (v.1, a.1, i.1, g.1));
     }
 }
 
@@ -339,124 +337,169 @@ fn predict<S: Simd>(
     simd: S,
     h: f64,
     s: Scheme,
-    [base, delta, v1, a1, old, inertial]: [&mut [f64]; 6],
+    [base, v1, old]: [&mut [f64]; 3],
     (v, a, i, g): (&[f64], &[f64], &[f64], &[f64]),
 ) {
     let (hv, ha) = (simd.splat_f64s(h), simd.splat_f64s(0.5 * h * h));
     let (v_old, v_new) = (simd.splat_f64s(h * (1.0 - s.gamma)), simd.splat_f64s(h * s.gamma));
     let (am, af) = (simd.splat_f64s(s.alpha_m), simd.splat_f64s(s.alpha_f));
-    let (base, delta) = (S::as_mut_simd_f64s(base).0, S::as_mut_simd_f64s(delta).0);
-    let (v1, old) = (S::as_mut_simd_f64s(v1).0, S::as_mut_simd_f64s(old).0);
-    let (a1, inertial) = (S::as_mut_simd_f64s(a1).0, S::as_mut_simd_f64s(inertial).0);
+    let (base, v1, old) =
+        (S::as_mut_simd_f64s(base).0, S::as_mut_simd_f64s(v1).0, S::as_mut_simd_f64s(old).0);
     let (v, a) = (S::as_simd_f64s(v).0, S::as_simd_f64s(a).0);
     let (i, g) = (S::as_simd_f64s(i).0, S::as_simd_f64s(g).0);
-    let new = base.iter_mut().zip(delta.iter_mut()).zip(v1.iter_mut().zip(a1.iter_mut()));
-    for (((base, delta), (v1, a1)), (v, a)) in new.zip(v.iter().zip(a)) {
+    for ((base, v1), (v, a)) in base.iter_mut().zip(v1.iter_mut()).zip(v.iter().zip(a)) {
         *base = simd.mul_add_e_f64s(ha, *a, simd.mul_f64s(hv, *v));
-        *delta = *base;
         *v1 = simd.mul_add_e_f64s(v_new, *a, simd.mul_add_e_f64s(v_old, *a, *v));
-        *a1 = *a;
     }
-    for ((old, inertial), (i, g)) in old.iter_mut().zip(inertial.iter_mut()).zip(i.iter().zip(g)) {
+    for (old, (i, g)) in old.iter_mut().zip(i.iter().zip(g)) {
         *old = simd.mul_add_e_f64s(af, *g, simd.mul_f64s(am, *i));
-        *inertial = *i;
     }
 }
 
-/// Newmark's increment and new velocity for the iterate `a1`.
-struct Kinematics<'a> {
+/// A Newton correction and Newmark's kinematics in one sweep: the new iterate
+/// `a1 = a + scaling r` (`a` the last iterate: `a0` at the predictor, else `a1` itself), its
+/// increment `delta = base + beta h^2 (a1 - a0)` and velocity
+/// `v1 = v0 + h (1 - gamma) a0 + h gamma a1`.
+struct Correct<'a> {
     s: Scheme,
     h: f64,
+    scaling: f64,
+    /// Whether the last iterate is the predictor's (`a0`), not `a1`.
+    from_predictor: bool,
     v0: &'a [f64],
     a0: &'a [f64],
-    a1: &'a [f64],
+    a1: &'a mut [f64],
     v1: &'a mut [f64],
     work: &'a mut Work,
 }
 
-impl Lanes for Kinematics<'_> {
+impl Lanes for Correct<'_> {
     type Output = ();
 
     #[inline(always)]
     fn run<S: Simd>(self, simd: S) {
-        let (s, h, work) = (self.s, self.h, self.work);
+        let (s, h, scaling, work) = (self.s, self.h, self.scaling, self.work);
         let m = whole::<S>(work.delta.len());
         let (delta, base) = (work.delta.split_at_mut(m), work.base.split_at(m));
-        let (v0, a0, a1) = (self.v0.split_at(m), self.a0.split_at(m), self.a1.split_at(m));
-        let v1 = self.v1.split_at_mut(m);
-        kinematics(simd, s, h, (delta.0, v1.0), (base.0, v0.0, a0.0, a1.0));
-        kinematics(Scalar::new(), s, h, (delta.1, v1.1), (base.1, v0.1, a0.1, a1.1));
+        let r = work.residual.split_at(m);
+        let (v0, a0) = (self.v0.split_at(m), self.a0.split_at(m));
+        let (a1, v1) = (self.a1.split_at_mut(m), self.v1.split_at_mut(m));
+        let from = self.from_predictor;
+        let weights = (s, h, scaling);
+        correct(simd, weights, from, (a1.0, delta.0, v1.0), (r.0, base.0, v0.0, a0.0));
+        correct(Scalar::new(), weights, from, (a1.1, delta.1, v1.1), (r.1, base.1, v0.1, a0.1));
     }
 }
 
 #[inline(always)]
-fn kinematics<S: Simd>(
+fn correct<S: Simd>(
     simd: S,
-    s: Scheme,
-    h: f64,
-    (delta, v1): (&mut [f64], &mut [f64]),
-    (base, v0, a0, a1): (&[f64], &[f64], &[f64], &[f64]),
+    (s, h, scaling): (Scheme, f64, f64),
+    from_predictor: bool,
+    (a1, delta, v1): (&mut [f64], &mut [f64], &mut [f64]),
+    (r, base, v0, a0): (&[f64], &[f64], &[f64], &[f64]),
 ) {
     let da = simd.splat_f64s(s.beta * h * h);
     let (v_old, v_new) = (simd.splat_f64s(h * (1.0 - s.gamma)), simd.splat_f64s(h * s.gamma));
-    let (delta, v1) = (S::as_mut_simd_f64s(delta).0, S::as_mut_simd_f64s(v1).0);
-    let (base, v0) = (S::as_simd_f64s(base).0, S::as_simd_f64s(v0).0);
-    let (a0, a1) = (S::as_simd_f64s(a0).0, S::as_simd_f64s(a1).0);
-    for ((delta, v1), ((base, v0), (a0, a1))) in
-        delta.iter_mut().zip(v1).zip(base.iter().zip(v0).zip(a0.iter().zip(a1)))
+    let scaling = simd.splat_f64s(scaling);
+    let (a1, delta, v1) =
+        (S::as_mut_simd_f64s(a1).0, S::as_mut_simd_f64s(delta).0, S::as_mut_simd_f64s(v1).0);
+    let (r, base) = (S::as_simd_f64s(r).0, S::as_simd_f64s(base).0);
+    let (v0, a0) = (S::as_simd_f64s(v0).0, S::as_simd_f64s(a0).0);
+    let rows = a1.iter_mut().zip(delta.iter_mut().zip(v1));
+    for ((a1, (delta, v1)), ((r, base), (v0, a0))) in
+        rows.zip(r.iter().zip(base).zip(v0.iter().zip(a0)))
     {
-        *delta = simd.mul_add_e_f64s(da, simd.sub_f64s(*a1, *a0), *base);
-        *v1 = simd.mul_add_e_f64s(v_new, *a1, simd.mul_add_e_f64s(v_old, *a0, *v0));
+        let last = if from_predictor { *a0 } else { *a1 };
+        let a = simd.add_f64s(last, simd.mul_f64s(scaling, *r));
+        *a1 = a;
+        *delta = simd.mul_add_e_f64s(da, simd.sub_f64s(a, *a0), *base);
+        *v1 = simd.mul_add_e_f64s(v_new, a, simd.mul_add_e_f64s(v_old, *a0, *v0));
     }
 }
 
 /// The residual `(1 - alpha_m) I + (1 - alpha_f) g + old terms` into the work space; returns
-/// its norm and the larger of the force terms' norms.
+/// its norm and the larger of the force terms' norms, and, given the rest of a step's vectors
+/// (`closing`, a corrected iterate, which is usually the step's last), its [`Closing`] sums
+/// from the same sweep (the same operations on each entry: the same bits).
 struct Balance<'a> {
     s: Scheme,
     inertial: &'a [f64],
     net: &'a [f64],
     work: &'a mut Work,
+    closing: Option<ClosingOf<'a>>,
+}
+
+/// What [`Closing`] reads besides the iterate's forces: `h`, `[a0, a1, inertial0, net0]`.
+struct ClosingOf<'a> {
+    h: f64,
+    old: [&'a [f64]; 4],
 }
 
 impl Lanes for Balance<'_> {
-    type Output = (f64, f64);
+    type Output = (f64, f64, Option<(f64, f64)>);
 
     #[inline(always)]
-    fn run<S: Simd>(self, simd: S) -> (f64, f64) {
-        let w = (1.0 - self.s.alpha_m, 1.0 - self.s.alpha_f);
+    fn run<S: Simd>(self, simd: S) -> Self::Output {
+        let s = self.s;
+        let w = (1.0 - s.alpha_m, 1.0 - s.alpha_f);
         let work = self.work;
         let m = whole::<S>(work.residual.len());
         let (r, old) = (work.residual.split_at_mut(m), work.old_terms.split_at(m));
         let (i, g) = (self.inertial.split_at(m), self.net.split_at(m));
-        let head = balance(simd, w, r.0, (old.0, i.0, g.0));
-        let tail = balance(Scalar::new(), w, r.1, (old.1, i.1, g.1));
-        let norm = |k: usize| (head[k] + tail[k]).sqrt();
-        (norm(0), norm(1).max(norm(2)))
+        let norm = |sums: [f64; 3], k: usize| sums[k].sqrt();
+        let Some(ClosingOf { h, old: [a0, a1, i0, g0] }) = self.closing else {
+            let none = (s, 0.0, [&[][..]; 5]);
+            let head = balance::<S, false>(simd, w, r.0, (old.0, i.0, g.0), none);
+            let tail = balance::<Scalar, false>(Scalar::new(), w, r.1, (old.1, i.1, g.1), none);
+            let sums = [0, 1, 2].map(|k| head.0[k] + tail.0[k]);
+            return (norm(sums, 0), norm(sums, 1).max(norm(sums, 2)), None);
+        };
+        let rest = [a0, a1, i0, g0, &work.delta[..]];
+        let head =
+            balance::<S, true>(simd, w, r.0, (old.0, i.0, g.0), (s, h, rest.map(|x| &x[..m])));
+        let tail = balance::<Scalar, true>(
+            Scalar::new(),
+            w,
+            r.1,
+            (old.1, i.1, g.1),
+            (s, h, rest.map(|x| &x[m..])),
+        );
+        let sums = [0, 1, 2].map(|k| head.0[k] + tail.0[k]);
+        let closing = (head.1[0] + tail.1[0], (head.1[1] + tail.1[1]).sqrt());
+        (norm(sums, 0), norm(sums, 1).max(norm(sums, 2)), Some(closing))
     }
 }
 
-/// The residual into `r`, and the sums of squares of it, `inertial` and `net`.
+/// The residual into `r`, and the sums of squares of it, `inertial` and `net`; with `CLOSE`,
+/// the [`closing`] sums over `[a0, a1, inertial0, net0, delta]` too.
 #[inline(always)]
-fn balance<S: Simd>(
+fn balance<S: Simd, const CLOSE: bool>(
     simd: S,
     (wi, wn): (f64, f64),
     r: &mut [f64],
     (old, inertial, net): (&[f64], &[f64], &[f64]),
-) -> [f64; 3] {
+    (s, h, rest): (Scheme, f64, [&[f64]; 5]),
+) -> ([f64; 3], [f64; 2]) {
     let (wi, wn) = (simd.splat_f64s(wi), simd.splat_f64s(wn));
     let r = S::as_mut_simd_f64s(r).0;
     let (old, i, g) = (S::as_simd_f64s(old).0, S::as_simd_f64s(inertial).0, S::as_simd_f64s(net).0);
+    let [a0, a1, i0, g0, d] = rest.map(|x| S::as_simd_f64s(x).0);
     let zero = simd.splat_f64s(0.0);
     let (mut rr, mut ii, mut gg) = (zero, zero, zero);
-    for ((r, old), (i, g)) in r.iter_mut().zip(old).zip(i.iter().zip(g)) {
+    let mut sums = ClosingSums::new(simd, s, h);
+    for (k, ((r, old), (i, g))) in r.iter_mut().zip(old).zip(i.iter().zip(g)).enumerate() {
         let x = simd.mul_add_e_f64s(wn, *g, simd.mul_add_e_f64s(wi, *i, *old));
         *r = x;
         rr = simd.mul_add_e_f64s(x, x, rr);
         ii = simd.mul_add_e_f64s(*i, *i, ii);
         gg = simd.mul_add_e_f64s(*g, *g, gg);
+        if CLOSE {
+            sums.add(simd, [a0[k], a1[k], i0[k], *i, g0[k], *g, d[k]]);
+        }
     }
-    [simd.reduce_sum_f64s(rr), simd.reduce_sum_f64s(ii), simd.reduce_sum_f64s(gg)]
+    let squares = [simd.reduce_sum_f64s(rr), simd.reduce_sum_f64s(ii), simd.reduce_sum_f64s(gg)];
+    (squares, sums.total(simd))
 }
 
 /// `|x|`.
@@ -468,24 +511,6 @@ impl Kernel for Norm<'_> {
     #[inline(always)]
     fn run<A: MulAdd>(self, _: A) -> f64 {
         norm_of(self.0)
-    }
-}
-
-/// `x += scaling y`.
-struct AddScaled<'a> {
-    x: &'a mut [f64],
-    y: &'a [f64],
-    scaling: f64,
-}
-
-impl Kernel for AddScaled<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run<A: MulAdd>(self, _: A) {
-        for (x, y) in self.x.iter_mut().zip(self.y) {
-            *x += self.scaling * y;
-        }
     }
 }
 
@@ -523,20 +548,54 @@ impl Lanes for Closing<'_> {
 #[inline(always)]
 fn closing<S: Simd>(simd: S, s: Scheme, h: f64, x: [&[f64]; 7]) -> [f64; 2] {
     let [a0, a1, i0, i1, g0, g1, d] = x.map(|x| S::as_simd_f64s(x).0);
-    let kinematic = simd.splat_f64s((s.beta - 0.5 * s.gamma) * h * h);
-    let (old, new, half) =
-        (simd.splat_f64s(1.0 - s.gamma), simd.splat_f64s(s.gamma), simd.splat_f64s(0.5));
-    let zero = simd.splat_f64s(0.0);
-    let (mut dissipation, mut jump_sq) = (zero, zero);
+    let mut sums = ClosingSums::new(simd, s, h);
     for k in 0..d.len() {
-        let m_a = simd.mul_add_e_f64s(new, i1[k], simd.mul_f64s(old, i0[k]));
-        let jump = simd.sub_f64s(a1[k], a0[k]);
-        jump_sq = simd.mul_add_e_f64s(jump, jump, jump_sq);
-        let work = simd.mul_add_e_f64s(half, simd.add_f64s(g0[k], g1[k]), m_a);
-        let kinetic = simd.mul_f64s(kinematic, simd.mul_f64s(jump, m_a));
-        dissipation = simd.add_f64s(dissipation, simd.sub_f64s(kinetic, simd.mul_f64s(d[k], work)));
+        sums.add(simd, [a0[k], a1[k], i0[k], i1[k], g0[k], g1[k], d[k]]);
     }
-    [simd.reduce_sum_f64s(dissipation), simd.reduce_sum_f64s(jump_sq)]
+    sums.total(simd)
+}
+
+/// [`closing`]'s sums, a vector of entries at a time.
+struct ClosingSums<S: Simd> {
+    kinematic: S::f64s,
+    old: S::f64s,
+    new: S::f64s,
+    half: S::f64s,
+    dissipation: S::f64s,
+    jump_sq: S::f64s,
+}
+
+impl<S: Simd> ClosingSums<S> {
+    #[inline(always)]
+    fn new(simd: S, s: Scheme, h: f64) -> Self {
+        let zero = simd.splat_f64s(0.0);
+        Self {
+            kinematic: simd.splat_f64s((s.beta - 0.5 * s.gamma) * h * h),
+            old: simd.splat_f64s(1.0 - s.gamma),
+            new: simd.splat_f64s(s.gamma),
+            half: simd.splat_f64s(0.5),
+            dissipation: zero,
+            jump_sq: zero,
+        }
+    }
+
+    /// Adds the entries `[a0, a1, inertial0, inertial, net0, net, delta]`.
+    #[inline(always)]
+    fn add(&mut self, simd: S, [a0, a1, i0, i1, g0, g1, d]: [S::f64s; 7]) {
+        let m_a = simd.mul_add_e_f64s(self.new, i1, simd.mul_f64s(self.old, i0));
+        let jump = simd.sub_f64s(a1, a0);
+        self.jump_sq = simd.mul_add_e_f64s(jump, jump, self.jump_sq);
+        let work = simd.mul_add_e_f64s(self.half, simd.add_f64s(g0, g1), m_a);
+        let kinetic = simd.mul_f64s(self.kinematic, simd.mul_f64s(jump, m_a));
+        self.dissipation =
+            simd.add_f64s(self.dissipation, simd.sub_f64s(kinetic, simd.mul_f64s(d, work)));
+    }
+
+    /// The dissipation and `|a_1 - a_0|^2`.
+    #[inline(always)]
+    fn total(&self, simd: S) -> [f64; 2] {
+        [simd.reduce_sum_f64s(self.dissipation), simd.reduce_sum_f64s(self.jump_sq)]
+    }
 }
 
 impl Integrator {
@@ -895,8 +954,6 @@ impl Integrator {
             inertial0,
             net0,
             v1: entries_mut(&mut v1),
-            a1: entries_mut(&mut a1),
-            inertial: entries_mut(&mut inertial),
             work,
         });
         // Round-off floor of the balance: forces of the size of the old ones are recomputed at
@@ -909,34 +966,31 @@ impl Integrator {
             self.work.spare_config.as_mut().and_then(|c| c.downcast_mut::<Option<M::Config>>());
         let mut q1 = spare.and_then(Option::take).unwrap_or_else(|| old.q.clone());
         let constant_mass = model.constant_mass();
+        // Until the first correction the iterate is the predictor: its acceleration `a0`, its
+        // increment `base` and, with a constant mass, its inertial force the old state's (M a_n,
+        // to the last bit), read where they are; the correction writes `a1` and `delta`.
+        let mut predicted = true;
         for iteration in 0..=self.options.max_iterations {
-            // The predictor's increment and velocity are Predict's.
-            if iteration > 0 {
-                let (a1_now, v1_now) = (entries(&a1), entries_mut(&mut v1));
-                crate::fast::run_lanes(Kinematics {
-                    s,
-                    h,
-                    v0,
-                    a0,
-                    a1: a1_now,
-                    v1: v1_now,
-                    work: &mut self.work,
-                });
-            }
-            model.displaced(&old.q, ColRef::from_slice(&self.work.delta), &mut q1);
-            // With a constant mass the predictor's (a1 = a_n) is the old state's M a_n, to the
-            // last bit, which Predict copied.
-            if iteration > 0 || !constant_mass {
-                model.inertial_force(&q1, v1.as_ref(), a1.as_ref(), inertial.as_mut());
+            let delta = if predicted { &self.work.base } else { &self.work.delta };
+            model.displaced(&old.q, ColRef::from_slice(delta), &mut q1);
+            let a_now = ColRef::from_slice(if predicted { a0 } else { entries(&a1) });
+            let kept_inertial = predicted && constant_mass;
+            if !kept_inertial {
+                model.inertial_force(&q1, v1.as_ref(), a_now, inertial.as_mut());
             }
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
-            let (inertial_now, net_now) = (entries(&inertial), entries(&net));
-            let force_norm;
-            (residual_norm, force_norm) = crate::fast::run_lanes(Balance {
+            let inertial_now = if kept_inertial { inertial0 } else { entries(&inertial) };
+            // A corrected iterate's closing sums from the balance's sweep (it is usually the
+            // step's last): one sweep less over the forces when it is.
+            let closing =
+                (!predicted).then(|| ClosingOf { h, old: [a0, entries(&a1), inertial0, net0] });
+            let (force_norm, closed);
+            (residual_norm, force_norm, closed) = crate::fast::run_lanes(Balance {
                 s,
                 inertial: inertial_now,
-                net: net_now,
+                net: entries(&net),
                 work: &mut self.work,
+                closing,
             });
             let scale = force_norm.max(old_scale);
             if !residual_norm.is_finite() {
@@ -948,7 +1002,7 @@ impl Integrator {
                 residual_norm <= self.options.atol + self.options.rtol * scale + floor;
             if !converged && iteration < self.options.max_iterations {
                 let stale = residual_norm > STALE_CONTRACTION * previous_residual;
-                self.newton_matrix(model, (t1, &q1, v1.as_ref(), a1.as_ref()), w, (reuse, stale))?;
+                self.newton_matrix(model, (t1, &q1, v1.as_ref(), a_now), w, (reuse, stale))?;
                 previous_residual = residual_norm;
                 // The Newton matrix solves for the configuration's correction times
                 // -beta h^2; the acceleration's is that solution scaled back.
@@ -973,23 +1027,45 @@ impl Integrator {
                     )
                 };
                 if !converged {
-                    crate::fast::run(AddScaled { x: entries_mut(&mut a1), y: r, scaling });
+                    crate::fast::run_lanes(Correct {
+                        s,
+                        h,
+                        scaling,
+                        from_predictor: predicted,
+                        v0,
+                        a0,
+                        a1: entries_mut(&mut a1),
+                        v1: entries_mut(&mut v1),
+                        work: &mut self.work,
+                    });
+                    predicted = false;
                     continue;
                 }
             }
             if !converged {
                 break;
             }
-            let (dissipation, jump) = crate::fast::run_lanes(Closing {
-                s,
-                h,
-                a0,
-                a1: entries(&a1),
-                inertial0,
-                inertial: entries(&inertial),
-                net0,
-                net: entries(&net),
-                delta: &self.work.delta,
+            // The predictor accepted as it is: its acceleration (and kept inertial force) into
+            // the new state's columns.
+            if predicted {
+                entries_mut(&mut a1).copy_from_slice(a0);
+                self.work.delta.copy_from_slice(&self.work.base);
+            }
+            if kept_inertial {
+                entries_mut(&mut inertial).copy_from_slice(inertial0);
+            }
+            let (dissipation, jump) = closed.unwrap_or_else(|| {
+                crate::fast::run_lanes(Closing {
+                    s,
+                    h,
+                    a0,
+                    a1: entries(&a1),
+                    inertial0,
+                    inertial: entries(&inertial),
+                    net0,
+                    net: entries(&net),
+                    delta: &self.work.delta,
+                })
             });
             let error_estimate = h * h * (s.beta - 1.0 / 6.0).abs() * jump;
             let next = State { t: t1, q: q1, v: v1, a: a1, inertial, net, force_norm };

@@ -668,10 +668,30 @@ impl PlanarBeam {
         }
     }
 
-    /// `out = M x` on slices: the diagonal, then the couplings by sweeps where they allow.
+    /// `out = M x` on slices: with the couplings all three unknowns apart (a chain of nodes of
+    /// three), one sweep, each row its diagonal's term, then its coupling to the unknown three
+    /// on, then three back; otherwise the diagonal, then the couplings.
     #[inline(always)]
     fn mass_product(&self, x: &[f64], out: &mut [f64]) {
-        for ((o, m), x) in out.iter_mut().zip(&self.mass_diagonal).zip(x) {
+        let (n, diagonal) = (x.len(), &self.mass_diagonal[..x.len()]);
+        if let Some(next) = self.mass_next.as_ref().filter(|_| n >= 6) {
+            // One pass instead of three over the vectors (a step streams them from the second-
+            // level cache), the same sum in the same order: the same bits.
+            for i in 0..3 {
+                out[i] = diagonal[i] * x[i] + next[i] * x[i + 3];
+            }
+            let rows = out[3..n - 3].iter_mut().zip(&diagonal[3..n - 3]).zip(&x[3..n - 3]);
+            let on = next[3..n - 3].iter().zip(&x[6..]);
+            let back = next[..n - 6].iter().zip(&x[..n - 6]);
+            for (((o, m), x), ((u, xu), (d, xd))) in rows.zip(on.zip(back)) {
+                *o = m * x + u * xu + d * xd;
+            }
+            for i in n - 3..n {
+                out[i] = diagonal[i] * x[i] + next[i - 3] * x[i - 3];
+            }
+            return;
+        }
+        for ((o, m), x) in out.iter_mut().zip(diagonal).zip(x) {
             *o = m * x;
         }
         match &self.mass_next {
