@@ -586,6 +586,7 @@ impl PlanarBeam {
         // A block of elements at a time: first each element's end forces in arrays (a loop
         // over elements without branches, run on several at once), then the nodes' sums.
         let [mut sines, mut cosines, mut fx, mut fz, mut first, mut second] = [[0.0; BLOCK]; 6];
+        let [mut extensions, mut shears, mut curvatures] = [[0.0; BLOCK]; 3];
         let mut carry = [0.0; 3];
         let elements = self.elements();
         let mut start = 0;
@@ -601,6 +602,8 @@ impl PlanarBeam {
             let (lengths, inverse) = (&self.lengths[start..end], &self.inverse_lengths[start..end]);
             let (fx, fz) = (&mut fx[..m], &mut fz[..m]);
             let (first, second) = (&mut first[..m], &mut second[..m]);
+            let (ext, shr) = (&mut extensions[..m], &mut shears[..m]);
+            let cur = &mut curvatures[..m];
             for k in 0..m {
                 let (s, c, inv) = (s[k], c[k], inverse[k]);
                 let (a, b) = ((x1[k] - x0[k]) * inv, (z1[k] - z0[k]) * inv);
@@ -608,7 +611,8 @@ impl PlanarBeam {
                 let shear = -a * s + b * c;
                 let curvature = (t1[k] - t0[k]) * inv;
                 if KEEP {
-                    strains[start + k] = (extension, shear, curvature);
+                    // In arrays here (the loop stays on vectors), interleaved below.
+                    (ext[k], shr[k], cur[k]) = (extension, shear, curvature);
                 }
                 let (n, v, m) = (self.ea * extension, self.ga * shear, self.ei * curvature);
                 fx[k] = n * c - v * s;
@@ -617,28 +621,48 @@ impl PlanarBeam {
                 first[k] = turn - m;
                 second[k] = turn + m;
             }
-            for k in 0..m {
-                let node = [carry[0] - fx[k], carry[1] - fz[k], carry[2] + first[k]];
-                match self.dense_nodes {
-                    // A free node of the dense run: its three unknowns in a row, written
-                    // without looking each up (a branch an unknown cost 5 % of a step).
-                    Some((k0, k1)) if (k0..k1).contains(&(start + k)) => {
-                        let i = 3 * (start + k - k0);
-                        out[i..i + 3].copy_from_slice(&node);
-                    }
-                    _ => {
-                        for (d, f) in self.dofs[start + k].iter().zip(node) {
-                            if let Some(i) = d {
-                                out[*i] = f;
-                            }
-                        }
-                    }
+            if KEEP {
+                let kept = strains[start..end].iter_mut().zip(ext.iter().zip(shr.iter().zip(cur)));
+                for (st, (e, (s, c))) in kept {
+                    *st = (*e, *s, *c);
                 }
-                carry = [fx[k], fz[k], second[k]];
+            }
+            // Each node takes its two elements' end forces: the free nodes of the dense run
+            // (their three unknowns in a row) without looking each unknown up, the others
+            // by their unknowns (a branch an unknown cost 5 % of a step).
+            let (lo, hi) = match self.dense_nodes {
+                Some((k0, k1)) => (k0.clamp(start, end), k1.clamp(start, end)),
+                None => (end, end),
+            };
+            let node_sums = |k: usize, carry: &mut [f64; 3]| {
+                let node = [carry[0] - fx[k], carry[1] - fz[k], carry[2] + first[k]];
+                *carry = [fx[k], fz[k], second[k]];
+                node
+            };
+            for k in start..lo {
+                let node = node_sums(k - start, &mut carry);
+                self.write_node(k, node, out);
+            }
+            if lo < hi {
+                let k0 = self.dense_nodes.map_or(0, |d| d.0);
+                let dense = out[3 * (lo - k0)..3 * (hi - k0)].chunks_exact_mut(3);
+                for (o, k) in dense.zip(lo - start..hi - start) {
+                    o.copy_from_slice(&node_sums(k, &mut carry));
+                }
+            }
+            for k in hi..end {
+                let node = node_sums(k - start, &mut carry);
+                self.write_node(k, node, out);
             }
             start = end;
         }
-        for (d, f) in self.dofs[elements].iter().zip(carry) {
+        self.write_node(elements, carry, out);
+    }
+
+    /// A node's forces `node` (x, z, theta) into its unknowns' rows of `out`.
+    #[inline(always)]
+    fn write_node(&self, node: usize, forces: [f64; 3], out: &mut [f64]) {
+        for (d, f) in self.dofs[node].iter().zip(forces) {
             if let Some(i) = d {
                 out[*i] = f;
             }
@@ -1049,9 +1073,25 @@ mod tests {
         // Central differences on a bent, stretched, sheared configuration. Truncation is
         // eps^2 |f'''| (eps = 1e-7 m or rad: ~1e-14 of the scale) and round-off
         // ~eps_mach |energy| / eps; 1e-6 of the largest entry leaves room for both and still
-        // catches a missing term (the geometric terms are ~1e-2 of it here).
-        let beam = strip();
-        let q = bent(&beam);
+        // catches a missing term (the geometric terms are ~1e-2 of it here). Free, clamped at
+        // one end (the free nodes one dense run) and pinned inside (the run broken, the pinned
+        // node's rotation looked up), and clamped at the last two nodes (the run ends before
+        // the last element; the nodes after it have no unknowns, as a run is all free nodes).
+        for beam in [
+            strip(),
+            strip().support(0, Support::Clamped).unwrap(),
+            strip().support(1, Support::Pinned).unwrap(),
+            strip()
+                .support(2, Support::Clamped)
+                .and_then(|b| b.support(3, Support::Clamped))
+                .unwrap(),
+        ] {
+            derivatives_of_the_energy(&beam);
+        }
+    }
+
+    fn derivatives_of_the_energy(beam: &PlanarBeam) {
+        let q = bent(beam);
         let n = beam.ndof();
         let zero = faer::Col::<f64>::zeros(n);
         let force = |q: &PlanarState| {
