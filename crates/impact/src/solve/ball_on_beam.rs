@@ -81,7 +81,10 @@ pub(crate) struct ContactPoint<const N: usize = LOCAL> {
     pub(crate) xi: f64,
     pub(crate) delta: f64,
     pub(crate) gradient: SVector<f64, N>,
-    pub(crate) hessian: SMatrix<f64, N, N>,
+    /// Asked for ([`Order::Hessian`]) only in the Newton matrix; boxed, so that the point a
+    /// residual asks for twice a step (and the copy kept of it) is a few numbers, not an
+    /// N x N matrix of zeros (15 x 15 in 3D).
+    pub(crate) hessian: Option<Box<SMatrix<f64, N, N>>>,
 }
 
 impl<const N: usize> ContactPoint<N> {
@@ -115,8 +118,11 @@ impl<const N: usize> ContactPoint<N> {
         out: &mut Triplets,
     ) {
         let gg = self.gradient * self.gradient.transpose();
-        let block = (gg * cf.stiffness + self.hessian * cf.force) * (w.force * w.dq)
-            + gg * (cf.damping * w.force * w.dv);
+        let stiffness = match &self.hessian {
+            Some(hessian) => gg * cf.stiffness + **hessian * cf.force,
+            None => gg * cf.stiffness,
+        };
+        let block = stiffness * (w.force * w.dq) + gg * (cf.damping * w.force * w.dv);
         for (r, dr) in dofs.iter().enumerate() {
             let Some(i) = dr else { continue };
             for (c, dc) in dofs.iter().enumerate() {
@@ -152,6 +158,8 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
     /// Each element's section strains at the last net force, from the same pass, and how many
     /// net forces have been evaluated (see [`super::struck::Struck::force_passes`]).
     last_strains: RefCell<Vec<(f64, f64, f64)>>,
+    /// Whether `last_strains` holds the last pass's (not yet handed over).
+    strains_kept: Cell<bool>,
     force_passes: Cell<u64>,
 }
 
@@ -355,6 +363,7 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
             sticky_element: None,
             last: RefCell::new(None),
             last_strains: RefCell::default(),
+            strains_kept: Cell::new(false),
             force_passes: Cell::new(0),
         }
     }
@@ -371,13 +380,13 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
     }
 
     /// Every element's section strains at the configuration of the last net force, from that
-    /// pass, into `out` (`false`, and `out` untouched, before any).
-    pub(crate) fn last_pass_strains(&self, out: &mut [(f64, f64, f64)]) -> bool {
-        let kept = self.last_strains.borrow();
-        if kept.is_empty() {
+    /// pass, handed over in `out` (the two vectors swapped: no copy); `false`, and `out`
+    /// untouched, before any net force or once they have been handed over.
+    pub(crate) fn last_pass_strains(&self, out: &mut Vec<(f64, f64, f64)>) -> bool {
+        if !self.strains_kept.replace(false) {
             return false;
         }
-        out[..kept.len()].copy_from_slice(&kept);
+        std::mem::swap(&mut *self.last_strains.borrow_mut(), out);
         true
     }
 
@@ -455,17 +464,18 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
         let c = &q.ball;
         let zero = SVector::<f64, LOCAL>::zeros();
         let (delta, gradient, hessian) = match order {
-            Order::Value => {
-                (approach_of(&zero, c, a0, b0, surface), SVector::zeros(), SMatrix::zeros())
-            }
+            Order::Value => (approach_of(&zero, c, a0, b0, surface), SVector::zeros(), None),
             Order::Gradient => {
                 let (d, g) = approach_gradient(c, a0, b0, surface);
-                (d, g, SMatrix::zeros())
+                (d, g, None)
             }
-            Order::Hessian => num_dual::hessian(
-                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, surface),
-                &zero,
-            ),
+            Order::Hessian => {
+                let (d, g, h) = num_dual::hessian(
+                    |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, a0, b0, surface),
+                    &zero,
+                );
+                (d, g, Some(Box::new(h)))
+            }
         };
         ContactPoint { element, xi, delta, gradient, hessian }
     }
@@ -581,6 +591,7 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
             }
         }
         drop(strains);
+        self.strains_kept.set(true);
         self.force_passes.set(self.force_passes.get() + 1);
         // Gravity pulls the ball along -z: net force = -(external) = +m g e_z.
         out[nb] = 0.0;
@@ -749,12 +760,15 @@ mod tests {
         let (a, b) = (state(1.0), state(2.0));
         let n = hht::Model::ndof(&model);
         let mut force = faer::Col::<f64>::zeros(n);
-        assert!(!model.last_pass_strains(&mut [(0.0, 0.0, 0.0); 4]));
+        assert!(!model.last_pass_strains(&mut vec![(0.0, 0.0, 0.0); 4]));
         hht::Model::net_force(&model, 0.0, &a, faer::Col::zeros(n).as_ref(), force.as_mut());
         assert_eq!(Struck::force_passes(&model), 1);
         let mut kept = vec![(9.0, 9.0, 9.0); 4];
         assert!(model.last_pass_strains(&mut kept) && kept.iter().all(|s| s.2 > 0.0));
-        for (q, last_pass) in [(&a, true), (&b, false), (&a, false)] {
+        // Handed over once: then computed.
+        assert!(!model.last_pass_strains(&mut kept));
+        hht::Model::net_force(&model, 0.0, &a, faer::Col::zeros(n).as_ref(), force.as_mut());
+        for (q, last_pass) in [(&a, true), (&b, false), (&a, false), (&a, true)] {
             let mut out = vec![(9.0, 9.0, 9.0); 4];
             model.section_strains(q, &mut out, &mut [], last_pass);
             let mut alone = vec![(0.0, 0.0, 0.0); 4];

@@ -31,7 +31,7 @@
 use faer::{ColMut, ColRef};
 use hertz::ContactLaw;
 use hht::{Band, Model, NewtonWeights, Triplets};
-use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, SVector, UnitQuaternion, Vector3};
 use num_dual::Dual2SVec64;
 use simo_beam::{BeamModel, BeamState};
 use std::cell::{Cell, RefCell};
@@ -533,17 +533,20 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         let c = &q.ball;
         let zero = SVector::<f64, LOCAL>::zeros();
         let (delta, gradient, hessian) = match order {
-            Order::Value => {
-                (approach_of(&zero, c, &a, &b, surface, ends), SVector::zeros(), SMatrix::zeros())
-            }
+            Order::Value => (approach_of(&zero, c, &a, &b, surface, ends), SVector::zeros(), None),
             Order::Gradient => {
                 let (delta, gradient) = approach_gradient(c, &a, &b, surface, ends);
-                (delta, gradient, SMatrix::zeros())
+                (delta, gradient, None)
             }
-            Order::Hessian => num_dual::hessian(
-                |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| approach_of(&u, c, &a, &b, surface, ends),
-                &zero,
-            ),
+            Order::Hessian => {
+                let (d, g, h) = num_dual::hessian(
+                    |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| {
+                        approach_of(&u, c, &a, &b, surface, ends)
+                    },
+                    &zero,
+                );
+                (d, g, Some(Box::new(h)))
+            }
         };
         ContactPoint3d { element, xi, delta, gradient, hessian }
     }
