@@ -267,8 +267,10 @@ impl BandedLu {
                 });
             }
             self.pivots[col] = pivot;
-            // Columns col ..= col + span take part in this step.
-            let span = (col + 2 * kd).min(n - 1) - col;
+            // Columns col ..= col + span take part in this step: kd on without row interchanges
+            // (U keeps the band's kd super-diagonals; the fill columns stay zero), 2 kd with.
+            let reach = if pivoting { 2 * kd } else { kd };
+            let span = (col + reach).min(n - 1) - col;
             if pivot != col {
                 self.upper = 2 * kd;
                 let (p, q) = (col * w + kd, pivot * w + kd + col - pivot);

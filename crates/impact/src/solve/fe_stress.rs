@@ -167,8 +167,11 @@ impl FeStress {
     /// worst corner of the struck face's edge (Pa).
     pub(crate) fn observe_strains(&mut self, t: f64, strains: &[(f64, f64, f64)], lateral: &[f64]) {
         self.observed = Some(t);
-        for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(strains) {
-            *stress = self.youngs_modulus * (extension - self.half_thickness * curvature);
+        // The beam's own section where no element has its own (every fe run gives each one).
+        if self.sections.len() < strains.len() {
+            for (stress, (extension, _, curvature)) in self.stresses.iter_mut().zip(strains) {
+                *stress = self.youngs_modulus * (extension - self.half_thickness * curvature);
+            }
         }
         for (stress, ((extension, _, curvature), (e, half, _))) in
             self.stresses.iter_mut().zip(strains.iter().zip(&self.sections))
