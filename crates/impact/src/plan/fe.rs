@@ -354,7 +354,7 @@ pub(super) fn plan(
     let steps = Steps::new(s, pulse)?;
     let Steps { alpha, samples, free_time_step, .. } = steps;
     let estimated_duration = pulse.duration;
-    reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero (and it takes about 5x the time: validation/REFERENCES.md 1.9; solver.fe_model = \"3d\" forces it)".into());
+    reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero (and it takes about 4.5x the time: validation/REFERENCES.md 1.9; solver.fe_model = \"3d\" forces it)".into());
     let nodes =
         with_nodes_at(mesh(s, &analytic, position, estimated_duration, reasons)?, &attachments);
     if !attachments.is_empty() {
