@@ -158,11 +158,12 @@ fn planar(c: &mut Criterion) {
         group.bench_function(format!("net_force_{elements}"), |b| {
             b.iter(|| beam.net_force(0.0, &q, zero.as_ref(), force.as_mut()))
         });
-        let mut strains = vec![(0.0, 0.0, 0.0); elements];
+        let mut strains = [vec![0.0; elements], vec![0.0; elements], vec![0.0; elements]];
         group.bench_function(format!("net_force_and_strains_{elements}"), |b| {
             b.iter(|| {
                 let out = force.as_mut().try_as_col_major_mut().expect("contiguous");
-                beam.internal_force_and_strains(&q, out.as_slice_mut(), &mut strains)
+                let [e, s, c] = &mut strains;
+                beam.internal_force_and_strains(&q, out.as_slice_mut(), [e, s, c])
             })
         });
         group.bench_function(format!("inertial_force_{elements}"), |b| {

@@ -540,24 +540,27 @@ impl PlanarBeam {
     /// unknown is written once, from its two elements (no zeroing, no gradient arrays: this is
     /// the fe method's innermost loop).
     pub fn internal_force(&self, q: &PlanarState, out: &mut [f64]) {
-        hht::fast::run(InternalForce::<false> { beam: self, q, out, strains: &mut [] });
+        let strains = [&mut [][..], &mut [][..], &mut [][..]];
+        hht::fast::run(InternalForce::<false> { beam: self, q, out, strains });
         self.add_spring_forces(q, out);
     }
 
     /// [`PlanarBeam::internal_force`] that also writes every element's section strains at `q`
-    /// into `strains` (as [`PlanarBeam::all_section_strains`], by the same operations: the same
-    /// bits), from the same pass: a step's last force evaluation then gives its state's
-    /// strains without a second pass over the sections' sines and cosines.
+    /// into `strains`, (extensions, shears, curvatures) an array each (as
+    /// [`PlanarBeam::all_section_strains`], by the same operations: the same bits), from the
+    /// same pass: a step's last force evaluation then gives its state's strains without a
+    /// second pass over the sections' sines and cosines.
     ///
     /// # Panics
-    /// If `strains` has fewer entries than the beam has elements.
+    /// If an array of `strains` has fewer entries than the beam has elements.
     pub fn internal_force_and_strains(
         &self,
         q: &PlanarState,
         out: &mut [f64],
-        strains: &mut [(f64, f64, f64)],
+        strains: [&mut [f64]; 3],
     ) {
-        let strains = &mut strains[..self.elements()];
+        let e = self.elements();
+        let strains = strains.map(|s| &mut s[..e]);
         hht::fast::run(InternalForce::<true> { beam: self, q, out, strains });
         self.add_spring_forces(q, out);
     }
@@ -574,19 +577,19 @@ impl PlanarBeam {
         }
     }
 
-    /// The elements' part of the internal force; with `KEEP`, each element's (extension,
-    /// shear, curvature) written to `strains` too (an entry an element).
+    /// The elements' part of the internal force; with `KEEP`, each element's extension, shear
+    /// and curvature written to `strains` too (an array each, an entry an element).
     #[inline(always)]
     fn internal_force_inline<const KEEP: bool>(
         &self,
         q: &PlanarState,
         out: &mut [f64],
-        strains: &mut [(f64, f64, f64)],
+        strains: [&mut [f64]; 3],
     ) {
+        let [kept_extensions, kept_shears, kept_curvatures] = strains;
         // A block of elements at a time: first each element's end forces in arrays (a loop
         // over elements without branches, run on several at once), then the nodes' sums.
         let [mut sines, mut cosines, mut fx, mut fz, mut first, mut second] = [[0.0; BLOCK]; 6];
-        let [mut extensions, mut shears, mut curvatures] = [[0.0; BLOCK]; 3];
         let mut carry = [0.0; 3];
         let elements = self.elements();
         let mut start = 0;
@@ -602,8 +605,14 @@ impl PlanarBeam {
             let (lengths, inverse) = (&self.lengths[start..end], &self.inverse_lengths[start..end]);
             let (fx, fz) = (&mut fx[..m], &mut fz[..m]);
             let (first, second) = (&mut first[..m], &mut second[..m]);
-            let (ext, shr) = (&mut extensions[..m], &mut shears[..m]);
-            let cur = &mut curvatures[..m];
+            // The kept strains' part for this block (m long: no bounds checks below).
+            let (ext, shr, cur) = if KEEP {
+                let r = start..end;
+                let e = &mut kept_extensions[r.clone()];
+                (e, &mut kept_shears[r.clone()], &mut kept_curvatures[r])
+            } else {
+                (&mut [][..], &mut [][..], &mut [][..])
+            };
             for k in 0..m {
                 let (s, c, inv) = (s[k], c[k], inverse[k]);
                 let (a, b) = ((x1[k] - x0[k]) * inv, (z1[k] - z0[k]) * inv);
@@ -611,7 +620,6 @@ impl PlanarBeam {
                 let shear = -a * s + b * c;
                 let curvature = (t1[k] - t0[k]) * inv;
                 if KEEP {
-                    // In arrays here (the loop stays on vectors), interleaved below.
                     (ext[k], shr[k], cur[k]) = (extension, shear, curvature);
                 }
                 let (n, v, m) = (self.ea * extension, self.ga * shear, self.ei * curvature);
@@ -620,12 +628,6 @@ impl PlanarBeam {
                 let turn = 0.5 * lengths[k] * (n * shear - v * (extension + 1.0));
                 first[k] = turn - m;
                 second[k] = turn + m;
-            }
-            if KEEP {
-                let kept = strains[start..end].iter_mut().zip(ext.iter().zip(shr.iter().zip(cur)));
-                for (st, (e, (s, c))) in kept {
-                    *st = (*e, *s, *c);
-                }
             }
             // Each node takes its two elements' end forces: the free nodes of the dense run
             // (their three unknowns in a row) without looking each unknown up, the others
@@ -952,8 +954,8 @@ struct InternalForce<'a, const KEEP: bool> {
     beam: &'a PlanarBeam,
     q: &'a PlanarState,
     out: &'a mut [f64],
-    /// The elements' strains (with `KEEP`; empty without).
-    strains: &'a mut [(f64, f64, f64)],
+    /// The elements' extensions, shears and curvatures (with `KEEP`; empty without).
+    strains: [&'a mut [f64]; 3],
 }
 
 impl<const KEEP: bool> hht::fast::Kernel for InternalForce<'_, KEEP> {
@@ -1186,19 +1188,22 @@ mod tests {
         for (beam, q) in [(strip(), bent(&strip())), (long, small)] {
             let n = hht::Model::ndof(&beam);
             let (mut force, mut alone) = (vec![7.0; n], vec![8.0; n]);
-            let mut strains = vec![(9.0, 9.0, 9.0); beam.elements()];
-            let mut expected = strains.clone();
-            beam.internal_force_and_strains(&q, &mut force, &mut strains);
+            let e = beam.elements();
+            let [mut extensions, mut shears, mut curvatures] =
+                [vec![9.0; e], vec![9.0; e], vec![9.0; e]];
+            let mut expected = vec![(0.0, 0.0, 0.0); e];
+            let strains = [&mut extensions[..], &mut shears[..], &mut curvatures[..]];
+            beam.internal_force_and_strains(&q, &mut force, strains);
             beam.internal_force(&q, &mut alone);
             beam.all_section_strains(&q, &mut expected);
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&force), bits(&alone));
-            let bits3 = |v: &[(f64, f64, f64)]| {
-                v.iter()
-                    .flat_map(|s| [s.0.to_bits(), s.1.to_bits(), s.2.to_bits()])
-                    .collect::<Vec<_>>()
+            let columns = |k: usize| {
+                expected.iter().map(|s| [s.0, s.1, s.2][k].to_bits()).collect::<Vec<_>>()
             };
-            assert_eq!(bits3(&strains), bits3(&expected));
+            assert_eq!(bits(&extensions), columns(0));
+            assert_eq!(bits(&shears), columns(1));
+            assert_eq!(bits(&curvatures), columns(2));
         }
     }
 

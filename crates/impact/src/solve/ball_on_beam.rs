@@ -155,11 +155,10 @@ pub struct BallOnBeam<'a, L: ContactLaw> {
     /// times (the converged residual, the step's acceptance, the approach's rate, the
     /// separation test, the history), and it is a pure function of those.
     last: RefCell<Option<Memo>>,
-    /// Each element's section strains at the last net force, from the same pass, and how many
-    /// net forces have been evaluated (see [`super::struck::Struck::force_passes`]).
-    last_strains: RefCell<Vec<(f64, f64, f64)>>,
-    /// Whether `last_strains` holds the last pass's (not yet handed over).
-    strains_kept: Cell<bool>,
+    /// Each element's section strains at the last net force (extensions, shears, curvatures,
+    /// an array each), from the same pass, and how many net forces have been evaluated (see
+    /// [`super::struck::Struck::force_passes`]).
+    last_strains: RefCell<[Vec<f64>; 3]>,
     force_passes: Cell<u64>,
 }
 
@@ -363,7 +362,6 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
             sticky_element: None,
             last: RefCell::new(None),
             last_strains: RefCell::default(),
-            strains_kept: Cell::new(false),
             force_passes: Cell::new(0),
         }
     }
@@ -380,13 +378,17 @@ impl<'a, L: ContactLaw> BallOnBeam<'a, L> {
     }
 
     /// Every element's section strains at the configuration of the last net force, from that
-    /// pass, handed over in `out` (the two vectors swapped: no copy); `false`, and `out`
-    /// untouched, before any net force or once they have been handed over.
-    pub(crate) fn last_pass_strains(&self, out: &mut Vec<(f64, f64, f64)>) -> bool {
-        if !self.strains_kept.replace(false) {
+    /// pass, into `out`; `false`, and `out` untouched, before any net force.
+    pub(crate) fn last_pass_strains(&self, out: &mut [(f64, f64, f64)]) -> bool {
+        let kept = self.last_strains.borrow();
+        let [extensions, shears, curvatures] = &*kept;
+        if extensions.is_empty() {
             return false;
         }
-        std::mem::swap(&mut *self.last_strains.borrow_mut(), out);
+        let each = extensions.iter().zip(shears).zip(curvatures);
+        for (o, ((e, s), c)) in out.iter_mut().zip(each) {
+            *o = (*e, *s, *c);
+        }
         true
     }
 
@@ -571,7 +573,7 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
 
     fn net_force(
         &self,
-        t: f64,
+        _t: f64,
         q: &BallOnBeamConfig,
         v: ColRef<'_, f64>,
         mut out: ColMut<'_, f64>,
@@ -579,19 +581,25 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         let nb = self.nb;
         // The pass's strains kept: an accepted state is its step's last iterate, whose strains
         // then need no pass of their own.
-        let mut strains = self.last_strains.borrow_mut();
-        strains.resize(self.beam.elements(), (0.0, 0.0, 0.0));
+        let mut kept = self.last_strains.borrow_mut();
+        for s in kept.iter_mut() {
+            s.resize(self.beam.elements(), 0.0);
+        }
+        let [extensions, shears, curvatures] = &mut *kept;
+        let strains = [&mut extensions[..], &mut shears[..], &mut curvatures[..]];
         match out.as_mut().subrows_mut(0, nb).try_as_col_major_mut() {
             Some(beam) => {
-                self.beam.internal_force_and_strains(&q.beam, beam.as_slice_mut(), &mut strains)
+                self.beam.internal_force_and_strains(&q.beam, beam.as_slice_mut(), strains)
             }
             None => {
-                self.beam.net_force(t, &q.beam, v.subrows(0, nb), out.as_mut().subrows_mut(0, nb));
-                self.beam.all_section_strains(&q.beam, &mut strains);
+                let mut force = vec![0.0; nb];
+                self.beam.internal_force_and_strains(&q.beam, &mut force, strains);
+                for (i, f) in force.into_iter().enumerate() {
+                    out[i] = f;
+                }
             }
         }
-        drop(strains);
-        self.strains_kept.set(true);
+        drop(kept);
         self.force_passes.set(self.force_passes.get() + 1);
         // Gravity pulls the ball along -z: net force = -(external) = +m g e_z.
         out[nb] = 0.0;
@@ -760,14 +768,11 @@ mod tests {
         let (a, b) = (state(1.0), state(2.0));
         let n = hht::Model::ndof(&model);
         let mut force = faer::Col::<f64>::zeros(n);
-        assert!(!model.last_pass_strains(&mut vec![(0.0, 0.0, 0.0); 4]));
+        assert!(!model.last_pass_strains(&mut [(0.0, 0.0, 0.0); 4]));
         hht::Model::net_force(&model, 0.0, &a, faer::Col::zeros(n).as_ref(), force.as_mut());
         assert_eq!(Struck::force_passes(&model), 1);
         let mut kept = vec![(9.0, 9.0, 9.0); 4];
         assert!(model.last_pass_strains(&mut kept) && kept.iter().all(|s| s.2 > 0.0));
-        // Handed over once: then computed.
-        assert!(!model.last_pass_strains(&mut kept));
-        hht::Model::net_force(&model, 0.0, &a, faer::Col::zeros(n).as_ref(), force.as_mut());
         for (q, last_pass) in [(&a, true), (&b, false), (&a, false), (&a, true)] {
             let mut out = vec![(9.0, 9.0, 9.0); 4];
             model.section_strains(q, &mut out, &mut [], last_pass);

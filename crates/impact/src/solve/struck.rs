@@ -56,7 +56,7 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     fn section_strains(
         &self,
         q: &Self::Config,
-        out: &mut Vec<(f64, f64, f64)>,
+        out: &mut [(f64, f64, f64)],
         out_of_plane: &mut [OutOfPlane],
         last_pass: bool,
     );
@@ -205,7 +205,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
     fn section_strains(
         &self,
         q: &BallOnBeamConfig,
-        out: &mut Vec<(f64, f64, f64)>,
+        out: &mut [(f64, f64, f64)],
         _out_of_plane: &mut [OutOfPlane],
         last_pass: bool,
     ) {
@@ -308,7 +308,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     fn section_strains(
         &self,
         q: &BallOnBeam3dConfig,
-        out: &mut Vec<(f64, f64, f64)>,
+        out: &mut [(f64, f64, f64)],
         out_of_plane: &mut [OutOfPlane],
         last_pass: bool,
     ) {
