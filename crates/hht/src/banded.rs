@@ -305,12 +305,13 @@ impl BandedLu {
         // keeps the last values solved in registers (and runs in its AVX2/FMA copy where there
         // is one): its time was the chain from row to row (2.07 -> 1.77 us a solve on the
         // paper's tip at 256 elements), and without the weights a chain of nodes of three
-        // leaves zero (`lower_ahead_nodes`: 1.75 -> 1.64 us). The 3D beam (six unknowns a node, kd = 11) takes the
-        // path a node at a time where its factors are a chain's (`node_blocks`: 6.1 -> 5.0 us a
-        // solve at 256 elements), else the fixed-width path one row ahead: its instructions set
-        // its time, and the weight more a row made it slower two rows ahead. (The planar beam a
-        // node of three at a time took 1.94 us against 1.77 two rows ahead: its chain, not its
-        // instructions, sets its time.)
+        // leaves zero where its factors are a chain's (`lower_ahead_nodes`: 1.75 -> 1.64 us).
+        // The 3D beam (six unknowns a node, kd = 11) takes the path a node at a time where its
+        // factors are a chain's (`node_blocks`: 6.1 -> 5.0 us a solve at 256 elements), else
+        // the fixed-width path one row ahead: its instructions set its time, and the weight
+        // more a row made it slower two rows ahead. (The planar beam a node of three at a time
+        // took 1.94 us against 1.77 two rows ahead: its chain, not its instructions, sets its
+        // time.)
         match (self.kd, self.upper) {
             (5, 5) if !self.lower_ahead_nodes.is_empty() => {
                 return crate::fast::run(AheadOfThree { lu: self, b })

@@ -34,7 +34,10 @@
 //! The step's vector work and the banded substitution run in [`fast`] kernels: compiled for
 //! the baseline and again for AVX2 with fused multiply-adds, the second chosen at run time
 //! where the processor has it (same results to rounding); the sweeps the compiler leaves
-//! scalar are written on pulp's vectors ([`fast::Lanes`]). With
+//! scalar are written on pulp's vectors ([`fast::Lanes`]), as few as the step allows (each
+//! streams its vectors from the second-level cache: the predictor is read where it is, a
+//! correction and Newmark's kinematics are one sweep, and so are a balance and the step's
+//! closing sums). With
 //! [`NewtonOptions::reuse_factorisation`] a Newton matrix serves the steps of its size, and
 //! the last one of another size is kept aside for when that size comes back. A model with a
 //! constant mass matrix ([`Model::constant_mass`]) spares the predictor's mass product, and

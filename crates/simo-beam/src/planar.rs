@@ -661,7 +661,7 @@ impl PlanarBeam {
         self.write_node(elements, carry, out);
     }
 
-    /// A node's forces `node` (x, z, theta) into its unknowns' rows of `out`.
+    /// The forces (x, z, theta) on `node` into its unknowns' rows of `out`.
     #[inline(always)]
     fn write_node(&self, node: usize, forces: [f64; 3], out: &mut [f64]) {
         for (d, f) in self.dofs[node].iter().zip(forces) {
