@@ -939,6 +939,49 @@ mod tests {
         }
     }
 
+    /// A chain of `nodes` nodes of `m` unknowns each, coupled to its neighbours, with a dense
+    /// border of `k` (random entries, `diagonal` added on the diagonal; symmetric if asked) and
+    /// the `extra` entries, factorised at half-bandwidth `2 m - 1`; a random system with it is
+    /// solved to round-off. Returns the factors, the band's size and the right-hand side.
+    fn node_chain(
+        (m, nodes, k): (usize, usize, usize),
+        (symmetric, diagonal): (bool, f64),
+        extra: &[(usize, usize, f64)],
+        seed: &mut u64,
+    ) -> (BandedLu, usize, Vec<f64>) {
+        let n = m * nodes;
+        let mut a = Triplets::new();
+        for i in 0..n + k {
+            for j in if symmetric { i } else { 0 }..n + k {
+                let neighbours = i < n && j < n && (i / m).abs_diff(j / m) <= 1;
+                if neighbours || i >= n || j >= n {
+                    let v = noise(seed) + if i == j { diagonal } else { 0.0 };
+                    a.push(i, j, v);
+                    if symmetric && i != j {
+                        a.push(j, i, v);
+                    }
+                }
+            }
+        }
+        for &(i, j, v) in extra {
+            a.push(i, j, v);
+        }
+        let x: Vec<f64> = (0..n + k).map(|_| noise(seed)).collect();
+        let mut b = vec![0.0; n + k];
+        a.mul_vec(&x, &mut b);
+        let mut lu = BandedLu::new();
+        lu.factor(n + k, Band { half_bandwidth: 2 * m - 1, border: k }, &a, 0.0).unwrap();
+        let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
+        lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
+        let err = (0..n + k).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
+        assert!(err < 1e-13, "extra entries {extra:?}: error {err:e}");
+        (lu, n, b)
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
     #[test]
     fn a_chain_of_six_unknown_nodes_skips_the_zeros_to_the_bit() {
         // A chain of nodes of six unknowns each coupled to its neighbours (the 3D beam's
@@ -946,38 +989,15 @@ mod tests {
         // gives the fixed-width one's result to the bit, and the solution to round-off. One
         // entry two nodes away (inside the band) turns it off, and the fixed path still solves.
         let mut seed = 11;
-        let (nodes, k): (usize, usize) = (12, 3);
-        let n = 6 * nodes;
         for far_entry in [false, true] {
-            let mut a = Triplets::new();
-            for i in 0..n + k {
-                for j in 0..n + k {
-                    let neighbours = i < n && j < n && (i / 6).abs_diff(j / 6) <= 1;
-                    if neighbours || i >= n || j >= n {
-                        let v = noise(&mut seed) + if i == j { 60.0 } else { 0.0 };
-                        a.push(i, j, v);
-                    }
-                }
-            }
-            if far_entry {
-                a.push(30, 30 - 11, 0.5);
-            }
-            let x: Vec<f64> = (0..n + k).map(|_| noise(&mut seed)).collect();
-            let mut b = vec![0.0; n + k];
-            a.mul_vec(&x, &mut b);
-            let mut lu = BandedLu::new();
-            lu.factor(n + k, Band { half_bandwidth: 11, border: k }, &a, 0.0).unwrap();
+            let extra = if far_entry { vec![(30, 30 - 11, 0.5)] } else { vec![] };
+            let (lu, n, b) = node_chain((6, 12, 3), (false, 60.0), &extra, &mut seed);
             assert_eq!(lu.node_blocks, !far_entry);
-            let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
-            lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
-            let err = (0..n + k).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
-            assert!(err < 1e-13, "far entry {far_entry}: error {err:e}");
             // The band's substitution alone, both ways.
             let mut fixed = b[..n].to_vec();
             crate::fast::run(FixedSolve::<11, false> { lu: &lu, b: &mut fixed });
             let mut blocks = b[..n].to_vec();
             lu.solve_band(&mut blocks);
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&blocks), bits(&fixed), "far entry {far_entry}");
         }
     }
@@ -989,41 +1009,14 @@ mod tests {
         // give the full rows' result to the bit, and the solution to round-off. An entry two
         // nodes away (inside the band) turns them off, and the full rows still solve.
         let mut seed = 5;
-        let (nodes, k): (usize, usize) = (20, 2);
-        let n = 3 * nodes;
         for far_entry in [false, true] {
-            let mut a = Triplets::new();
-            for i in 0..n + k {
-                for j in i..n + k {
-                    let neighbours = i < n && j < n && (i / 3).abs_diff(j / 3) <= 1;
-                    if neighbours || i >= n || j >= n {
-                        let v = noise(&mut seed) + if i == j { 40.0 } else { 0.0 };
-                        a.push(i, j, v);
-                        if i != j {
-                            a.push(j, i, v);
-                        }
-                    }
-                }
-            }
-            if far_entry {
-                a.push(30, 25, 0.5);
-                a.push(25, 30, 0.5);
-            }
-            let x: Vec<f64> = (0..n + k).map(|_| noise(&mut seed)).collect();
-            let mut b = vec![0.0; n + k];
-            a.mul_vec(&x, &mut b);
-            let mut lu = BandedLu::new();
-            lu.factor(n + k, Band { half_bandwidth: 5, border: k }, &a, 0.0).unwrap();
+            let extra = if far_entry { vec![(30, 25, 0.5), (25, 30, 0.5)] } else { vec![] };
+            let (lu, n, b) = node_chain((3, 20, 2), (true, 40.0), &extra, &mut seed);
             assert_eq!(lu.lower_ahead_nodes.is_empty(), far_entry);
-            let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
-            lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
-            let err = (0..n + k).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
-            assert!(err < 1e-13, "far entry {far_entry}: error {err:e}");
             let mut full = b[..n].to_vec();
             crate::fast::run(FixedSolve::<5, true> { lu: &lu, b: &mut full });
             let mut compact = b[..n].to_vec();
             lu.solve_band(&mut compact);
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&compact), bits(&full), "far entry {far_entry}");
         }
     }
