@@ -199,6 +199,19 @@ impl ModeShape {
         self.waves().iter().map(|w| (w.psi * w.lambda.powu(k + 1) * w.factor(x)).re).sum()
     }
 
+    /// [`Self::curvature_derivative`] for k = 0, 1, 2 at once (one exponential a wave for the
+    /// three; each the same sum, to the bit).
+    pub fn curvature_derivatives(&self, x: f64) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for w in self.waves() {
+            let factor = w.factor(x);
+            for (k, o) in out.iter_mut().enumerate() {
+                *o += (w.psi * w.lambda.powu(k as u32 + 1) * factor).re;
+            }
+        }
+        out
+    }
+
     /// An upper bound of |d^k Psi'/dx^k| anywhere on the beam (1/m^(2+k)): k = 0 bounds the
     /// curvature, k = 2 its second derivative. Each wave contributes Re(psi lambda^(k+1)
     /// e^(lambda (x - anchor))), and no wave's exponential exceeds 1 in magnitude on the beam

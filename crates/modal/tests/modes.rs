@@ -308,6 +308,10 @@ fn curvature_derivatives_match_finite_differences() {
                     assert!((got - fd).abs() < 1e-5 * size, "k {k} at {x}: {got} vs {fd}");
                 }
                 assert_eq!(s.curvature_derivative(0, x), s.curvature(x));
+                // All three at once: the same sums to the bit (the stress search's Newton
+                // steps take them together).
+                let each: [f64; 3] = std::array::from_fn(|k| s.curvature_derivative(k as u32, x));
+                assert_eq!(s.curvature_derivatives(x), each, "mode at {x}");
             }
         }
     }

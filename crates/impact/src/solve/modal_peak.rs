@@ -100,7 +100,9 @@ impl ModeData {
         self.modes.gain()
     }
 
-    /// Per-mode bounds over `stretch` from the state at its start, into `out`.
+    /// Per-mode bounds over `stretch` from the state at its start, into `out` (inlined into
+    /// [`StretchKernel`]'s wider copy).
+    #[inline(always)]
     fn bounds(&self, state: &ModalState, stretch: &Stretch, out: &mut ModeBounds) {
         let n = self.modes.len();
         out.q.resize(n, 0.0);
@@ -157,6 +159,7 @@ struct ModeBounds {
 
 /// Sum of w_n b_n over the modes whose weight is not zero (an infinite bound of a mode that
 /// the weight ignores does not count).
+#[inline(always)]
 fn weighted(weights: &[f64], bounds: &[f64]) -> f64 {
     // In four partial sums, each term a select (vectorised; one chain of additions would be
     // bound by their latency).
@@ -174,6 +177,7 @@ fn weighted(weights: &[f64], bounds: &[f64]) -> f64 {
 
 /// The sums of w_n b_n over the modes below each of `marks` (increasing), into `out`: each
 /// segment between marks in four partial sums (the weights are not negative).
+#[inline(always)]
 fn cumulative(weights: &[f64], bounds: &[f64], marks: &[usize], out: &mut Vec<f64>) {
     out.clear();
     let (mut sum, mut from) = (0.0, 0);
@@ -251,9 +255,10 @@ pub(crate) struct Block {
     bounds: Vec<f64>,
     rates: Vec<(f64, f64)>,
     /// The field at the start and at the end: the stress of the first `low` modes at the
-    /// grid's points (in the recovery's order), then the displacement and each support's
-    /// stress (all modes).
-    grid: [Rc<Vec<f64>>; 2],
+    /// grid's points (in the recovery's order; none where the stress's bound did not beat the
+    /// largest stress seen when the stretch was kept), then the displacement and each
+    /// support's stress (all modes).
+    grid: Option<[Rc<Vec<f64>>; 2]>,
     values: [Vec<f64>; 2],
     /// The grid's modes, the other modes' largest stress over the stretch (Pa), and the
     /// second derivatives' bounds of the grid's modes' stress.
@@ -355,24 +360,32 @@ impl Trajectory {
     ) -> Shares {
         let (t, force, q, v) = now;
         let mut shares = Vec::new();
-        let mut kept = false;
+        let (mut kept, mut kept_grid) = (false, false);
         if t > self.start.t && !self.ends.is_empty() && self.grid.len() == grid.len() {
             let span = self.bounds(data, weights, grid, values);
             shares = span.shares;
             if span.bounds.iter().zip(best).any(|(b, best)| b > best) {
-                // The end's state and grid are the next stretch's start's: made once, shared.
+                // The end's state (and grid) are the next stretch's start's: made once, shared.
+                // A stretch kept for the displacement or a support only keeps no grid: the
+                // stress's search passes it by (its stress bound is below the largest stress
+                // seen, which the search only raises). A displacement that rises through the
+                // window keeps nearly every stretch for a while (the paper's tip: 688 of 992).
                 kept = true;
                 let end = Rc::new(ModalState { q: q.to_vec(), v: v.to_vec() });
-                let end_grid = Rc::new(grid.to_vec());
                 let start = std::mem::replace(&mut self.start.state, end.clone());
+                let grids = (span.bounds[0] > best[0]).then(|| {
+                    let end_grid = Rc::new(grid.to_vec());
+                    [std::mem::replace(&mut self.grid, end_grid.clone()), end_grid]
+                });
+                kept_grid = grids.is_some();
                 self.kept.push(Block {
                     f0: self.start.force,
-                    ends: std::mem::take(&mut self.ends),
+                    ends: self.ends.clone(),
                     nodes: vec![Node { state: start, ..self.start }, Node { t, force, state: end }],
                     bounds: span.bounds,
                     rates: span.rates,
-                    grid: [std::mem::replace(&mut self.grid, end_grid.clone()), end_grid],
-                    values: [std::mem::take(&mut self.values), values.to_vec()],
+                    grid: grids,
+                    values: [self.values.clone(), values.to_vec()],
                     low: self.low,
                     tail: span.tail,
                     low_rates: span.low_rates,
@@ -386,12 +399,9 @@ impl Trajectory {
         self.start.t = t;
         self.start.force = force;
         if !kept {
-            set_shared(&mut self.start.state, |s| {
-                for (to, from) in [(&mut s.q, q), (&mut s.v, v)] {
-                    to.clear();
-                    to.extend_from_slice(from);
-                }
-            });
+            set_shared(&mut self.start.state, |s| copy_state(s, q, v));
+        }
+        if !kept_grid {
             set_shared(&mut self.grid, |g| {
                 g.clear();
                 g.extend_from_slice(grid);
@@ -414,8 +424,22 @@ impl Trajectory {
     /// the second derivatives allow between grid points and instants, plus how far the force's
     /// term can depart from its chord (the stress's also plus the bound of the modes the grid
     /// left out, and capped by the triangle bound over the modes); per field, its bounds of the
-    /// second derivatives in x and t; and the modes' shares.
+    /// second derivatives in x and t; and the modes' shares. Compiled for the processor's
+    /// widest vectors ([`StretchKernel`]; separate multiplies and adds in every copy, so the
+    /// bounds are the same to the bit).
     fn bounds(
+        &mut self,
+        data: &ModeData,
+        weights: &Weights<'_>,
+        grid: &[f64],
+        values: &[f64],
+    ) -> Span {
+        hht::fast::run(StretchKernel { trajectory: self, data, weights, grid, values })
+    }
+
+    /// [`Self::bounds`]' body.
+    #[inline(always)]
+    fn bounds_inline(
         &mut self,
         data: &ModeData,
         weights: &Weights<'_>,
@@ -491,6 +515,25 @@ impl Trajectory {
             })
             .collect();
         Span { bounds, rates, tail, low_rates, shares }
+    }
+}
+
+/// [`Trajectory::bounds`] as a [`hht::fast::Kernel`].
+struct StretchKernel<'a> {
+    trajectory: &'a mut Trajectory,
+    data: &'a ModeData,
+    weights: &'a Weights<'a>,
+    grid: &'a [f64],
+    values: &'a [f64],
+}
+
+impl hht::fast::Kernel for StretchKernel<'_> {
+    type Output = Span;
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) -> Span {
+        let Self { trajectory, data, weights, grid, values } = self;
+        trajectory.bounds_inline(data, weights, grid, values)
     }
 }
 
@@ -669,6 +712,14 @@ impl Block {
 
 /// Sets a shared value by `set` (which overwrites all of it): in place when nothing else holds
 /// it, else on a new one (the shared one stays as it was).
+/// `state` set to `q`, `v` (in its own memory).
+fn copy_state(state: &mut ModalState, q: &[f64], v: &[f64]) {
+    for (to, from) in [(&mut state.q, q), (&mut state.v, v)] {
+        to.clear();
+        to.extend_from_slice(from);
+    }
+}
+
 fn set_shared<T: Default>(shared: &mut Rc<T>, set: impl FnOnce(&mut T)) {
     match Rc::get_mut(shared) {
         Some(value) => set(value),
@@ -789,11 +840,14 @@ impl Search<'_> {
                         continue;
                     }
                     let b = &self.blocks[k];
+                    // A block kept without its grid has a stress bound below the largest
+                    // stress seen then, so below the target: not reached.
+                    let Some(grid) = &b.grid else { continue };
                     let full = b.low >= f.rows[0].r.len();
                     let (xx, in_time) = self.time_terms(k as u32, full, (0, 1));
                     for pair in order.windows(2) {
                         let (i, j) = (pair[0], pair[1]);
-                        let corners = [b.grid[0][i], b.grid[0][j], b.grid[1][i], b.grid[1][j]];
+                        let corners = [grid[0][i], grid[0][j], grid[1][i], grid[1][j]];
                         let hx = f.points[j] - f.points[i];
                         let bound = self.bound_of(&corners, hx, (xx, in_time));
                         if bound > target {

@@ -502,17 +502,32 @@ impl ModalStress {
     /// The k-th x-derivative of the stress row at x (k <= 2; off the impact point and the
     /// supports, where the static curvature is linear in x).
     fn row_derivative(&self, x: f64, k: u32) -> Row {
+        let c: Vec<f64> =
+            self.shapes.iter().map(|m| m.shape.curvature_derivative(k, x) * self.scale).collect();
+        self.stress_row(x, k, c)
+    }
+
+    /// The stress row at x and its first two x-derivatives (as [`Self::row_derivative`] gives
+    /// each, from one evaluation of each mode's waves).
+    fn row_derivatives(&self, x: f64) -> [Row; 3] {
+        let mut c: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(self.shapes.len()));
+        for m in &self.shapes {
+            for (c, d) in c.iter_mut().zip(m.shape.curvature_derivatives(x)) {
+                c.push(d * self.scale);
+            }
+        }
+        let [c0, c1, c2] = c;
+        [self.stress_row(x, 0, c0), self.stress_row(x, 1, c1), self.stress_row(x, 2, c2)]
+    }
+
+    /// The k-th x-derivative of the stress row at x from the modes' k-th curvature derivatives
+    /// over sqrt(M) `c`.
+    fn stress_row(&self, x: f64, k: u32, c: Vec<f64>) -> Row {
         let mut kept = 0.0;
-        let r = self
-            .shapes
-            .iter()
-            .zip(&self.static_q)
-            .map(|(m, sq)| {
-                let c = m.shape.curvature_derivative(k, x) * self.scale;
-                kept += c * sq;
-                self.section * c
-            })
-            .collect();
+        for (c, sq) in c.iter().zip(&self.static_q) {
+            kept += c * sq;
+        }
+        let r = c.into_iter().map(|c| self.section * c).collect();
         let correction = match &self.beam {
             Some(b) => {
                 let s = |x: f64| b.static_curvature(self.position, x).unwrap_or(0.0);
@@ -551,8 +566,7 @@ impl ModalStress {
                 g * force - w * w * state.q[k] - 2.0 * z * w * state.v[k]
             })
             .collect();
-        let rows =
-            [self.row_derivative(x, 0), self.row_derivative(x, 1), self.row_derivative(x, 2)];
+        let rows = self.row_derivatives(x);
         let at = |row: &Row, q: &[f64], f: f64| row.value(f, q);
         let sigma = at(&rows[0], &state.q, force);
         let gradient = [at(&rows[1], &state.q, force), at(&rows[0], &state.v, slope)];
@@ -577,10 +591,10 @@ impl ModalStress {
         };
         let mut best = peak;
         let mut stepper = modal_peak::Stepper::default();
+        // The derivatives at `best` (those of the step that moved it there, after the first).
+        let mut at_best = self.stress_derivatives(kept, (best.x, best.t), &mut stepper);
         for _ in 0..POLISH_STEPS {
-            let Some(Derivatives { sigma, gradient: g, hessian: h, piece }) =
-                self.stress_derivatives(kept, (best.x, best.t), &mut stepper)
-            else {
+            let Some(Derivatives { sigma, gradient: g, hessian: h, piece }) = at_best.take() else {
                 break;
             };
             let (g, h) = (g.map(|v| sign * v), h.map(|v| sign * v));
@@ -601,13 +615,14 @@ impl ModalStress {
             // jumps there by E h/2 corr(x) times the slope's change, so the value decides.)
             let x = (best.x + dx).clamp(lo, hi);
             let t = best.t + dt.clamp(-(piece.1 - piece.0), piece.1 - piece.0);
-            let Some(moved) = self.stress_derivatives(kept, (x, t), &mut stepper).map(|d| d.sigma)
-            else {
+            let Some(there) = self.stress_derivatives(kept, (x, t), &mut stepper) else {
                 break;
             };
+            let moved = there.sigma;
             if sign * moved <= sign * sigma || moved.is_nan() {
                 break;
             }
+            at_best = Some(there);
             let settled = (x - best.x).abs() <= 1e-13 * self.length
                 && (t - best.t).abs() <= 1e-13 * (piece.1 - piece.0);
             best = Peak { value: moved, x, t, bound: best.bound.max(moved.abs()) };
