@@ -1102,9 +1102,9 @@ mod tests {
                 }
             }
         });
-        for k in 0..4 {
+        for (k, seen) in largest.iter().enumerate() {
             let bounds = [b.q[k], b.acc[k], b.dev[k]];
-            for (j, (seen, bound)) in largest[k].iter().zip(bounds).enumerate() {
+            for (j, (seen, bound)) in seen.iter().zip(bounds).enumerate() {
                 assert!(*seen <= bound * (1.0 + 1e-12), "mode {k}, bound {j}: {seen} > {bound}");
             }
         }
