@@ -1,9 +1,10 @@
 //! Cost of building modes (Euler-Bernoulli and Timoshenko) and transitions and of one exact
-//! step, for 64 and 256 modes; Timoshenko modes also at 4096 (the paper tip's reference).
+//! step, for 64 and 256 modes; Timoshenko modes also at 4096 (the paper tip's reference); the
+//! curvature of 256 modes at a point, shape by shape and all at once.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use modal::{Beam, Hold, ModalState, PointModes, Support, Transition};
+use modal::{Beam, Curvatures, Hold, ModalState, PointModes, Support, Transition};
 use std::hint::black_box;
 
 fn propagation(c: &mut Criterion) {
@@ -35,6 +36,19 @@ fn propagation(c: &mut Criterion) {
             b.iter(|| thick.modes(black_box(n)))
         });
     }
+    // The curvature of 256 Timoshenko modes at a point: each shape on its own (a library
+    // sine, cosine and exponential a wave) and all at once (modal::Curvatures).
+    let modes = thick.modes(256).expect("modes");
+    group.bench_function("curvatures each/256", |b| {
+        b.iter(|| {
+            modes.iter().map(|m| m.shape.curvature_derivative(0, black_box(0.731))).sum::<f64>()
+        })
+    });
+    let batch = Curvatures::new(modes.iter().map(|m| &m.shape));
+    let mut row = vec![0.0; modes.len()];
+    group.bench_function("curvatures at once/256", |b| {
+        b.iter(|| batch.at(black_box(0.731), &mut [row.as_mut_slice()]))
+    });
     group.finish();
 }
 

@@ -54,6 +54,7 @@
 mod beam;
 mod duhamel;
 mod error;
+mod lanes;
 mod propagate;
 mod shape;
 mod site;
@@ -65,7 +66,7 @@ pub use beam::{Beam, Mode, Shear, Theory};
 pub use duhamel::duhamel_series;
 pub use error::ModalError;
 pub use propagate::{Hold, ModalState, OneStep, PointModes, Transition};
-pub use shape::ModeShape;
+pub use shape::{Curvatures, ModeShape};
 pub use site::{Recovery, SiteModes};
 pub use support::Support;
 pub use torsion::{rectangle_torsion, Torsion, TorsionMode};

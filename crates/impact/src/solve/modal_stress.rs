@@ -34,7 +34,7 @@ use super::modal_peak::{self, ModeData, Peak, Row, StressField, Trajectory, Weig
 use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
 use crate::plan::FIELD_POINTS;
-use modal::{Beam, Mode, PointModes, Support};
+use modal::{Beam, Curvatures, Mode, PointModes, Support};
 
 /// Points of the uniform grid per radian of the bending wave the pulse excites most
 /// (wavenumber beta_c with omega(beta_c) = pi / t_c): on the paper's tip 233 intervals, where
@@ -65,6 +65,8 @@ const NEAR_LEVELS: std::ops::RangeInclusive<i32> = 4..=9;
 /// The modal beam seen as a stress field.
 pub(crate) struct ModalStress {
     shapes: Vec<Mode>,
+    /// The shapes' curvatures at a point, all at once (the search's new rows).
+    curvatures: Curvatures,
     /// 1/sqrt(M) (1/sqrt(kg)).
     scale: f64,
     /// Stress per unit curvature on the struck face, E h/2 (Pa m).
@@ -250,10 +252,13 @@ impl ModalStress {
         let p = points.len();
         let n = shapes.len();
         let mut curvature = vec![0.0; n * p];
+        let curvatures = Curvatures::new(shapes.iter().map(|m| &m.shape));
+        for (k, x) in near.iter().enumerate() {
+            let row = &mut curvature[k * n..(k + 1) * n];
+            curvatures.at(*x, &mut [&mut *row]);
+            row.iter_mut().for_each(|c| *c *= scale);
+        }
         for (i, m) in shapes.iter().enumerate() {
-            for (k, x) in near.iter().enumerate() {
-                curvature[k * n + i] = m.shape.curvature(*x) * scale;
-            }
             // The grid's curvatures carried from point to point: a fifth of the cost.
             let on_grid = m.shape.curvatures_on_grid(0.0, spacing, intervals + 1);
             for (j, (k, _)) in grid.iter().enumerate() {
@@ -297,6 +302,7 @@ impl ModalStress {
         );
         Self {
             shapes,
+            curvatures,
             scale,
             section,
             ei: beam.flexural_rigidity(),
@@ -500,28 +506,28 @@ impl ModalStress {
 
     /// The stress row at x: E h/2 c_n(x) and E h/2 times the correction (Pa per unit q, Pa/N).
     fn row_at(&self, x: f64) -> Row {
-        self.row_derivative(x, 0)
+        let [c] = self.scaled_curvatures(x);
+        self.stress_row(x, 0, c)
     }
 
-    /// The k-th x-derivative of the stress row at x (k <= 2; off the impact point and the
+    /// The stress row at x and its first two x-derivatives (off the impact point and the
     /// supports, where the static curvature is linear in x).
-    fn row_derivative(&self, x: f64, k: u32) -> Row {
-        let c: Vec<f64> =
-            self.shapes.iter().map(|m| m.shape.curvature_derivative(k, x) * self.scale).collect();
-        self.stress_row(x, k, c)
+    fn row_derivatives(&self, x: f64) -> [Row; 3] {
+        let [c0, c1, c2] = self.scaled_curvatures(x);
+        [self.stress_row(x, 0, c0), self.stress_row(x, 1, c1), self.stress_row(x, 2, c2)]
     }
 
-    /// The stress row at x and its first two x-derivatives (as [`Self::row_derivative`] gives
-    /// each, from one evaluation of each mode's waves).
-    fn row_derivatives(&self, x: f64) -> [Row; 3] {
-        let mut c: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(self.shapes.len()));
-        for m in &self.shapes {
-            for (c, d) in c.iter_mut().zip(m.shape.curvature_derivatives(x)) {
-                c.push(d * self.scale);
-            }
+    /// The modes' curvature c_n = phi_n''/sqrt(M) at x and its x-derivatives of the orders
+    /// below K, from one evaluation of their waves ([`modal::Curvatures`]).
+    fn scaled_curvatures<const K: usize>(&self, x: f64) -> [Vec<f64>; K] {
+        let n = self.shapes.len();
+        let mut c: [Vec<f64>; K] = std::array::from_fn(|_| vec![0.0; n]);
+        let mut rows: Vec<&mut [f64]> = c.iter_mut().map(|v| v.as_mut_slice()).collect();
+        self.curvatures.at(x, &mut rows);
+        for v in &mut c {
+            v.iter_mut().for_each(|c| *c *= self.scale);
         }
-        let [c0, c1, c2] = c;
-        [self.stress_row(x, 0, c0), self.stress_row(x, 1, c1), self.stress_row(x, 2, c2)]
+        c
     }
 
     /// The k-th x-derivative of the stress row at x from the modes' k-th curvature derivatives
