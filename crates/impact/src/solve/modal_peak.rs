@@ -374,7 +374,7 @@ impl Trajectory {
                 // A stretch kept for the displacement or a support only keeps no grid: the
                 // stress's search passes it by (its stress bound is below the largest stress
                 // seen, which the search only raises). A displacement that rises through the
-                // window keeps nearly every stretch for a while (the paper's tip: 688 of 992).
+                // window keeps nearly every stretch for a while: most kept stretches are such.
                 kept = true;
                 let end = Rc::new(ModalState { q: q.to_vec(), v: v.to_vec() });
                 let start = std::mem::replace(&mut self.start.state, end.clone());
@@ -715,8 +715,6 @@ impl Block {
     }
 }
 
-/// Sets a shared value by `set` (which overwrites all of it): in place when nothing else holds
-/// it, else on a new one (the shared one stays as it was).
 /// `state` set to `q`, `v` (in its own memory).
 fn copy_state(state: &mut ModalState, q: &[f64], v: &[f64]) {
     for (to, from) in [(&mut state.q, q), (&mut state.v, v)] {
@@ -725,6 +723,8 @@ fn copy_state(state: &mut ModalState, q: &[f64], v: &[f64]) {
     }
 }
 
+/// Sets a shared value by `set` (which overwrites all of it): in place when nothing else holds
+/// it, else on a new one (the shared one stays as it was).
 fn set_shared<T: Default>(shared: &mut Rc<T>, set: impl FnOnce(&mut T)) {
     match Rc::get_mut(shared) {
         Some(value) => set(value),
