@@ -228,6 +228,14 @@ fn the_modal_series_of_the_static_moment_converges_to_the_beam_tables() {
     assert!(free.static_curvature(0.5, 0.2).is_none());
 }
 
+/// The paper's beam (steel, 25 x 5 mm, L = 1.15 m) on `support`, Euler-Bernoulli and
+/// Timoshenko (k G A with k = 0.8333, rho I).
+fn both_theories(support: Support) -> [Beam; 2] {
+    let base = Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, support).unwrap();
+    let timoshenko = base.with_shear(0.8333 * 8.1e10 * 1.25e-4, 7850.0 * 2.6e-10).unwrap();
+    [base, timoshenko]
+}
+
 #[test]
 fn curvatures_on_a_grid_match_the_pointwise_ones() {
     // The carried terms against direct evaluation, for every support and modes 1 to 600 (the
@@ -258,9 +266,7 @@ fn curvature_bounds_hold_everywhere_and_are_not_vacuous() {
     // theories and every support, up to mode 60. The bound sums the waves' magnitudes, so it
     // exceeds the sampled maximum by at most their count (3): asserted below 4x.
     for support in Support::ALL {
-        let base = Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, support).unwrap();
-        let timoshenko = base.with_shear(0.8333 * 8.1e10 * 1.25e-4, 7850.0 * 2.6e-10).unwrap();
-        for beam in [base, timoshenko] {
+        for beam in both_theories(support) {
             let length = beam.length();
             for mode in beam.modes(60).unwrap().iter().filter(|m| m.omega > 0.0) {
                 let s = &mode.shape;
@@ -288,10 +294,7 @@ fn curvature_derivatives_match_finite_differences() {
     // d^k Psi'/dx^k against central differences of the order below (step 1e-5 L: truncation
     // (beta h)^2/6 < 1e-6 at mode 20, round-off ~1e-16 L^2 beta^2 / h^2 far below), both
     // theories, at 37 points; relative to the derivative's scale beta^(k+2).
-    let base =
-        Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, Support::ClampedPinned).unwrap();
-    let timoshenko = base.with_shear(0.8333 * 8.1e10 * 1.25e-4, 7850.0 * 2.6e-10).unwrap();
-    for beam in [base, timoshenko] {
+    for beam in both_theories(Support::ClampedPinned) {
         for mode in beam.modes(20).unwrap() {
             let s = &mode.shape;
             let (h, scale) = (1e-5 * 1.15, mode.shape.beta());
@@ -317,9 +320,7 @@ fn curvatures_of_many_modes_at_once_match_each_modes_own() {
     // 600 modes (wave arguments to about 1900 rad), at 41 points: within 1e-14 of the term
     // sum curvature_bound(k) (each wave's factor within 2 ulp: a few ulps of the sum).
     for support in Support::ALL {
-        let base = Beam::rectangular(2.1e11, 7850.0, 0.025, 0.005, 1.15, support).unwrap();
-        let timoshenko = base.with_shear(0.8333 * 8.1e10 * 1.25e-4, 7850.0 * 2.6e-10).unwrap();
-        for beam in [base, timoshenko] {
+        for beam in both_theories(support) {
             let modes = beam.modes(600).unwrap();
             let batch = modal::Curvatures::new(modes.iter().map(|m| &m.shape));
             assert_eq!(batch.len(), modes.len());
