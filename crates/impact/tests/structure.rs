@@ -306,3 +306,33 @@ fn a_structure_meets_a_tolerance_by_doubling_its_segments_elements() {
         .to_string();
     assert!(err.contains("solver.elements and element_size do not apply"), "{err}");
 }
+
+#[test]
+fn a_structure_away_from_the_origin_reports_its_displacement_not_its_place() {
+    // The frame lifted 0.3 m along the strike and moved 2 m across it is the same frame: its
+    // displacement at the impact point, its history's and its equivalent static force are the
+    // frame's at the origin (a review found the lifted frame reporting 0.3 m, its coordinate).
+    // Positions of order 1 m carry displacements of order 1e-5 m to about eps / 1e-5 of
+    // themselves: 1e-8 relative is far above that and far below any physical difference.
+    let short = ("end_time = 0.002", "end_time = 0.0002");
+    let home = simulate(&frame(&[short]).unwrap()).unwrap();
+    let moved = [
+        ("start = [0.0, 0.0, 0.0]", "start = [2.0, 0.0, 0.3]"),
+        ("end = [0.5, 0.0, 0.0]", "end = [2.5, 0.0, 0.3]"),
+        ("end = [0.5, 0.5, 0.0]", "end = [2.5, 0.5, 0.3]"),
+    ];
+    let away = simulate(&frame(&[&[short], &moved[..]].concat()).unwrap()).unwrap();
+    let (a, b) = (&home.report, &away.report);
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-8 * x.abs().max(y.abs());
+    assert!(a.max_displacement > 1e-6, "{}", a.max_displacement);
+    assert!(
+        close(a.max_displacement, b.max_displacement),
+        "{} vs {}",
+        a.max_displacement,
+        b.max_displacement
+    );
+    let (fa, fb) = (a.equivalent_static_force.unwrap(), b.equivalent_static_force.unwrap());
+    assert!(close(fa, fb), "{fa} vs {fb}");
+    let first = |o: &impact::Outcome| o.history.beam_displacement[0];
+    assert_eq!((first(&home), first(&away)), (0.0, 0.0));
+}

@@ -33,8 +33,10 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     fn ball_speed(&self, v: ColRef<'_, f64>) -> f64;
     /// Sets the ball's velocity in `v` to `speed` (m/s) toward the face.
     fn launch(&self, speed: f64, v: &mut faer::Col<f64>);
-    /// The struck face's height at the impact point (element, local coordinate) (m), along the
-    /// same direction, and the unknowns and weights whose sum gives its rate and acceleration.
+    /// The struck face's displacement at the impact point (element, local coordinate) from its
+    /// place at rest (m), along the same direction (not its coordinate: a structure need not
+    /// sit at zero along the strike), and the unknowns and weights whose sum gives its rate and
+    /// acceleration.
     fn face_height(&self, q: &Self::Config, impact: (usize, f64)) -> f64;
     fn face_rows(&self, impact: (usize, f64)) -> Vec<(usize, f64)>;
     /// The struck section's rotation about the beam's axis (rad; 0 in the plane).
@@ -277,10 +279,11 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
             v[n - 3 + k] = -speed * self.up()[k];
         }
     }
-    /// The face's point under the ball's offset: the centre line's height plus offset x twist
-    /// along the face's normal (small rotation, as the modal method reads it).
+    /// The face's point under the ball's offset: the centre line's displacement plus offset x
+    /// twist along the face's normal (small rotation, as the modal method reads it).
     fn face_height(&self, q: &BallOnBeam3dConfig, (i, xi): (usize, f64)) -> f64 {
-        let at = |node: usize| self.up().dot(&q.beam.positions[node]);
+        let rest = &self.beam().mesh().positions;
+        let at = |node: usize| self.up().dot(&(q.beam.positions[node] - rest[node]));
         between((at(i), at(i + 1)), xi) + self.offset() * self.facing(i) * self.twist(q, (i, xi))
     }
     /// The translation rows of the two nodes along `up`, and their rotation about the section
