@@ -914,6 +914,16 @@ impl Integrator {
     }
 
     /// One Newton solve of the step equation; returns the new state without touching the old.
+    /// Whether the residual's `rows` are within `rtol` of their own force terms `forces`
+    /// (inertial and net, new and old), plus the round-off floor of those terms.
+    fn own_rows_balanced(&self, rows: std::ops::Range<usize>, forces: [&[f64]; 4]) -> bool {
+        let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let residual = norm(&self.work.residual[rows.clone()]);
+        let scale = forces.iter().map(|f| norm(&f[rows.clone()])).fold(0.0, f64::max);
+        let floor = ROUND_OFF_FACTOR * f64::EPSILON * scale * (rows.len() as f64).sqrt();
+        residual <= self.options.atol + self.options.rtol * scale + floor
+    }
+
     fn attempt<M: Model>(
         &mut self,
         model: &M,
@@ -1000,6 +1010,11 @@ impl Integrator {
                 ROUND_OFF_FACTOR * f64::EPSILON * model.force_scale(&q1) * (n as f64).sqrt();
             let mut converged =
                 residual_norm <= self.options.atol + self.options.rtol * scale + floor;
+            let own = model.own_balance_rows();
+            if converged && !own.is_empty() {
+                converged =
+                    self.own_rows_balanced(own, [inertial_now, entries(&net), inertial0, net0]);
+            }
             if !converged && iteration < self.options.max_iterations {
                 let stale = residual_norm > STALE_CONTRACTION * previous_residual;
                 self.newton_matrix(model, (t1, &q1, v1.as_ref(), a_now), w, (reuse, stale))?;

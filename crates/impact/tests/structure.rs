@@ -336,3 +336,33 @@ fn a_structure_away_from_the_origin_reports_its_displacement_not_its_place() {
     let first = |o: &impact::Outcome| o.history.beam_displacement[0];
     assert_eq!((first(&home), first(&away)), (0.0, 0.0));
 }
+
+#[test]
+fn a_width_face_of_an_arc_and_a_ball_inside_a_member_are_refused() {
+    // The frame's second member as a half turn of radius 0.25 m in its plane, struck on its
+    // outer width face at a node: the contact's straight chords kink there, and the ball
+    // started 0.34 mm inside them (a review measured 50 times the ball's energy made).
+    let arc = "centre = [0.5, 0.25, 0.0]\nnormal = [0.0, 0.0, 1.0]\nangle_degrees = 180.0";
+    let quarter = 0.5 + 0.25 * std::f64::consts::FRAC_PI_2;
+    let at = format!("at = {quarter} ");
+    let edits = [
+        ("end = [0.5, 0.5, 0.0]", arc),
+        ("at = 0.9 ", at.as_str()),
+        ("direction = [0.0, 0.0, -1.0]", "direction = [-1.0, 0.0, 0.0]"),
+    ];
+    let err = Plan::new(&frame(&edits).unwrap()).unwrap_err().to_string();
+    assert!(err.contains("impact.direction") && err.contains("an arc"), "{err}");
+    // Its thickness face is struck as before.
+    let thickness = [edits[0], edits[1], ("end_time = 0.002", "end_time = 0.00002")];
+    let report = simulate(&frame(&thickness).unwrap()).unwrap().report;
+    assert!(report.contacts[0].peak_force > 0.0);
+    // The first member's width face 10 mm from the corner, from inside the L: the ball would
+    // start inside the second member (its face 12.5 mm from the corner's line).
+    let inside = [
+        ("at = 0.9 ", "at = 0.49 "),
+        ("direction = [0.0, 0.0, -1.0]", "direction = [0.0, -1.0, 0.0]"),
+        ("end_time = 0.002", "end_time = 0.00002"),
+    ];
+    let err = simulate(&frame(&inside).unwrap()).unwrap_err().to_string();
+    assert!(err.contains("inside the struck face"), "{err}");
+}

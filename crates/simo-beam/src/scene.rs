@@ -665,6 +665,16 @@ impl SegmentSpec {
                         "a point away from the start, in the plane through the start normal to `normal`",
                     ));
                 }
+                let length = radius * angle.to_radians().abs();
+                if length < MIN_SEGMENT {
+                    return Err(invalid(
+                        field("centre"),
+                        format!("{centre:?}"),
+                        &format!(
+                            "a centre that makes the arc at least {MIN_SEGMENT:e} m long (radius {radius:e} m times {angle} degrees is {length:e} m)"
+                        ),
+                    ));
+                }
                 let mesh = Mesh::arc(
                     centre,
                     radius,
@@ -674,7 +684,7 @@ impl SegmentSpec {
                     self.elements,
                     section,
                 )?;
-                Ok((mesh, radius * angle.to_radians().abs()))
+                Ok((mesh, length))
             }
             _ => Err(SceneError::Inconsistent(format!(
                 "segment[{index}]: give `end` (straight) or `centre`, `normal` and `angle_degrees` \

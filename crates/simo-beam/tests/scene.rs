@@ -125,6 +125,13 @@ fn bad_beam_scenes_name_the_field() {
         ("bending_stiffness = 1.0 ", "bending_stiffness = nan ", "section.bending_stiffness = NaN"),
         // A segment too short to mesh: refused for its length, not for its direction.
         ("end = [1.0, 0.0, 0.0]", "end = [1e-200, 0.0, 0.0]", "at least 1e-9 m from the start"),
+        // An arc too short to mesh (radius 1e-12 m): refused for its length too (it ran, with a
+        // stress 570 times the frame's at the corner).
+        (
+            "end = [1.0, 0.0, 0.0]",
+            "centre = [0.0, 1e-12, 0.0]\nnormal = [0.0, 0.0, 1.0]\nangle_degrees = 90.0",
+            "makes the arc at least 1e-9 m long",
+        ),
         // Two supports at one node: refused, not one silently kept.
         (
             "kind = \"clamped\"",

@@ -627,7 +627,8 @@ fn attachments(
     Ok(out)
 }
 
-/// `impact.offset` (m), checked: on the face (at most half the width from the centreline).
+/// `impact.offset` (m), checked: on the face (at most half its size across, `width`: the
+/// section's width on a thickness face, its thickness on a width face, from the centreline).
 /// Warns when the contact patch (radius sqrt(R delta) at the largest approach on a rigid
 /// support) reaches past the face's edge, where the contact law (a half-space) does not hold.
 fn offset(
@@ -643,13 +644,13 @@ fn offset(
         return Err(invalid(
             "impact.offset",
             e,
-            &format!("must be on the struck face: -width/2 <= offset <= width/2 = {half} (m)"),
+            &format!("must be on the struck face, at most half its size across ({width} m) from the centreline: -{half} <= offset <= {half} (m)"),
         ));
     }
     let patch = (radius * pulse.max_approach).sqrt();
     if e.abs() + patch > half {
         warnings.push(format!(
-            "impact.offset = {e} m puts the contact patch (radius about {patch:.3e} m) past the face's edge ({:.3} of the half-width {half} m): the contact law (a half-space) does not hold there, and the beam models load the point as if the face went on",
+            "impact.offset = {e} m puts the contact patch (radius about {patch:.3e} m) past the face's edge ({:.3} of the face's half-size {half} m): the contact law (a half-space) does not hold there, and the beam models load the point as if the face went on",
             (e.abs() + patch) / half
         ));
     }

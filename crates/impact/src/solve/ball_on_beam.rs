@@ -652,6 +652,12 @@ impl<L: ContactLaw> Model for BallOnBeam<'_, L> {
         self.beam.configuration_scale(&q.beam).max(q.ball.amax())
     }
 
+    /// The ball's rows: its inertia is a round-off of the beam's forces for a small ball.
+    fn own_balance_rows(&self) -> std::ops::Range<usize> {
+        let n = self.ndof();
+        n - 2..n
+    }
+
     fn band(&self) -> Option<Band> {
         self.beam.band().map(|b| Band { half_bandwidth: b.half_bandwidth, border: 2 })
     }

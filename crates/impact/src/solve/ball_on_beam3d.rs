@@ -699,6 +699,12 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
         self.beam.configuration_scale(&q.beam).max(q.ball.amax())
     }
 
+    /// The ball's rows: its inertia is a round-off of the beam's forces for a small ball.
+    fn own_balance_rows(&self) -> std::ops::Range<usize> {
+        let n = self.ndof();
+        n - 3..n
+    }
+
     /// Node-major unknowns, six a node, elements between neighbours: banded with half-bandwidth
     /// 11, the ball's three unknowns the dense border.
     fn band(&self) -> Option<Band> {
