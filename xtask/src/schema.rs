@@ -14,8 +14,10 @@ use std::path::{Path, PathBuf};
 
 /// The generated files: (path from the repository root, contents).
 pub(crate) fn generate() -> Vec<(&'static str, String)> {
-    let scene = impact::Scene::schema().to_value();
-    let beam = simo_beam::scene::BeamScene::schema().to_value();
+    let (mut scene, mut beam) =
+        (impact::Scene::schema().to_value(), simo_beam::scene::BeamScene::schema().to_value());
+    drop_null_defaults(&mut scene);
+    drop_null_defaults(&mut beam);
     // A `Value` of strings, numbers and objects always serialises.
     let json = |v: &Value| serde_json::to_string_pretty(v).unwrap_or_default() + "\n";
     let reference = reference(&scene, &beam);
@@ -24,6 +26,22 @@ pub(crate) fn generate() -> Vec<(&'static str, String)> {
         ("docs/beam-scene.schema.json", json(&beam)),
         ("docs/scene.md", reference),
     ]
+}
+
+/// Removes every `"default": null`: an optional key read through its own function (a vector of
+/// exactly three numbers) takes `#[serde(default)]`, which the schema states as a null default,
+/// though a TOML key is absent, never null.
+fn drop_null_defaults(value: &mut Value) {
+    match value {
+        Value::Object(map) => {
+            if map.get("default") == Some(&Value::Null) {
+                map.remove("default");
+            }
+            map.values_mut().for_each(drop_null_defaults);
+        }
+        Value::Array(items) => items.iter_mut().for_each(drop_null_defaults),
+        _ => {}
+    }
 }
 
 /// The repository's root (xtask lives in it).

@@ -286,12 +286,17 @@ pub struct StructureSpringSpec {
     #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Stiffness along x, y and z (N/m) against the node's displacement.
+    #[serde(deserialize_with = "simo_beam::scene::exactly")]
     #[schemars(extend("x-unit" = "N/m"))]
     pub stiffness: [f64; 3],
     /// Stiffness against the node's section rotation from its reference orientation, about
     /// the section's axes E1 (the member's axis: its twist), E2 (the width axis) and E3 (the
     /// thickness axis) (N m/rad), default none: a bolted joint, a partly fixed end.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "simo_beam::scene::exactly_some"
+    )]
     #[schemars(extend("x-unit" = "N m/rad"))]
     pub rotational_stiffness: Option<[f64; 3]>,
 }
@@ -381,7 +386,11 @@ pub struct ImpactSpec {
     /// The ball's velocity direction on a `[structure]` (any length): normal to a face of the
     /// struck section (a thickness face, normal E3, or a width face, normal E2; anything else
     /// is refused naming them: no friction is modelled).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "simo_beam::scene::exactly_some"
+    )]
     pub direction: Option<[f64; 3]>,
     /// The strike's distance from the beam's centreline across its width (m; default 0, a
     /// centred strike): the contact force twists the beam by offset x force. At most half

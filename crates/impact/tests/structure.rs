@@ -94,6 +94,23 @@ fn a_strike_off_the_structure_or_not_normal_to_a_face_is_refused_by_name() {
 }
 
 #[test]
+fn a_vector_of_more_than_three_numbers_is_refused_not_cut() {
+    // serde's arrays read the first three of a longer TOML array: each vector key is read as
+    // exactly three numbers.
+    for (from, to) in [
+        ("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.0, -1.0, 5.0]"),
+        ("end = [0.5, 0.0, 0.0]", "end = [0.5, 0.0, 0.0, 0.0]"),
+        ("start = [0.0, 0.0, 0.0]", "start = [0.0, 0.0, 0.0, 1.0]"),
+    ] {
+        let err = frame(&[(from, to)]).unwrap_err().to_string();
+        assert!(err.contains("invalid length 4, expected an array of 3 numbers"), "{to}: {err}");
+    }
+    let spring = "[[structure.spring]]\nat = 0.5\nstiffness = [1e5, 1e5, 1e5, -7.0]\n[ball]";
+    let err = frame(&[("[ball]", spring)]).unwrap_err().to_string();
+    assert!(err.contains("invalid length 4"), "{err}");
+}
+
+#[test]
 fn springs_and_masses_sit_on_the_structures_nodes() {
     // A spring [0, 0, k] at the impact point (a node, s = 0.9 m) holds the struck point's
     // motion along the strike: the static stiffness there gains k exactly (parallel). A mass

@@ -246,7 +246,41 @@ pub struct SectionSpec {
     pub mass_per_length: Option<f64>,
     /// rho (I2 + I3), rho I2, rho I3 (kg m); default 1e-3 x `mass_per_length` each.
     #[schemars(extend("x-unit" = "kg m"))]
+    #[serde(default, deserialize_with = "exactly_some")]
     pub rotary_inertia: Option<[f64; 3]>,
+}
+
+/// Exactly `N` numbers (a scene's vector), for `#[serde(deserialize_with)]`: serde's arrays
+/// read the first `N` items of a longer TOML array and drop the rest (a review's
+/// `end = [0.5, 0.5, 0.0, "junk"]` ran as its first three).
+pub fn exactly<'de, D: serde::Deserializer<'de>, const N: usize>(
+    d: D,
+) -> Result<[f64; N], D::Error> {
+    let numbers = Vec::<f64>::deserialize(d)?;
+    numbers.as_slice().try_into().map_err(|_| {
+        serde::de::Error::invalid_length(
+            numbers.len(),
+            &format!("an array of {N} numbers").as_str(),
+        )
+    })
+}
+
+/// [`exactly`] for an optional key (with `#[serde(default)]` for its absence).
+pub fn exactly_some<'de, D: serde::Deserializer<'de>, const N: usize>(
+    d: D,
+) -> Result<Option<[f64; N]>, D::Error> {
+    exactly(d).map(Some)
+}
+
+/// A profile's `[time, factor]` points, each exactly two numbers (see [`exactly`]).
+fn pairs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
+    let points = Vec::<Vec<f64>>::deserialize(d)?;
+    let pair = |p: &Vec<f64>| {
+        p.as_slice().try_into().map_err(|_| {
+            serde::de::Error::invalid_length(p.len(), &"a point of two numbers, [time, factor]")
+        })
+    };
+    points.iter().map(pair).collect::<Result<Vec<_>, _>>().map(Some)
 }
 
 /// One piece of the beam axis. It starts where the previous piece ended (the first at `start`,
@@ -258,20 +292,25 @@ pub struct SegmentSpec {
     /// Start point (m); only needed for the first piece (later pieces must start where the
     /// previous ended, if given).
     #[schemars(extend("x-unit" = "m"))]
+    #[serde(default, deserialize_with = "exactly_some")]
     pub start: Option<[f64; 3]>,
     /// End point of a straight piece (m).
     #[schemars(extend("x-unit" = "m"))]
+    #[serde(default, deserialize_with = "exactly_some")]
     pub end: Option<[f64; 3]>,
     /// Centre of an arc (m).
     #[schemars(extend("x-unit" = "m"))]
+    #[serde(default, deserialize_with = "exactly_some")]
     pub centre: Option<[f64; 3]>,
     /// Axis of an arc (right-handed turn); it is also the section axis E3 along the arc.
+    #[serde(default, deserialize_with = "exactly_some")]
     pub normal: Option<[f64; 3]>,
     /// Angle swept by an arc (degrees).
     #[schemars(extend("x-unit" = "deg"))]
     pub angle_degrees: Option<f64>,
     /// Section axis E3 (thickness direction) of a straight piece; default z, or x for a piece
     /// along z.
+    #[serde(default, deserialize_with = "exactly_some")]
     pub thickness_direction: Option<[f64; 3]>,
     /// Number of elements.
     #[schemars(range(min = 1, max = 100_000))]
@@ -307,11 +346,11 @@ pub struct LoadSpec {
     #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
     /// Force (N).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exactly")]
     #[schemars(extend("x-unit" = "N"))]
     pub force: [f64; 3],
     /// Moment (N m).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exactly")]
     #[schemars(extend("x-unit" = "N m"))]
     pub moment: [f64; 3],
     /// Whether the load turns with the section (given in the section frame E1, E2, E3).
@@ -320,6 +359,7 @@ pub struct LoadSpec {
     /// Dynamic analysis: (time (s), factor) points, piecewise linear, constant beyond the
     /// ends (before the first point's time its factor holds, from t = 0); default factor 1 at
     /// all times. A static analysis refuses it (its loads grow with the load factor).
+    #[serde(default, deserialize_with = "pairs")]
     #[schemars(extend("x-unit" = "s, -"))]
     pub profile: Option<Vec<[f64; 2]>>,
 }

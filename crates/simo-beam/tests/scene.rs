@@ -125,6 +125,13 @@ fn bad_beam_scenes_name_the_field() {
         ("bending_stiffness = 1.0 ", "bending_stiffness = nan ", "section.bending_stiffness = NaN"),
         // A segment too short to mesh: refused for its length, not for its direction.
         ("end = [1.0, 0.0, 0.0]", "end = [1e-200, 0.0, 0.0]", "at least 1e-9 m from the start"),
+        // A vector with a fourth number: refused, not read as its first three.
+        (
+            "end = [1.0, 0.0, 0.0]",
+            "end = [1.0, 0.0, 0.0, 7.0]",
+            "invalid length 4, expected an array of 3 numbers",
+        ),
+        ("force = [0.0, 0.0, -10.0]", "force = [0.0, 0.0, -10.0, \"junk\"]", "expected f64"),
         // An arc too short to mesh (radius 1e-12 m): refused for its length too (it ran, with a
         // stress 570 times the frame's at the corner).
         (
