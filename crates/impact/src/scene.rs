@@ -508,7 +508,9 @@ pub struct SolverSpec {
     /// Method.
     #[serde(default)]
     pub method: MethodName,
-    /// Number of modes (modal method); default chosen by the plan.
+    /// Number of modes (modal method, on a uniform `[beam]`'s analytic modes); default chosen
+    /// by the plan. The finite-element modes of a `[structure]` or of a beam with masses or
+    /// springs are all those below the pulse's cutoff: refused there (`tolerance` refines them).
     #[schemars(range(min = 1, max = 20_000))]
     pub modes: Option<usize>,
     /// Beam theory of the modal method's modes, "euler-bernoulli" or "timoshenko"; default

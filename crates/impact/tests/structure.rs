@@ -57,7 +57,16 @@ fn the_frame_is_as_stiff_as_its_members_in_series_and_its_ledger_closes() {
 
 #[test]
 fn a_strike_off_the_structure_or_not_normal_to_a_face_is_refused_by_name() {
-    let cases: [(&[(&str, &str)], &str); 9] = [
+    let cases: [(&[(&str, &str)], &str); 12] = [
+        // At the clamp: the face does not move (the modal method said "rows = 0 (-) is not
+        // allowed", the fe method ran a rigid strike).
+        (&[("at = 0.9 ", "at = 0.0 "), ("method = \"fe\"", "method = \"modal\"")], "impact.at"),
+        (&[("at = 0.9 ", "at = 0.0 ")], "it is a supported node"),
+        // Its own key, not its section's (the message said structure.section.yield_stress).
+        (
+            &[("[structure.section]", "[structure]\nyield_stress = -1e8\n\n[structure.section]")],
+            "structure.yield_stress = -1e8",
+        ),
         (&[("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.3, -1.0]")], "impact.direction"),
         (&[("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.0, 0.0]")], "impact.direction"),
         (&[("at = 0.9 ", "at = 1.2 ")], "impact.at"),

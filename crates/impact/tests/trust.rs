@@ -172,6 +172,24 @@ fn a_mesh_too_coarse_to_mean_anything_is_refused_or_named() {
     let one = aluminium("method = \"fe\"\nelements = 1");
     let e = Plan::new(&one).unwrap_err().to_string();
     assert!(e.contains("solver.elements") && e.contains("holds the impact point"), "{e}");
+    // On a support itself no mesh moves the point: refused for where it is (it said "use more
+    // elements").
+    let text = std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/paper-tip.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("position = 1.15", "position = 0.0")
+    .replace("method = \"modal\"\nmodes = 128", "method = \"fe\"\nelements = 16");
+    let e = Plan::new(&impact::Scene::from_toml(&text).unwrap()).unwrap_err().to_string();
+    assert!(e.contains("impact.position = 0 m is on a support") && e.contains("x = 0 m"), "{e}");
+    // With a mass on it the modal method takes the beam's finite-element modes, on the
+    // structure it is: refused by the [beam]'s own key (it said "rows = 0 (-) is not allowed").
+    let massive = text
+        .replace("method = \"fe\"\nelements = 16", "method = \"modal\"")
+        .replace("[ball]", "[[beam.mass]]\nat = 0.575\nmass = 0.1\n\n[ball]");
+    let e = Plan::new(&impact::Scene::from_toml(&massive).unwrap()).unwrap_err().to_string();
+    assert!(e.contains("impact.position = 0: must be a point the supports leave free"), "{e}");
     // Two elements: the stress was ten times too low with nothing said. Warned, with the
     // elements' size against the pulse's wavelength and the first mode.
     let two = Plan::new(&aluminium("method = \"fe\"\nelements = 2")).unwrap();

@@ -308,6 +308,10 @@ fn struck_body(scene: &Scene) -> Result<(Material, Struck<'_>), ImpactError> {
             let (Some(e), Some(nu)) = (st.section.youngs_modulus, st.section.poisson_ratio) else {
                 return Err(ImpactError::Inconsistent("structure.section: give youngs_modulus (Pa) and poisson_ratio (the ball's contact needs the material), with density, width and thickness".into()));
             };
+            // The yield stress is the structure's own key, not its section's.
+            if let Some(y) = st.yield_stress {
+                bounded("structure.yield_stress", y, range::MODULUS, "Pa")?;
+            }
             Ok((material("structure.section", e, nu, st.yield_stress)?, Struck::Structure(st)))
         }
         (None, None, None) => Err(ImpactError::Inconsistent(
@@ -455,7 +459,18 @@ fn beam_method(
                 "modes from the beam's finite elements (solver.modal_basis = \"fe\", the default here): it carries point masses or springs, which the uniform beam's analytic modes do not hold; the [structure] it is (one member, a node at each attachment and at the impact point)".into()
             });
             let (lowered, spec) = structure::lowered(scene, beam, position, pulse);
-            let mut plan = structure::modal_plan(&lowered, &spec, pulse, (reasons, warnings))?;
+            // The lowered scene's impact.at is the [beam]'s impact.position: named as written.
+            let mut plan = structure::modal_plan(&lowered, &spec, pulse, (reasons, warnings))
+                .map_err(|e| match e {
+                    ImpactError::InvalidField { field, value, allowed } if field == "impact.at" => {
+                        ImpactError::InvalidField {
+                            field: "impact.position".into(),
+                            value,
+                            allowed,
+                        }
+                    }
+                    e => e,
+                })?;
             plan.damping = damping;
             return Ok(Method::Modal(plan));
         }

@@ -172,7 +172,7 @@ pub(super) fn modal_plan(
 ) -> Result<ModalPlan, ImpactError> {
     let s = &scene.solver;
     if s.modes.is_some() || s.beam_theory.is_some() {
-        return Err(ImpactError::Inconsistent("solver.modes and beam_theory belong to the modal method on a uniform [beam]: a [structure]'s modes are its 3D finite-element beam's (shear and rotary inertia), all below omega t_c = 20 for the estimated contact duration; give solver.tolerance to refine them".into()));
+        return Err(ImpactError::Inconsistent("solver.modes and beam_theory belong to the modal method's analytic modes of a uniform [beam] without masses or springs: the modes of a [structure], or of a [beam] that carries masses or springs (solver.modal_basis = \"fe\"), are its 3D finite-element beam's (shear and rotary inertia), all below omega t_c = 20 for the estimated contact duration; leave them out, and give solver.tolerance to refine them".into()));
     }
     checked_mesh_keys(s)?;
     let tolerance = s.tolerance.map(super::checked_tolerance).transpose()?;
@@ -715,6 +715,25 @@ fn build(
     }
     let offset = offset(size, impact.offset, scene.ball.radius, pulse, warnings)?;
     let up = -d;
+    // A face the supports hold still (a supported node, or an element between two): the ball
+    // would meet a rigid face (it ran, as a rigid strike, warned as "a free-free beam").
+    if crate::solve::face_rows(&model, (up, face, offset), (e, xi)).is_empty() {
+        let node = if xi == 0.0 {
+            Some(a)
+        } else if xi == 1.0 {
+            Some(b)
+        } else {
+            None
+        };
+        return Err(invalid(
+            "impact.at",
+            at,
+            &match node {
+                Some(_) => "must be a point the supports leave free: it is a supported node, where the ball would meet a rigid face".to_string(),
+                None => format!("must be a point the supports leave free: both nodes of its element (at {} and {} m) are supported, so the mesh holds the face still; give the member more elements", stations[e], stations[e + 1]),
+            },
+        ));
+    }
     let point = mesh.positions[a] * (1.0 - xi) + mesh.positions[b] * xi + across * offset;
     let ball_start = point + up * (half_depth + scene.ball.radius);
     let steps = Steps::new(s, pulse)?;
