@@ -718,19 +718,15 @@ fn build(
     // A face the supports hold still (a supported node, or an element between two): the ball
     // would meet a rigid face (it ran, as a rigid strike, warned as "a free-free beam").
     if crate::solve::face_rows(&model, (up, face, offset), (e, xi)).is_empty() {
-        let node = if xi == 0.0 {
-            Some(a)
-        } else if xi == 1.0 {
-            Some(b)
-        } else {
-            None
-        };
+        // On a node the element's other node is not loaded (xi is 0, or 1 at the chain's end).
+        let on_node = xi <= 0.0 || xi >= 1.0;
         return Err(invalid(
             "impact.at",
             at,
-            &match node {
-                Some(_) => "must be a point the supports leave free: it is a supported node, where the ball would meet a rigid face".to_string(),
-                None => format!("must be a point the supports leave free: both nodes of its element (at {} and {} m) are supported, so the mesh holds the face still; give the member more elements", stations[e], stations[e + 1]),
+            &if on_node {
+                "must be a point the supports leave free: it is a supported node, where the ball would meet a rigid face".to_string()
+            } else {
+                format!("must be a point the supports leave free: both nodes of its element (at {} and {} m) are supported, so the mesh holds the face still; give the member more elements", stations[e], stations[e + 1])
             },
         ));
     }
