@@ -244,3 +244,26 @@ fn a_ball_a_trillion_times_lighter_than_the_beam_rebounds_without_making_energy(
     assert!((en.balance_error / en.initial).abs() < 1e-4, "{en:?}");
     assert!(!r.warnings.iter().any(|w| w.contains("energy")), "{:?}", r.warnings);
 }
+
+#[test]
+fn a_pulse_that_excites_more_modes_than_the_modal_method_takes_is_refused_or_goes_to_fe() {
+    // A 10 um ball: its 60 ns pulse excites 65 thousand modes of the paper's beam below
+    // omega t_c = 20 (the plan clamped the count to 20000 and ran for minutes).
+    let tiny = paper_tip()
+        .replace("radius = 0.005\nmass = 0.009\n", "radius = 1e-5\n")
+        .replace("modes = 128\n", "");
+    let err = Plan::new(&Scene::from_toml(&tiny).unwrap()).unwrap_err().to_string();
+    assert!(err.contains("more than the modal method's 20000"), "{err}");
+    // Given a count, the series is truncated as asked.
+    let counted = tiny.replace("method = \"modal\"", "method = \"modal\"\nmodes = 512");
+    assert!(Plan::new(&Scene::from_toml(&counted).unwrap()).is_ok());
+    // The plan's own choice: the fe method, saying why.
+    let auto =
+        Plan::new(&Scene::from_toml(&tiny.replace("\"modal\"", "\"auto\"")).unwrap()).unwrap();
+    assert_eq!(auto.summary().method, MethodKind::Fe);
+    assert!(
+        auto.summary().reasons.iter().any(|r| r.contains("more of the beam's modes")),
+        "{:?}",
+        auto.summary().reasons
+    );
+}

@@ -114,6 +114,12 @@ fn a_vector_of_more_than_three_numbers_is_refused_not_cut() {
         let err = frame(&[(from, to)]).unwrap_err().to_string();
         assert!(err.contains("invalid length 4, expected an array of 3 numbers"), "{to}: {err}");
     }
+    // Any length is a direction: 1e300 (whose norm overflows) and 1e-300 (underflows) too.
+    for d in ["[0.0, 0.0, -1e300]", "[0.0, 0.0, -1e-300]"] {
+        let to = format!("direction = {d}");
+        let scene = frame(&[("direction = [0.0, 0.0, -1.0]", to.as_str())]).unwrap();
+        assert!(Plan::new(&scene).is_ok(), "{d}");
+    }
     let spring = "[[structure.spring]]\nat = 0.5\nstiffness = [1e5, 1e5, 1e5, -7.0]\n[ball]";
     let err = frame(&[("[ball]", spring)]).unwrap_err().to_string();
     assert!(err.contains("invalid length 4"), "{err}");

@@ -494,6 +494,10 @@ fn beam_method(
             ));
             false
         }
+        MethodName::Auto if modal::too_many_modes(&m, pulse.duration)? => {
+            reasons.push(format!("method fe (auto): the estimated contact duration {:.3e} s excites more of the beam's modes than the modal method's {} below omega t_c = {MODE_CUTOFF}", pulse.duration, modal::MAX_MODES));
+            true
+        }
         MethodName::Auto if large || fe_keys(s) => {
             reasons.push(format!(
                 "method fe (auto): {}",

@@ -675,14 +675,16 @@ fn build(
         ImpactError::Inconsistent("impact.direction (the ball's velocity, a vector normal to the struck face) is required with a [structure]".into())
     })?;
     let d = Vector3::from(d);
-    if !(d.iter().all(|x| x.is_finite()) && d.norm() > 0.0) {
+    if !(d.iter().all(|x| x.is_finite()) && d.amax() > 0.0) {
         return Err(invalid(
             "impact.direction",
             format!("{:?}", [d.x, d.y, d.z]),
             "a vector of three finite numbers, not all zero",
         ));
     }
-    let d = d.normalize();
+    // Scaled by its largest component first: the norm of [0, 0, 1e300] overflows, of
+    // [0, 0, 1e-300] underflows, and any length is allowed.
+    let d = (d / d.amax()).normalize();
     let show = |v: Vector3<f64>| format!("[{:.6}, {:.6}, {:.6}]", v.x, v.y, v.z);
     // The face the direction is normal to: its distance from the centre line, the axis and
     // the size of the face across (where the offset goes).
