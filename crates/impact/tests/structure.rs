@@ -398,3 +398,22 @@ fn a_width_face_of_an_arc_and_a_ball_inside_a_member_are_refused() {
     let err = simulate(&frame(&inside).unwrap()).unwrap_err().to_string();
     assert!(err.contains("inside the struck face"), "{err}");
 }
+
+#[test]
+fn a_structures_section_in_other_units_warns_by_field_as_a_beams_does() {
+    // g/cm^3, MPa and mm slip into a [structure.section] as into a [beam]: warned with the
+    // value meant (they ran silently); a density no solid has is refused as a [beam]'s is.
+    let cases = [
+        ("density = 7850.0\nwidth", "density = 7.85\nwidth", "structure.section.density = 7.85"),
+        ("youngs_modulus = 2.1e11", "youngs_modulus = 2.1e5", "the value meant is 2.1e11"),
+        ("width = 0.025 ", "width = 25.0 ", "structure.section.width = 25"),
+    ];
+    for (from, to, expect) in cases {
+        let plan = Plan::new(&frame(&[(from, to)]).unwrap()).unwrap();
+        let w = plan.warnings().join("\n");
+        assert!(w.contains(expect), "{to}: {w}");
+    }
+    let tiny = ("density = 7850.0\nwidth", "density = 1e-9\nwidth");
+    let err = Plan::new(&frame(&[tiny]).unwrap()).unwrap_err();
+    assert!(err.to_string().contains("structure.section.density = 1e-9"), "{err}");
+}

@@ -305,6 +305,9 @@ fn struck_body(scene: &Scene) -> Result<(Material, Struck<'_>), ImpactError> {
             Struck::HalfSpace,
         )),
         (None, None, Some(st)) => {
+            if let Some(rho) = st.section.density {
+                bounded("structure.section.density", rho, range::DENSITY, "kg/m^3")?;
+            }
             let (Some(e), Some(nu)) = (st.section.youngs_modulus, st.section.poisson_ratio) else {
                 return Err(ImpactError::Inconsistent("structure.section: give youngs_modulus (Pa) and poisson_ratio (the ball's contact needs the material), with density, width and thickness".into()));
             };
@@ -817,6 +820,28 @@ fn unit_slips(scene: &Scene, warnings: &mut Vec<String>) {
                 show(beam.length)
             ));
         }
+    }
+    if let Some(st) = &scene.structure {
+        // The structure's section and each segment's own (a stepped member), as a beam's.
+        let own = st.segments.iter().enumerate().filter_map(|(k, seg)| {
+            seg.section.as_ref().map(|sec| (format!("structure.segment[{k}].section"), sec))
+        });
+        for (key, sec) in std::iter::once(("structure.section".to_string(), &st.section)).chain(own)
+        {
+            if let Some(rho) = sec.density {
+                density_slip(warnings, &format!("{key}.density"), rho);
+            }
+            if let Some(e) = sec.youngs_modulus {
+                modulus_slip(warnings, &format!("{key}.youngs_modulus"), e);
+            }
+            for (field, size) in [("width", sec.width), ("thickness", sec.thickness)] {
+                if let Some(size) = size.filter(|s| *s > 1.0) {
+                    let why = "a section over a metre across, as if typed in mm";
+                    slip(warnings, &format!("{key}.{field}"), size, why, size * 1e-3);
+                }
+            }
+        }
+        yield_slip(warnings, "structure.yield_stress", st.yield_stress);
     }
     if let Some(h) = &scene.half_space {
         modulus_slip(warnings, "half_space.youngs_modulus", h.youngs_modulus);
