@@ -417,3 +417,22 @@ fn a_structures_section_in_other_units_warns_by_field_as_a_beams_does() {
     let err = Plan::new(&frame(&[tiny]).unwrap()).unwrap_err();
     assert!(err.to_string().contains("structure.section.density = 1e-9"), "{err}");
 }
+
+#[test]
+fn the_element_after_a_corner_is_struck_on_its_own_member_s_faces() {
+    // 5 mm past the corner, on the second member's first element, from outside the L along
+    // -x: normal to that member's width face. The element's end frame at the corner node is
+    // its own member's (the node's is the first member's): the faces' normals were
+    // interpolated between the two, 36 degrees off here, and the strike was refused as oblique.
+    let edits = [
+        ("at = 0.9 ", "at = 0.505 "),
+        ("direction = [0.0, 0.0, -1.0]", "direction = [-1.0, 0.0, 0.0]"),
+        ("end_time = 0.002", "end_time = 0.00005"),
+    ];
+    let report = simulate(&frame(&edits).unwrap()).unwrap().report;
+    let c = &report.contacts[0];
+    assert!(c.complete && c.peak_force > 0.0, "{c:?}");
+    let en = &report.energy;
+    assert!((en.balance_error / en.initial).abs() < 1e-4, "{en:?}");
+    assert!(en.numerical_dissipation >= -1e-6 * en.initial, "{en:?}");
+}

@@ -667,8 +667,12 @@ fn build(
     if (struck_e - shared[0]).abs() > 1e-12 * shared[0] {
         return Err(ImpactError::Inconsistent(format!("impact.at = {at} m strikes a segment whose own section's youngs_modulus ({struck_e} Pa) is not the structure's ({} Pa): the contact is set from [structure.section]; strike a member of that material", shared[0])));
     }
+    // The struck element's own end frames (at a corner its node's frame is the other
+    // member's: the faces' normals were interpolated from it on the element after a corner).
+    let offsets = mesh.elements[e].offsets;
     let axis = |k: Vector3<f64>| {
-        ((mesh.frames[a] * k) * (1.0 - xi) + (mesh.frames[b] * k) * xi).normalize()
+        let (fa, fb) = (mesh.frames[a] * offsets[0], mesh.frames[b] * offsets[1]);
+        ((fa * k) * (1.0 - xi) + (fb * k) * xi).normalize()
     };
     let (e2, e3) = (axis(Vector3::y()), axis(Vector3::z()));
     let d = impact.direction.ok_or_else(|| {

@@ -199,9 +199,11 @@ impl Face {
 
 /// [`BallOnBeam3d::facing`] of `beam` struck against `face` along `-up`.
 fn facing(beam: &BeamModel, (up, face): (Vector3<f64>, Face), e: usize) -> f64 {
-    let node = beam.mesh().elements[e].nodes[0];
+    let element = &beam.mesh().elements[e];
     let (normal, _) = face.axes();
-    let n = beam.mesh().frames[node].to_rotation_matrix().into_inner().column(normal).into_owned();
+    // The element's own end frame (at a corner its node's is the other member's).
+    let frame = beam.mesh().frames[element.nodes[0]] * element.offsets[0];
+    let n = frame.to_rotation_matrix().into_inner().column(normal).into_owned();
     let side = if n.dot(&up) < 0.0 { -1.0 } else { 1.0 };
     side * face.twist_sign()
 }
@@ -216,10 +218,16 @@ pub(crate) fn face_rows(
     (i, xi): (usize, f64),
 ) -> Vec<(usize, f64)> {
     let e = offset * facing(beam, (up, face), i);
-    [(i, 1.0 - xi), (i + 1, xi)]
+    // The twist is about the element's axis, its end frames' E1 in the node's axes (E1 but at
+    // a corner's node).
+    let element = &beam.mesh().elements[i];
+    let axis = |end: usize| element.offsets[end] * Vector3::x();
+    let nodes = element.nodes;
+    [(nodes[0], 1.0 - xi, axis(0)), (nodes[1], xi, axis(1))]
         .into_iter()
-        .flat_map(|(node, w)| {
-            [(node, 0, w * up.x), (node, 1, w * up.y), (node, 2, w * up.z), (node, 3, e * w)]
+        .flat_map(|(node, w, ax)| {
+            let turn = (0..3).map(move |k| (node, 3 + k, e * w * ax[k]));
+            [(node, 0, w * up.x), (node, 1, w * up.y), (node, 2, w * up.z)].into_iter().chain(turn)
         })
         .filter(|(_, _, w)| *w != 0.0)
         .filter_map(|(node, k, w)| beam.dof(node, k).map(|d| (d, w)))
@@ -228,17 +236,42 @@ pub(crate) fn face_rows(
 
 /// The approach for local unknowns `u` added to the configuration (`c0` the ball, `a` and `b`
 /// the element's nodes); `ends` says whether the element's nodes are the beam's first and last.
+#[cfg(test)]
 fn approach_of<T: nalgebra::RealField + Copy>(
     u: &SVector<T, LOCAL>,
     c0: &Vector3<f64>,
     a: &Node,
     b: &Node,
+    surface: (f64, f64, Face),
+    ends: (bool, bool),
+) -> T {
+    approach_turned(u, c0, (a, b, None), surface, ends)
+}
+
+/// The element's end frames' turns from their nodes' (`Lambda_end = Lambda_node O`, the
+/// element's `offsets`: at a corner the end frames are the member's, the node's the other
+/// member's), as matrices.
+type Turns = (Matrix3<f64>, Matrix3<f64>);
+
+/// [`approach_of`] on an element whose end frames are turned from their nodes' by `turns`
+/// (`None`: not turned), with `a.1` and `b.1` the end frames: a node's rotation increment
+/// theta (material, at the node) turns its end frame by `O^T theta` in the end frame's axes
+/// (`Lambda exp(theta^) O = Lambda O exp((O^T theta)^)`).
+fn approach_turned<T: nalgebra::RealField + Copy>(
+    u: &SVector<T, LOCAL>,
+    c0: &Vector3<f64>,
+    (a, b, turns): (&Node, &Node, Option<&Turns>),
     (radius, half, face): (f64, f64, Face),
     ends: (bool, bool),
 ) -> T {
     let (normal, across) = face.axes();
     let lift = nalgebra::convert::<f64, T>;
     let part = |k: usize| Vector3::new(u[k], u[k + 1], u[k + 2]);
+    let turn = |o: &Matrix3<f64>, k: usize| o.map(lift).transpose() * part(k);
+    let (theta_a, theta_b) = match turns {
+        Some((oa, ob)) => (turn(oa, 6), turn(ob, 12)),
+        None => (part(6), part(12)),
+    };
     let c = c0.map(lift) + part(0);
     let xa = a.0.map(lift) + part(3);
     let xb = b.0.map(lift) + part(9);
@@ -255,7 +288,7 @@ fn approach_of<T: nalgebra::RealField + Copy>(
         };
         (axis(normal), axis(across))
     };
-    let (ra, rb) = (turned(&a.1, part(6)), turned(&b.1, part(12)));
+    let (ra, rb) = (turned(&a.1, theta_a), turned(&b.1, theta_b));
     let (radius, half) = (lift(radius), lift(half));
     let t = xb - xa;
     let xi = (c - xa).dot(&t) / t.dot(&t);
@@ -289,6 +322,26 @@ fn approach_of<T: nalgebra::RealField + Copy>(
 /// Past an end, `v = c - (x_e + s R_e e_n)` (s = +-h/2, the side), `w = v - a (v.a)` with
 /// `a = R_e e_across` and `delta = R - |w|`: as `w` is normal to `a`,
 /// `d|w| = w^.(dc - dx_e) - s theta.(e_n x R^T w^) - (v.a) theta.(e_a x R^T w^)`.
+///
+/// With end frames turned from their nodes' (`turns`, see [`approach_turned`]), the gradient
+/// over the end frames' increments `O^T theta` is turned back onto the nodes' by `O`.
+fn approach_gradient_turned(
+    c: &Vector3<f64>,
+    (a, b, turns): (&Node, &Node, Option<&Turns>),
+    surface: (f64, f64, Face),
+    ends: (bool, bool),
+) -> (f64, SVector<f64, LOCAL>) {
+    let (delta, mut gradient) = approach_gradient(c, a, b, surface, ends);
+    if let Some((oa, ob)) = turns {
+        for (at, o) in [(6, oa), (12, ob)] {
+            let turned = o * gradient.fixed_rows::<3>(at);
+            gradient.fixed_rows_mut::<3>(at).copy_from(&turned);
+        }
+    }
+    (delta, gradient)
+}
+
+/// [`approach_gradient_turned`] of an element whose end frames are its nodes'.
 fn approach_gradient(
     c: &Vector3<f64>,
     a: &Node,
@@ -524,24 +577,35 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         (element, xi): (usize, f64),
         (na, nb): (usize, usize),
     ) -> ContactPoint3d {
-        let node = |i: usize| -> Node {
-            (q.beam.positions[i], q.beam.rotations[i].to_rotation_matrix().into_inner())
+        // The element's end frames (its nodes' turned by its offsets at a corner).
+        let e = &self.beam.mesh().elements[element];
+        let straight = e.offsets.iter().all(|o| *o == nalgebra::UnitQuaternion::identity());
+        let node = |i: usize, end: usize| -> Node {
+            let r =
+                if straight { q.beam.rotations[i] } else { q.beam.rotations[i] * e.offsets[end] };
+            (q.beam.positions[i], r.to_rotation_matrix().into_inner())
         };
-        let (a, b) = (node(na), node(nb));
+        let (a, b) = (node(na, 0), node(nb, 1));
+        let turns: Option<Turns> = (!straight)
+            .then(|| e.offsets.map(|o| o.to_rotation_matrix().into_inner()))
+            .map(|[oa, ob]| (oa, ob));
+        let turns = turns.as_ref();
         let surface = (self.radius, self.half_thickness, self.face);
         let ends = (element == 0, element + 1 == self.elements());
         let c = &q.ball;
         let zero = SVector::<f64, LOCAL>::zeros();
         let (delta, gradient, hessian) = match order {
-            Order::Value => (approach_of(&zero, c, &a, &b, surface, ends), SVector::zeros(), None),
+            Order::Value => {
+                (approach_turned(&zero, c, (&a, &b, turns), surface, ends), SVector::zeros(), None)
+            }
             Order::Gradient => {
-                let (delta, gradient) = approach_gradient(c, &a, &b, surface, ends);
+                let (delta, gradient) = approach_gradient_turned(c, (&a, &b, turns), surface, ends);
                 (delta, gradient, None)
             }
             Order::Hessian => {
                 let (d, g, h) = num_dual::hessian(
                     |u: SVector<Dual2SVec64<LOCAL>, LOCAL>| {
-                        approach_of(&u, c, &a, &b, surface, ends)
+                        approach_turned(&u, c, (&a, &b, turns), surface, ends)
                     },
                     &zero,
                 );
@@ -947,6 +1011,61 @@ mod tests {
                         expected[i]
                     );
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn at_a_corner_the_gradient_turns_back_onto_the_nodes_rotations() {
+        // The element after a corner: its end frames are its nodes' turned by O (a quarter
+        // turn about z at the corner node a, a small one at b), a node's increment theta
+        // turning its end frame to R exp(theta^) O. Central differences of that exact motion
+        // against the written-out gradient (and the dual numbers through the turns) on both
+        // faces: the rotation rows are O times the end frame's.
+        let rot = |v: [f64; 3]| {
+            UnitQuaternion::from_scaled_axis(Vector3::from(v)).to_rotation_matrix().into_inner()
+        };
+        let (ra, rb) = (rot([3e-3, -1e-3, 5e-4]), rot([-2e-3, 4e-3, 1e-3]));
+        let turns: Turns = (rot([0.0, 0.0, std::f64::consts::FRAC_PI_2]), rot([1e-3, 0.0, 2e-3]));
+        let (xa, xb) = (Vector3::new(0.0, 1e-4, 2e-4), Vector3::new(1.0, -1e-4, -3e-4));
+        let a = (xa, ra * turns.0);
+        let b = (xb, rb * turns.1);
+        for face in [Face::Thickness, Face::Width] {
+            let c = Vector3::new(0.6, 0.008, 0.0074);
+            let c = if face == Face::Width { Vector3::new(c.x, c.z, c.y) } else { c };
+            let surface = (0.005, 0.0025, face);
+            let exact = |u: &SVector<f64, LOCAL>| {
+                let end = |r: &Matrix3<f64>, o: &Matrix3<f64>, k: usize| {
+                    r * rot([u[k], u[k + 1], u[k + 2]]) * o
+                };
+                let mut v = *u;
+                for k in [6, 7, 8, 12, 13, 14] {
+                    v[k] = 0.0;
+                }
+                let (ta, tb) = ((xa, end(&ra, &turns.0, 6)), (xb, end(&rb, &turns.1, 12)));
+                approach_of(&v, &c, &ta, &tb, surface, (false, false))
+            };
+            let (delta, g) =
+                approach_gradient_turned(&c, (&a, &b, Some(&turns)), surface, (false, false));
+            let zero = SVector::<f64, LOCAL>::zeros();
+            assert!((delta - exact(&zero)).abs() < 1e-16, "{face:?}");
+            let dual = |j: usize| {
+                let u = SVector::<num_dual::Dual64, LOCAL>::from_fn(|k, _| {
+                    num_dual::Dual64::new(0.0, if k == j { 1.0 } else { 0.0 })
+                });
+                approach_turned(&u, &c, (&a, &b, Some(&turns)), surface, (false, false)).eps
+            };
+            let h = 1e-7;
+            for j in 0..LOCAL {
+                let mut u = zero;
+                u[j] = h;
+                let plus = exact(&u);
+                u[j] = -h;
+                let central = (plus - exact(&u)) / (2.0 * h);
+                // Central differences at h = 1e-7 on an approach of order 1e-3: truncation
+                // ~h^2 and round-off ~1e-16 / h, both below 1e-8.
+                assert!((g[j] - central).abs() < 1e-8, "{face:?} {j}: {} vs {central}", g[j]);
+                assert!((g[j] - dual(j)).abs() < 1e-12, "{face:?} {j}: {} vs {}", g[j], dual(j));
             }
         }
     }
