@@ -138,7 +138,31 @@ pub(crate) mod range {
 pub(crate) fn invalid(field: &str, value: impl ToString, allowed: &str) -> ImpactError {
     ImpactError::InvalidField {
         field: field.to_owned(),
-        value: value.to_string(),
+        value: readable(value.to_string()),
         allowed: allowed.to_owned(),
+    }
+}
+
+/// A number's text as the user can read it: Rust writes an `f64` without an exponent, so
+/// 1e-300 came out as 300 digits; a long number is written with one.
+fn readable(value: String) -> String {
+    match value.parse::<f64>() {
+        Ok(x) if value.len() > 24 => format!("{x:e}"),
+        _ => value,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_value_in_an_error_is_written_as_a_user_reads_it() {
+        let shown = |v: f64| invalid("impact.offset", v, "").to_string();
+        assert!(shown(1e-300).contains("impact.offset = 1e-300"), "{}", shown(1e-300));
+        assert!(shown(1e300).contains("= 1e300"), "{}", shown(1e300));
+        assert!(shown(0.0126).contains("= 0.0126:"), "{}", shown(0.0126));
+        let text = invalid("impact.direction", "[0.0, 1.0]", "").to_string();
+        assert!(text.contains("= [0.0, 1.0]"), "{text}");
     }
 }

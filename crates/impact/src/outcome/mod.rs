@@ -120,7 +120,8 @@ impl Energy {
         let mut energy = Self {
             initial,
             ball_kinetic,
-            ball_potential,
+            // -m g u with g = 0 is -0: written as 0 (+ 0.0 turns -0 into 0, nothing else).
+            ball_potential: ball_potential + 0.0,
             beam,
             contact_stored,
             dissipated,
