@@ -915,7 +915,7 @@ impl Integrator {
 
     /// One Newton solve of the step equation; returns the new state without touching the old.
     /// Whether the residual's `rows` are within `rtol` of their own force terms `forces`
-    /// (inertial and net, new and old), plus the round-off floor of those terms.
+    /// (inertial and net, new and old), plus those terms' round-off floor.
     fn own_rows_balanced(&self, rows: std::ops::Range<usize>, forces: [&[f64]; 4]) -> bool {
         let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
         let residual = norm(&self.work.residual[rows.clone()]);
@@ -1010,10 +1010,12 @@ impl Integrator {
                 ROUND_OFF_FACTOR * f64::EPSILON * model.force_scale(&q1) * (n as f64).sqrt();
             let mut converged =
                 residual_norm <= self.options.atol + self.options.rtol * scale + floor;
+            // A predictor is accepted as it is only where the model's own rows balance too;
+            // once corrected, the whole balance decides (see `Model::own_balance_rows`).
             let own = model.own_balance_rows();
-            if converged && !own.is_empty() {
-                converged =
-                    self.own_rows_balanced(own, [inertial_now, entries(&net), inertial0, net0]);
+            if converged && predicted && !own.is_empty() {
+                let forces = [inertial_now, entries(&net), inertial0, net0];
+                converged = self.own_rows_balanced(own, forces);
             }
             if !converged && iteration < self.options.max_iterations {
                 let stale = residual_norm > STALE_CONTRACTION * previous_residual;
