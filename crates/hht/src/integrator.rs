@@ -913,7 +913,6 @@ impl Integrator {
         Ok(())
     }
 
-    /// One Newton solve of the step equation; returns the new state without touching the old.
     /// Whether the residual's `rows` are within `rtol` of their own force terms `forces`
     /// (inertial and net, new and old), plus those terms' round-off floor.
     fn own_rows_balanced(&self, rows: std::ops::Range<usize>, forces: [&[f64]; 4]) -> bool {
@@ -924,6 +923,7 @@ impl Integrator {
         residual <= self.options.atol + self.options.rtol * scale + floor
     }
 
+    /// One Newton solve of the step equation; returns the new state without touching the old.
     fn attempt<M: Model>(
         &mut self,
         model: &M,

@@ -223,7 +223,7 @@ fn hostile_names_never_become_folders_and_are_printed_escaped() {
 fn a_ball_a_trillion_times_lighter_than_the_beam_rebounds_without_making_energy() {
     // A 1 um steel ball (3.3e-14 kg) on the paper's tip (fe, 16 elements): against the beam's
     // 0.07 kg a node it meets a rigid wall, and Zener's parameter is ~0: it must leave at the
-    // speed it came (Goldsmith's rigid-support limit, e = 1; the beam takes 4e-25 J of the
+    // speed it came (validation/REFERENCES.md 2.6.1, e = 1; the beam takes 4e-25 J of the
     // ball's 6e-14 J, 1e-11 of it). Before the ball's own rows had to balance, its inertia was
     // a round-off of the beam's forces: most contact steps were taken with no Newton
     // correction, and it left 5 % faster than it came, with 6.6e4 times its energy.

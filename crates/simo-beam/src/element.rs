@@ -118,8 +118,8 @@ impl Element {
     }
 
     /// Whether both end frames are the nodes' own (no corner offset): along a smooth beam,
-    /// where the `f64` force skips the offsets' rotations.
-    pub(crate) fn straight(&self) -> bool {
+    /// where the `f64` force skips the offsets' rotations (and the impact's contact its turns).
+    pub fn straight(&self) -> bool {
         // Exactly the identity, as `Element::new` sets it (a corner's offset is far from it).
         self.offsets.iter().all(|o| o.i == 0.0 && o.j == 0.0 && o.k == 0.0)
     }

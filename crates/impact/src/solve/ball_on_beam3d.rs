@@ -579,7 +579,7 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     ) -> ContactPoint3d {
         // The element's end frames (its nodes' turned by its offsets at a corner).
         let e = &self.beam.mesh().elements[element];
-        let straight = e.offsets.iter().all(|o| *o == nalgebra::UnitQuaternion::identity());
+        let straight = e.straight();
         let node = |i: usize, end: usize| -> Node {
             let r =
                 if straight { q.beam.rotations[i] } else { q.beam.rotations[i] * e.offsets[end] };

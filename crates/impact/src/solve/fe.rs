@@ -191,7 +191,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         // The plan puts the ball on the face (approach 0 to round-off); a ball inside the
         // model's face at the start would be pushed out by a force no fall made: refused.
         if approach > 1e-3 * target.approach_scale {
-            return Err(ImpactError::Inconsistent(format!("the ball starts {approach:.3e} m inside the struck face as the fe model's elements place it (the largest approach of the first contact is about {:.3e} m): the face turns at a node in the strike's plane (a corner of members meeting in it); strike a straight member away from its joints", target.approach_scale)));
+            return Err(ImpactError::Inconsistent(format!("the ball starts {approach:.3e} m inside the struck face as the fe model's elements place it (the largest approach of the first contact is about {:.3e} m): near a joint the ball overlaps the other member, or the face turns at a node in the strike's plane; strike a straight member away from its joints", target.approach_scale)));
         }
         let (i, xi) = target.impact_site();
         let face_rows = model.face_rows((i, xi));
