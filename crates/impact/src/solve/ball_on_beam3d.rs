@@ -503,6 +503,21 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         z.atan2(y)
     }
 
+    /// Element `e`'s section at its end `end` (0 or 1): its rotation about the element's own
+    /// axis from its reference (rad), as [`Self::node_twist`] but in the element's end frame
+    /// (at a corner the node's frame is the other member's, and so is its axis).
+    pub(crate) fn end_twist(&self, q: &BallOnBeam3dConfig, e: usize, end: usize) -> f64 {
+        let element = &self.beam.mesh().elements[e];
+        let node = element.nodes[end];
+        if element.straight() {
+            return self.node_twist(q, node);
+        }
+        let o = element.offsets[end];
+        let frame = self.beam.mesh().frames[node] * o;
+        let (y, z) = turned_width_axis(&frame, &(q.beam.rotations[node] * o));
+        z.atan2(y)
+    }
+
     /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
     pub fn commit_contact_element(&mut self, q: &BallOnBeam3dConfig) {
         self.sticky_element = Some(self.nearest_element(q).0);
@@ -1013,6 +1028,41 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_twist_after_a_corner_is_about_its_own_member_s_axis() {
+        // An L of two members in the x-y plane (along x, then along y), its corner node turned
+        // 0.01 rad about y, the second member's axis: the second member's first section is
+        // twisted 0.01 rad, the first member's last one not at all (its axis is x), and the
+        // node's own reading is the first member's.
+        use simo_beam::scene::{SectionSpec, SegmentSpec};
+        let section = SectionSpec {
+            youngs_modulus: Some(2.1e11),
+            poisson_ratio: Some(0.3),
+            density: Some(7850.0),
+            width: Some(0.025),
+            thickness: Some(0.005),
+            ..SectionSpec::default()
+        };
+        let segments = [
+            SegmentSpec::straight(Some([0.0, 0.0, 0.0]), [0.5, 0.0, 0.0], 4),
+            SegmentSpec::straight(None, [0.5, 0.5, 0.0], 4),
+        ];
+        let (beam, _) = simo_beam::scene::structure(&section, &segments, &[]).unwrap();
+        let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
+        let model = BallOnBeam3d::new(beam, (0.01, 0.0, 0.005), 0.0, 0.0025, &law);
+        let mut q = BallOnBeam3dConfig {
+            beam: model.beam().reference_state(),
+            ball: Vector3::new(0.6, 0.25, 0.01),
+        };
+        let turn = UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.01, 0.0));
+        q.beam.rotations[4] = turn * q.beam.rotations[4];
+        assert!(!model.beam().mesh().elements[4].straight());
+        let (first, second) = (model.end_twist(&q, 3, 1), model.end_twist(&q, 4, 0));
+        assert!((second.abs() - 0.01).abs() < 1e-12, "{second}");
+        assert!(first.abs() < 1e-12, "{first}");
+        assert!(model.node_twist(&q, 4).abs() < 1e-12);
     }
 
     #[test]

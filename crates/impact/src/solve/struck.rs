@@ -291,10 +291,10 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     fn face_rows(&self, site: (usize, f64)) -> Vec<(usize, f64)> {
         super::ball_on_beam3d::face_rows(self.beam(), (self.up(), self.face(), self.offset()), site)
     }
-    /// The two nodes' sections' rotation about their axis from their reference frames,
+    /// The element's two end sections' rotation about its axis from their reference frames,
     /// interpolated: the angle that turns E2 toward E3.
     fn twist(&self, q: &BallOnBeam3dConfig, (i, xi): (usize, f64)) -> f64 {
-        between((self.node_twist(q, i), self.node_twist(q, i + 1)), xi)
+        between((self.end_twist(q, i, 0), self.end_twist(q, i, 1)), xi)
     }
     fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
         // Ranked without an arc tangent a node (every accepted step asks): one for the node.
