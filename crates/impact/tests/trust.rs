@@ -99,13 +99,7 @@ fn the_fe_maxima_do_not_depend_on_the_output_interval() {
 /// solver lines `solver`.
 fn theory_scenes(solver: &str) -> Vec<Scene> {
     let read = |name: &str| {
-        std::fs::read_to_string(format!(
-            "{}/../../validation/scenes/{name}",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap()
-        .replace("gravity = true", "gravity = false")
-        .replace("modes = 128", solver)
+        edited_text(name, &[("gravity = true", "gravity = false"), ("modes = 128", solver)])
     };
     let tip = read("paper-tip.toml").replace("end_time = 0.005", "end_time = 0.001");
     let stubby = format!(
@@ -174,13 +168,13 @@ fn a_mesh_too_coarse_to_mean_anything_is_refused_or_named() {
     assert!(e.contains("solver.elements") && e.contains("holds the impact point"), "{e}");
     // On a support itself no mesh moves the point: refused for where it is (it said "use more
     // elements").
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-tip.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("position = 1.15", "position = 0.0")
-    .replace("method = \"modal\"\nmodes = 128", "method = \"fe\"\nelements = 16");
+    let text = edited_text(
+        "paper-tip.toml",
+        &[
+            ("position = 1.15", "position = 0.0"),
+            ("method = \"modal\"\nmodes = 128", "method = \"fe\"\nelements = 16"),
+        ],
+    );
     let e = Plan::new(&impact::Scene::from_toml(&text).unwrap()).unwrap_err().to_string();
     assert!(e.contains("impact.position = 0 m is on a support") && e.contains("x = 0 m"), "{e}");
     // With a mass on it the modal method takes the beam's finite-element modes, on the
@@ -222,12 +216,7 @@ fn the_accuracy_study_and_the_report_measure_the_same_model_error() {
     // inertia move the results by 1.5 %, they agree within the study's finest setting's own
     // error (1.3e-2 and 1.5e-2 measured; the quick study's finest Euler-Bernoulli setting is
     // 128 modes, the report's 186).
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/paper-midspan.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let scene = Scene::from_toml(&text).unwrap();
+    let scene = Scene::from_toml(&edited_text("paper-midspan.toml", &[])).unwrap();
     let ladders = study::accuracy::Ladders::quick();
     let study = study::accuracy::run(&scene, &ladders, &|_, _| {}).unwrap();
     let curve = study.theory_difference.unwrap().worst();
@@ -239,13 +228,17 @@ fn the_accuracy_study_and_the_report_measure_the_same_model_error() {
     assert!((model - curve).abs() <= 0.25 * curve, "report {model:e}, study {curve:e}");
 }
 
+/// The text of validation/scenes/`file` with each (from, to) of `edits` replaced.
+fn edited_text(file: &str, edits: &[(&str, &str)]) -> String {
+    let path = format!("{}/../../validation/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+    edits
+        .iter()
+        .fold(std::fs::read_to_string(path).unwrap(), |text, (from, to)| text.replace(from, to))
+}
+
 /// The report of validation/scenes/`file` with each (from, to) of `edits` replaced.
 fn edited_scene(file: &str, edits: &[(&str, &str)]) -> Report {
-    let path = format!("{}/../../validation/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
-    let text = edits
-        .iter()
-        .fold(std::fs::read_to_string(path).unwrap(), |text, (from, to)| text.replace(from, to));
-    simulate(&Scene::from_toml(&text).unwrap()).unwrap().report
+    simulate(&Scene::from_toml(&edited_text(file, edits)).unwrap()).unwrap().report
 }
 
 /// The searches' worst gap the report's note gives, with the note.

@@ -633,13 +633,15 @@ fn build(
     }
     };
     let shared = rectangle("structure.section", &spec.section)?;
-    let mut sections = Vec::new();
+    // Each element's section and segment.
+    let (mut sections, mut segment_of) = (Vec::new(), Vec::new());
     for (i, seg) in spec.segments.iter().enumerate() {
         let own = match &seg.section {
             Some(own) => rectangle(&format!("structure.segment[{i}].section"), own)?,
             None => shared,
         };
         sections.extend(std::iter::repeat_n(own, seg.elements));
+        segment_of.extend(std::iter::repeat_n(i, seg.elements));
     }
     let section = &spec.section;
     let material = simo_beam::Material::new(
@@ -707,17 +709,13 @@ fn build(
     // straight chords, which kink there at every node: on the convex side a ball over a node
     // starts inside the chords' face (0.34 mm on a 0.25 m arc of 8 elements a half turn: its
     // first contact then made 50 times the ball's energy), on the concave side it meets two.
-    let mut first = 0;
-    for (k, seg) in spec.segments.iter().enumerate() {
-        if (first..first + seg.elements).contains(&e) && face == Face::Width && seg.centre.is_some()
-        {
-            return Err(invalid(
-                "impact.direction",
-                show(d),
-                &format!("strikes a width face (normal +-{}) of structure.segment[{k}], an arc: its width faces curve in the strike's plane, which the contact (on the elements' straight chords) does not follow; strike its thickness faces (normal +-{}) or a straight member", show(e2), show(e3)),
-            ));
-        }
-        first += seg.elements;
+    let k = segment_of[e];
+    if face == Face::Width && spec.segments[k].centre.is_some() {
+        return Err(invalid(
+            "impact.direction",
+            show(d),
+            &format!("strikes a width face (normal +-{}) of structure.segment[{k}], an arc: its width faces curve in the strike's plane, which the contact (on the elements' straight chords) does not follow; strike its thickness faces (normal +-{}) or a straight member", show(e2), show(e3)),
+        ));
     }
     let offset = offset(size, impact.offset, scene.ball.radius, pulse, warnings)?;
     let up = -d;
