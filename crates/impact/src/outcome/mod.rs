@@ -175,8 +175,8 @@ pub struct Report {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_twist_time: Option<f64>,
     /// The largest section rotation about its own axis anywhere on the beam or structure,
-    /// where and when (the fe method's 3D beam: at its nodes and accepted steps); absent from
-    /// the JSON otherwise.
+    /// where and when (the fe method's 3D beam: at its nodes and accepted steps; at a corner,
+    /// each member's end section about its own member's axis); absent from the JSON otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub largest_twist: Option<Twist>,
     /// The largest Saint-Venant shear stress of torsion (Pa), at the middle of the section's

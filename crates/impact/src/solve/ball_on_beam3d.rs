@@ -150,6 +150,9 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     local_dofs: Vec<[Option<usize>; LOCAL]>,
     /// The contact element of the last accepted step (as the planar model's).
     sticky_element: Option<usize>,
+    /// Every element end whose frame is its node's turned by a corner offset (element, end):
+    /// where a section's twist about its own member's axis is not the node's reading.
+    corner_ends: Vec<(usize, usize)>,
     /// Every element's strains (Gamma1..3, K1..3, an array each) at the last net force, from
     /// the same pass, and how many net forces have been evaluated (see
     /// [`super::struck::Struck::force_passes`]).
@@ -430,7 +433,16 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
                 d
             })
             .collect();
+        let corner_ends = beam
+            .mesh()
+            .elements
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| !e.straight())
+            .flat_map(|(k, _)| [(k, 0), (k, 1)])
+            .collect();
         Self {
+            corner_ends,
             beam,
             nb,
             mass,
@@ -516,6 +528,22 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         let frame = self.beam.mesh().frames[node] * o;
         let (y, z) = turned_width_axis(&frame, &(q.beam.rotations[node] * o));
         z.atan2(y)
+    }
+
+    /// The node whose section is twisted most about its own member's axis, and the twist's
+    /// size (rad): every node about its own frame's axis, and at a corner also the other
+    /// member's end section about that member's axis ([`Self::end_twist`]).
+    pub(crate) fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
+        // Ranked without an arc tangent a node (every accepted step asks): one for the node.
+        let frames = &self.beam.mesh().frames;
+        let node = most_twisted_node(frames, &q.beam.rotations)?;
+        let nodes = self.corner_ends.iter().map(|&(e, end)| {
+            (self.beam.mesh().elements[e].nodes[end], self.end_twist(q, e, end).abs())
+        });
+        Some(
+            nodes
+                .fold((node, self.node_twist(q, node).abs()), |a, b| if b.1 > a.1 { b } else { a }),
+        )
     }
 
     /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
@@ -1063,6 +1091,10 @@ mod tests {
         assert!((second.abs() - 0.01).abs() < 1e-12, "{second}");
         assert!(first.abs() < 1e-12, "{first}");
         assert!(model.node_twist(&q, 4).abs() < 1e-12);
+        // The largest anywhere is the corner's, read about the second member's axis.
+        let (node, largest) = model.largest_twist(&q).unwrap();
+        assert_eq!(node, 4);
+        assert!((largest - 0.01).abs() < 1e-12, "{largest}");
     }
 
     #[test]

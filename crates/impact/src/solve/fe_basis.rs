@@ -189,11 +189,17 @@ pub(super) struct FeRecovery {
     /// can strain (`slots`: each one's row, `None` for one they cannot, which is 0).
     strains: Recovery,
     slots: Vec<[Option<usize>; 4]>,
-    /// Per node: its rotation about its axis (rad); `None` where every node's is held (a
-    /// straight member struck on its centre line: 0).
+    /// Per node: its rotation about its axis (rad), then per corner end (an element's end
+    /// whose frame is its node's turned by a corner offset) the rotation about that element's
+    /// own axis; `None` where every node's is held (a straight member struck on its centre
+    /// line: 0).
     twists: Option<Recovery>,
+    /// Per element, the twist row of each end (its node's, or its own at a corner), and per
+    /// row its node.
+    twist_rows: Vec<[usize; 2]>,
+    twist_nodes: Vec<usize>,
     /// The struck element and the impact point's local coordinate on it: the struck section's
-    /// twist is its nodes', interpolated.
+    /// twist is its ends', interpolated.
     struck: (usize, f64),
     /// Per node, when the field is asked: the displacement along `up` and the rotation about
     /// E2 (the planar view's z and -theta).
@@ -267,9 +273,23 @@ impl FeRecovery {
         let nodes_count = mesh.positions.len();
         let twisted = (0..nodes_count).any(|node| model.dof(node, 3).is_some());
         let mut twists = builder();
+        let mut twist_nodes: Vec<usize> = (0..nodes_count).collect();
+        let mut twist_rows: Vec<[usize; 2]> = mesh.elements.iter().map(|e| e.nodes).collect();
         if twisted {
             for node in 0..nodes_count {
                 twists.push(|v| unknown(v, node, 3));
+            }
+            // A corner end's frame is its node's turned by the offset O: a material rotation
+            // theta of the node turns it by O^T theta, whose twist is theta . (O E1).
+            for (e, element) in mesh.elements.iter().enumerate().filter(|(_, e)| !e.straight()) {
+                for ((row, node), offset) in
+                    twist_rows[e].iter_mut().zip(element.nodes).zip(element.offsets)
+                {
+                    let axis = offset * nalgebra::Vector3::x();
+                    twists.push(|v| (0..3).map(|k| axis[k] * unknown(v, node, 3 + k)).sum());
+                    *row = twist_nodes.len();
+                    twist_nodes.push(node);
+                }
             }
         }
         let field_rows = if field {
@@ -296,7 +316,9 @@ impl FeRecovery {
         Ok(Self {
             values: vec![0.0; strains.len()],
             slots,
-            twist_values: vec![0.0; nodes_count],
+            twist_values: vec![0.0; twist_nodes.len()],
+            twist_rows,
+            twist_nodes,
             field_values: vec![0.0; field_rows.as_ref().map_or(0, Recovery::len)],
             strains,
             twists,
@@ -336,11 +358,12 @@ impl BeamRecorder for FeRecovery {
             twists.evaluate(q, force, &mut self.twist_values);
         }
         let (e, xi) = self.struck;
-        let struck = (1.0 - xi) * self.twist_values[e] + xi * self.twist_values[e + 1];
+        let [a, b] = self.twist_rows[e];
+        let struck = (1.0 - xi) * self.twist_values[a] + xi * self.twist_values[b];
         if struck.abs() > self.max_twist.0 {
             self.max_twist = (struck.abs(), at.t);
         }
-        for (node, twist) in self.twist_values.iter().enumerate() {
+        for (&node, twist) in self.twist_nodes.iter().zip(&self.twist_values) {
             if twist.abs() > self.largest_twist.0 {
                 self.largest_twist = (twist.abs(), node, at.t);
             }

@@ -297,10 +297,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         between((self.end_twist(q, i, 0), self.end_twist(q, i, 1)), xi)
     }
     fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
-        // Ranked without an arc tangent a node (every accepted step asks): one for the node.
-        let frames = &self.beam().mesh().frames;
-        let node = super::ball_on_beam3d::most_twisted_node(frames, &q.beam.rotations)?;
-        Some((node, self.node_twist(q, node).abs()))
+        BallOnBeam3d::largest_twist(self, q)
     }
     /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x
