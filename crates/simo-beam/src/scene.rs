@@ -108,6 +108,11 @@ fn show(value: f64) -> String {
     }
 }
 
+/// `value` to 4 significant digits (a derived length in a message).
+fn round4(value: f64) -> f64 {
+    format!("{value:.3e}").parse().unwrap_or(value)
+}
+
 /// `field` must be finite and strictly positive.
 fn positive(field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
     if !(value.is_finite() && value > 0.0) {
@@ -285,7 +290,9 @@ fn pairs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<[f64; 2]>>
 
 /// One piece of the beam axis. It starts where the previous piece ended (the first at `start`,
 /// default the origin); a straight piece goes to `end`, an arc turns `angle_degrees` about
-/// `normal` around `centre`.
+/// `normal` around `centre`. Pieces meet rigidly at any angle, except one that folds back so
+/// sharply onto the piece before that the two members would lie inside each other beyond the
+/// shorter one's length (sections of half depth c meeting at phi overlap over c/tan(phi/2)).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentSpec {
@@ -309,7 +316,8 @@ pub struct SegmentSpec {
     #[schemars(extend("x-unit" = "deg"))]
     pub angle_degrees: Option<f64>,
     /// Section axis E3 (thickness direction) of a straight piece; default z, or x for a piece
-    /// along z.
+    /// along z. A direction not perpendicular to the piece gives E3 its perpendicular part
+    /// (its component along the piece is dropped); one along the piece is refused.
     #[serde(default, deserialize_with = "exactly_some")]
     pub thickness_direction: Option<[f64; 3]>,
     /// Number of elements.
@@ -795,6 +803,8 @@ pub fn structure(
     }
     let mut mesh: Option<Mesh> = None;
     let mut stations = vec![0.0];
+    // The previous segment's section and length, for the fold check.
+    let mut previous: Option<(Section, f64)> = None;
     for (i, seg) in segments.iter().enumerate() {
         let previous_end = mesh.as_ref().and_then(|m| m.positions.last().copied());
         let own = match &seg.section {
@@ -802,6 +812,10 @@ pub fn structure(
             None => section,
         };
         let (piece, length) = seg.build(i, previous_end, own)?;
+        if let (Some(m), Some((before, before_length))) = (&mesh, previous) {
+            not_folded(i, seg, (m, before, before_length), (&piece, own, length))?;
+        }
+        previous = Some((own, length));
         let s0 = stations.last().copied().unwrap_or(0.0);
         // Nodes are equally spaced along each piece (in length or in angle), or where given.
         match &seg.nodes {
@@ -835,6 +849,58 @@ pub fn structure(
         model = model.support(node, s.kind)?;
     }
     Ok((model, at.0))
+}
+
+/// Refuses segment `i` where it folds back onto the one before so sharply that the two
+/// members would lie inside each other beyond the shorter one's length: members of sections
+/// of half depth c meeting at an angle phi overlap over c / tan(phi / 2) from the joint (a
+/// segment straight back, phi = 0, over all of it). The depth is the section's deeper
+/// side's (sqrt(3 EI_max / EA), the half side of a rectangle, 0.87 of a circle's radius),
+/// whichever way the joint turns: a refusal errs toward folds a little wider.
+fn not_folded(
+    i: usize,
+    seg: &SegmentSpec,
+    (before, before_section, before_length): (&Mesh, Section, f64),
+    (after, after_section, after_length): (&Mesh, Section, f64),
+) -> Result<(), SceneError> {
+    let (Some(end), Some(start)) = (before.frames.last(), after.frames.first()) else {
+        return Ok(());
+    };
+    let back = -(end * Vector3::x());
+    let angle = back.angle(&(start * Vector3::x()));
+    let half_depth = |s: Section| (3.0 * s.ei2.max(s.ei3) / s.ea).sqrt();
+    let depth = half_depth(before_section).max(half_depth(after_section));
+    let overlap = depth / (0.5 * angle).tan();
+    let shorter = before_length.min(after_length);
+    if overlap < shorter {
+        return Ok(());
+    }
+    let least = 2.0 * (depth / shorter).atan().to_degrees();
+    let (key, value) = match (seg.end, seg.centre) {
+        (Some(end), _) => ("end", format!("{end:?}")),
+        (None, centre) => ("centre", format!("{centre:?}")),
+    };
+    let how = if overlap.is_finite() {
+        format!(
+            "they meet at {:.3} degrees, so sections {} m deep on each side of the axis overlap \
+             over {} m from the joint, beyond the shorter one's length {} m",
+            angle.to_degrees(),
+            show(round4(depth)),
+            show(round4(overlap)),
+            show(shorter),
+        )
+    } else {
+        "it runs straight back along it".to_owned()
+    };
+    Err(invalid(
+        format!("segment[{i}].{key}"),
+        value,
+        &format!(
+            "a segment that does not fold back onto segment[{}]: {how}; here the angle between \
+             them must exceed {least:.3} degrees",
+            i - 1,
+        ),
+    ))
 }
 
 impl Stations {

@@ -101,6 +101,19 @@ fn error_of(text: &str) -> String {
 }
 
 #[test]
+fn a_sharp_hairpin_whose_members_do_not_lie_in_each_other_is_a_structure() {
+    // 0.57 degrees between two 1 m members 1.1e-3 m deep (sqrt(3 EI / EA) each side): they
+    // overlap over 0.11 m from the joint, not over a whole member.
+    let text = scene_text("beam-mattiasson-k10.toml").replacen(
+        "elements = 32",
+        "elements = 32\n[[segment]]\nend = [0.0, 0.01, 0.0]\nelements = 8",
+        1,
+    );
+    let model = BeamScene::from_toml(&text).unwrap().model().unwrap();
+    assert_eq!(model.mesh().elements.len(), 40);
+}
+
+#[test]
 fn bad_beam_scenes_name_the_field() {
     let good = scene_text("beam-mattiasson-k10.toml");
     let cases = [
@@ -138,6 +151,19 @@ fn bad_beam_scenes_name_the_field() {
             "end = [1.0, 0.0, 0.0]",
             "centre = [0.0, 1e-12, 0.0]\nnormal = [0.0, 0.0, 1.0]\nangle_degrees = 90.0",
             "makes the arc at least 1e-9 m long",
+        ),
+        // A segment straight back along the one before (the members inside each other): it
+        // ran, its Newton matrices refactored at most steps and its struck face barely moved.
+        (
+            "elements = 32",
+            "elements = 32\n[[segment]]\nend = [0.0, 0.0, 0.0]\nelements = 8",
+            "segment[1].end = [0.0, 0.0, 0.0]: a segment that does not fold back onto segment[0]: it runs straight back along it; here the angle between them must exceed 0.063 degrees",
+        ),
+        // Nearly so: sections sqrt(3 EI / EA) = 5.5e-4 m deep overlap over 11 m.
+        (
+            "elements = 32",
+            "elements = 32\n[[segment]]\nend = [0.0, 1e-4, 0.0]\nelements = 8",
+            "they meet at 0.006 degrees, so sections 0.0005477 m deep on each side of the axis overlap over 10.95 m",
         ),
         // Two supports at one node: refused, not one silently kept.
         (
