@@ -20,6 +20,11 @@ fn load_and_run_with(path: &Path, field: bool, plots: bool) -> anyhow::Result<im
     if field || (plots && plan.can_record_field()) {
         plan = plan.with_field().with_context(|| format!("in {}", path.display()))?;
     }
+    // Said before the run as well as in the report after it (standard error).
+    if let Some(warning) = plan.long_run() {
+        let line = format!("warning: {warning}\n");
+        std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes())?;
+    }
     // On standard error, and only on a terminal: --json output stays clean.
     let bar = indicatif::ProgressBar::new(1000);
     bar.set_style(

@@ -246,6 +246,26 @@ fn a_ball_a_trillion_times_lighter_than_the_beam_rebounds_without_making_energy(
 }
 
 #[test]
+fn an_fe_run_of_more_than_ten_million_steps_is_said_before_it_starts() {
+    // A 1 um ball on the paper's tip by the fe method: the plan's contact duration for it is
+    // 6.0e-9 s (Hertz's scales as the radius), a step is 1/200 of it, so 1 ms takes 3.3e7
+    // steps: a minute or more, which only the progress bar had said.
+    let fe = |radius: &str| {
+        let text = paper_tip().replace("radius = 0.005\nmass = 0.009\n", radius).replace(
+            "method = \"modal\"\nmodes = 128\nend_time = 0.005",
+            "method = \"fe\"\nelements = 16\nend_time = 1e-3",
+        );
+        Plan::new(&Scene::from_toml(&text).unwrap()).unwrap()
+    };
+    let tiny = fe("radius = 1e-6\n");
+    let warning = tiny.long_run().expect("a long-run warning");
+    assert!(warning.contains("takes at least 3.3e7 HHT steps"), "{warning}");
+    assert!(tiny.warnings().iter().any(|w| w == warning));
+    // The paper's ball: 4857 steps a millisecond.
+    assert_eq!(fe("radius = 0.005\nmass = 0.009\n").long_run(), None);
+}
+
+#[test]
 fn a_pulse_that_excites_more_modes_than_the_modal_method_takes_is_refused_or_goes_to_fe() {
     // A 10 um ball: its 60 ns pulse excites 65 thousand modes of the paper's beam below
     // omega t_c = 20 (the plan clamped the count to 20000 and ran for minutes).

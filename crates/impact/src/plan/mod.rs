@@ -69,6 +69,29 @@ pub const FINEST_LEVEL: usize = 7;
 /// The most rows a history may hold in free flight (end time / output interval): 1e7 rows of
 /// eleven 8-byte columns, about 0.9 GB. A finer history is refused up front, with its size.
 pub const MAX_HISTORY_ROWS: f64 = 1e7;
+
+/// The fewest steps of an fe run beyond which the plan warns of its length: each step solves
+/// the whole beam (on the paper's tip at 256 elements, about 8 us a step planar and 37 us in
+/// 3D on a 2-core machine, validation/REFERENCES.md 1.9), so minutes or more.
+pub const LONG_RUN_STEPS: f64 = 1e7;
+
+/// How the long run's warning starts (see [`Plan::long_run`]).
+const LONG_RUN: &str = "a long run: ";
+
+/// Warns where an fe run to `end_time` takes more than [`LONG_RUN_STEPS`] steps, with what
+/// sets the step and what shortens the run (a ball of a micrometre on a metre of beam: a
+/// contact of nanoseconds, a step of a fraction of it).
+fn long_run(fe: &FePlan, end_time: f64, estimated_duration: f64, warnings: &mut Vec<String>) {
+    let steps = end_time / fe.free_time_step;
+    if steps > LONG_RUN_STEPS {
+        let samples = fe.samples_per_pulse;
+        warnings.push(format!(
+            "{LONG_RUN}solver.end_time = {} s takes at least {steps:.1e} HHT steps of up to {:.3e} s (the contact step is 1/{samples} of the estimated contact duration {estimated_duration:.3e} s, which the ball, the face and the contact law set; each step solves the whole beam, about 8 us planar and 37 us in 3D at 256 elements on a 2-core machine); a shorter solver.end_time, fewer solver.samples_per_pulse, or a longer solver.time_step out of contact shortens it",
+            show(end_time),
+            fe.free_time_step,
+        ));
+    }
+}
 /// Bytes a history row takes (its eleven f64 columns).
 const HISTORY_ROW_BYTES: f64 = 88.0;
 /// The most steps per estimated contact duration: a contact then takes up to a million
@@ -934,6 +957,9 @@ impl Plan {
                 default_end
             }
         };
+        if let Method::Fe(fe) = &method {
+            long_run(fe, end_time, estimated_duration, &mut warnings);
+        }
         let output_interval = match s.output_interval {
             Some(dt) => positive("solver.output_interval", dt, "s")?,
             None => end_time / 2000.0,
@@ -1091,5 +1117,11 @@ impl Plan {
     /// Warnings about the scene (accepted, but worth a look).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
+    }
+
+    /// The warning that the run will take more than [`LONG_RUN_STEPS`] steps, if it will: a
+    /// front end says it before the run, not only in the report after it.
+    pub fn long_run(&self) -> Option<&str> {
+        self.warnings.iter().find(|w| w.starts_with(LONG_RUN)).map(String::as_str)
     }
 }
