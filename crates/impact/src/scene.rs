@@ -3,6 +3,7 @@
 use crate::error::ImpactError;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
+use simo_beam::scene::toml_message;
 
 /// A ball striking a beam (or a massive half-space). Every unknown key is an error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -595,7 +596,7 @@ impl Scene {
     /// `Parse` with the key and line for invalid TOML, unknown keys, missing fields and wrong
     /// types.
     pub fn from_toml(text: &str) -> Result<Self, ImpactError> {
-        toml::from_str(text).map_err(|e| ImpactError::Parse(e.to_string()))
+        toml::from_str(text).map_err(|e| ImpactError::Parse(toml_message(&e)))
     }
 
     /// Reads a scene from the table a scene file parses to (a front end's dictionary with
@@ -606,7 +607,7 @@ impl Scene {
     pub fn from_table(table: toml::Table) -> Result<Self, ImpactError> {
         toml::Value::Table(table)
             .try_into()
-            .map_err(|e: toml::de::Error| ImpactError::Parse(e.to_string()))
+            .map_err(|e: toml::de::Error| ImpactError::Parse(toml_message(&e)))
     }
 }
 

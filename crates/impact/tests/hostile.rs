@@ -246,6 +246,26 @@ fn a_ball_a_trillion_times_lighter_than_the_beam_rebounds_without_making_energy(
 }
 
 #[test]
+fn a_value_of_the_wrong_type_is_named_in_words_not_rust_types() {
+    // The TOML reader says "expected usize" and "expected f64"; a scene's author wrote a
+    // count or a number.
+    for (from, to, expect) in [
+        (
+            "modes = 128",
+            "modes = 12.5",
+            "floating point `12.5`, expected a whole number, 0 or more",
+        ),
+        ("modes = 128", "modes = -4", "integer `-4`, expected a whole number, 0 or more"),
+        ("radius = 0.005", "radius = \"5 mm\"", "string \"5 mm\", expected a number"),
+    ] {
+        let text = paper_tip();
+        assert!(text.contains(from), "fixture changed: {from}");
+        let e = Scene::from_toml(&text.replacen(from, to, 1)).unwrap_err().to_string();
+        assert!(e.contains(expect) && !e.contains("usize") && !e.contains("f64"), "{e}");
+    }
+}
+
+#[test]
 fn an_fe_run_of_more_than_ten_million_steps_is_said_before_it_starts() {
     // A 1 um ball on the paper's tip by the fe method: the plan's contact duration for it is
     // 6.0e-9 s (Hertz's scales as the radius), a step is 1/200 of it, so 1 ms takes 3.3e7

@@ -108,6 +108,18 @@ fn show(value: f64) -> String {
     }
 }
 
+/// A TOML reader's message with the Rust type names a scene file's author does not write
+/// (`usize`, `f64`, `i128`) put in words.
+pub fn toml_message(error: &toml::de::Error) -> String {
+    const WORDS: [(&str, &str); 4] = [
+        (" as i128,", " (more than 64 bits),"),
+        ("expected usize", "expected a whole number, 0 or more"),
+        ("expected u64", "expected a whole number, 0 or more"),
+        ("expected f64", "expected a number"),
+    ];
+    WORDS.iter().fold(error.to_string(), |m, (rust, words)| m.replace(rust, words))
+}
+
 /// `value` to 4 significant digits (a derived length in a message).
 fn round4(value: f64) -> f64 {
     format!("{value:.3e}").parse().unwrap_or(value)
@@ -961,7 +973,7 @@ impl BeamScene {
     /// `Parse` with the key and line for invalid TOML, unknown keys, missing fields and wrong
     /// types.
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
-        toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))
+        toml::from_str(text).map_err(|e| SceneError::Parse(toml_message(&e)))
     }
 
     /// Builds the beam model: mesh, supports, loads.

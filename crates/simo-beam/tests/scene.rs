@@ -144,7 +144,11 @@ fn bad_beam_scenes_name_the_field() {
             "end = [1.0, 0.0, 0.0, 7.0]",
             "invalid length 4, expected an array of 3 numbers",
         ),
-        ("force = [0.0, 0.0, -10.0]", "force = [0.0, 0.0, -10.0, \"junk\"]", "expected f64"),
+        ("force = [0.0, 0.0, -10.0]", "force = [0.0, 0.0, -10.0, \"junk\"]", "expected a number"),
+        // The reader's Rust type names in words: a count is a whole number, a value a number.
+        ("elements = 32", "elements = 2.5", "floating point `2.5`, expected a whole number, 0 or more"),
+        ("elements = 32", "elements = 99999999999999999999", "(more than 64 bits), expected a whole"),
+        ("load_steps = 10", "load_steps = \"ten\"", "string \"ten\", expected a whole number"),
         // An arc too short to mesh (radius 1e-12 m): refused for its length too (it ran, with a
         // stress 570 times the frame's at the corner).
         (
