@@ -868,7 +868,8 @@ pub fn structure(
 /// of half depth c meeting at an angle phi overlap over c / tan(phi / 2) from the joint (a
 /// segment straight back, phi = 0, over all of it). The depth is the section's deeper
 /// side's (sqrt(3 EI_max / EA), the half side of a rectangle, 0.87 of a circle's radius),
-/// whichever way the joint turns: a refusal errs toward folds a little wider.
+/// whichever way the joint turns: a refusal errs toward folds a little wider. Sections as deep
+/// as the shorter member are left to other checks.
 fn not_folded(
     i: usize,
     seg: &SegmentSpec,
@@ -884,7 +885,10 @@ fn not_folded(
     let depth = half_depth(before_section).max(half_depth(after_section));
     let overlap = depth / (0.5 * angle).tan();
     let shorter = before_length.min(after_length);
-    if overlap < shorter {
+    // Sections as deep as the shorter member overlap at any angle: not a fold but members
+    // that are no beams (most likely a section in mm, which the impact plan's unit checks
+    // name).
+    if overlap < shorter || depth >= shorter {
         return Ok(());
     }
     let least = 2.0 * (depth / shorter).atan().to_degrees();
