@@ -138,8 +138,9 @@ fn captions(outcome: &Outcome) -> Vec<(&'static str, String)> {
                 "stress_history" | "stress_map" => {
                     r.bending_stress.as_ref().map_or(String::new(), |b| {
                         format!(
-                            " Largest |stress| {:.2} MPa at x = {:.4} m, t = {:.4} ms.",
+                            " Largest |stress| {:.2} MPa at {} = {:.4} m, t = {:.4} ms.",
                             b.max * 1e-6,
+                            along(&r.plan).0,
                             b.position,
                             b.time * 1e3
                         )
@@ -208,10 +209,14 @@ pub(crate) fn stress_figures(dir: &Path, outcome: &Outcome, prefix: &str) -> any
     let name = impact::study::printable(&outcome.report.name);
     let title = |what: &str| format!("{name}: {what}");
     if let (Some(field), Some(stress)) = (&outcome.field, &outcome.report.bending_stress) {
+        let x = along(&outcome.report.plan).0;
         let mut at: Vec<(String, f64)> =
-            vec![(format!("largest, x = {:.4} m", stress.position), stress.position)];
+            vec![(format!("largest, {x} = {:.4} m", stress.position), stress.position)];
         at.extend(
-            stress.supports.iter().map(|s| (format!("support, x = {} m", s.position), s.position)),
+            stress
+                .supports
+                .iter()
+                .map(|s| (format!("support, {x} = {} m", s.position), s.position)),
         );
         let p = field.points.len();
         let series = at
@@ -239,14 +244,25 @@ pub(crate) fn stress_figures(dir: &Path, outcome: &Outcome, prefix: &str) -> any
         }
         .write(dir, &format!("{prefix}stress_history"))?;
         let caption = title(&format!(
-            "stress on the struck face; x: largest |stress| {:.2} MPa at {:.4} m, {:.4} ms",
+            "stress on the struck face; cross: largest |stress| {:.2} MPa at {x} = {:.4} m, {:.4} ms",
             stress.max * 1e-6,
             stress.position,
             stress.time * 1e3
         ));
-        stress_map(dir, &format!("{prefix}stress_map"), &caption, field, stress)?;
+        let y_title = along(&outcome.report.plan).1;
+        stress_map(dir, &format!("{prefix}stress_map"), (&caption, y_title), field, stress)?;
     }
     Ok(())
+}
+
+/// How a report's positions read: x along a beam, or s (arc length) along a structure's
+/// chain of segments; and the axis title of a position.
+pub(crate) fn along(plan: &impact::PlanSummary) -> (&'static str, &'static str) {
+    if plan.structure {
+        ("s", "arc length along the structure (m)")
+    } else {
+        ("x", "position along the beam (m)")
+    }
 }
 
 fn nearest(points: &[f64], x: f64) -> usize {
@@ -271,7 +287,7 @@ fn diverging(v: f64) -> RGBColor {
 fn stress_map(
     dir: &Path,
     stem: &str,
-    title: &str,
+    (title, y_title): (&str, &str),
     field: &impact::Field,
     stress: &impact::BendingStress,
 ) -> anyhow::Result<()> {
@@ -297,7 +313,7 @@ fn stress_map(
         chart
             .configure_mesh()
             .x_desc("time (ms)")
-            .y_desc("position along the beam (m)")
+            .y_desc(y_title)
             .label_style(("sans-serif", 15))
             .axis_desc_style(("sans-serif", 17))
             .disable_mesh()

@@ -149,10 +149,11 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
         r.max_displacement_time
     )?;
     if let Some(b) = &r.bending_stress {
+        let x = crate::plots::along(&r.plan).0;
         let ratio =
             b.yield_ratio.map_or_else(String::new, |y| format!(", {y:.3} of the yield stress"));
         say!(
-            "largest bending stress {:.4e} Pa ({}) at x = {:.4} m, t = {:.4e} s{ratio}{}",
+            "largest bending stress {:.4e} Pa ({}) at {x} = {:.4} m, t = {:.4e} s{ratio}{}",
             b.max,
             if b.value >= 0.0 {
                 "tension on the struck face"
@@ -164,7 +165,12 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
             if b.at_window_end { " (at the window's end: not yet the maximum)" } else { "" }
         )?;
         for s in &b.supports {
-            say!("  at the support x = {} m: {:.4e} Pa, t = {:.4e} s", s.position, s.max, s.time)?;
+            say!(
+                "  at the support {x} = {} m: {:.4e} Pa, t = {:.4e} s",
+                s.position,
+                s.max,
+                s.time
+            )?;
         }
     }
     if let (Some(twist), Some(t)) = (r.max_twist, r.max_twist_time) {

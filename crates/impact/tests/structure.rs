@@ -210,6 +210,8 @@ fn a_structures_field_runs_along_its_arc_length() {
         .with_field()
         .unwrap();
     let out = impact::run(&plan).unwrap();
+    // Its positions are arc lengths, and the report says so.
+    assert!(out.report.plan.structure);
     let field = out.field.unwrap();
     let k = field.points.iter().position(|x| (x - 0.9).abs() < 1e-9).unwrap();
     let p = field.points.len();

@@ -171,6 +171,10 @@ pub struct PlanSummary {
     /// beam always has shear and rotary inertia) and a half-space.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub beam_theory: Option<TheoryName>,
+    /// Whether a `[structure]` was struck: the report's positions (of its stresses, twists and
+    /// field) are then arc lengths s along its chain of segments, not x along a beam.
+    #[serde(default)]
+    pub structure: bool,
     /// Why each choice was made.
     pub reasons: Vec<String>,
 }
@@ -995,6 +999,7 @@ impl Plan {
                 time_step,
                 contact_law: law.name(),
                 beam_theory,
+                structure: matches!(struck, Struck::Structure(_)),
                 reasons,
             },
             method,
@@ -1093,10 +1098,10 @@ impl Plan {
         let instants = self.end_time / self.output_interval
             + 0.1 * self.end_time / (self.estimated_duration / 200.0);
         // The modal field's points: the ends of FIELD_POINTS intervals and the impact point;
-        // the fe field's: its nodes (those of the plan's mesh: a tolerance's finer meshes
-        // more).
+        // the fe field's: its nodes, the elements' midpoints and the impact point (those of
+        // the plan's mesh: a tolerance's finer meshes more).
         let points = match &self.method {
-            Method::Fe(fe) => fe.nodes.len(),
+            Method::Fe(fe) => 2 * fe.nodes.len(),
             _ => FIELD_POINTS + 2,
         };
         let values = instants * points as f64 * 4.0;

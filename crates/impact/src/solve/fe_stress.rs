@@ -41,19 +41,36 @@ pub(crate) struct FeStress {
     sections: Vec<(f64, f64, f64)>,
     /// Element count; the envelope's points are the midpoints, then the supports.
     elements: usize,
-    /// For each support, in the order of its envelope point after the midpoints: whether it
-    /// is a clamp, its two nearest elements and the extrapolation weight.
-    supports: Vec<(bool, [usize; 2], f64)>,
+    /// For each support, in the order of its envelope point after the midpoints: its node,
+    /// whether it is a clamp, its two nearest elements and the extrapolation weight.
+    supports: Vec<(usize, bool, [usize; 2], f64)>,
     /// The impact point's envelope point (after the supports), if it has one: its two sides.
     impact_point: Option<[Option<Side>; 2]>,
+    /// The impact point (element, local coordinate).
+    impact: (usize, f64),
     stresses: Vec<f64>,
     /// The time of the last instant in the envelope (s).
     observed: Option<f64>,
     envelope: Envelope,
     /// EI (N m^2), set with the field (the moment is only the field's).
     flexural_rigidity: f64,
-    /// The field at the nodes, when asked.
+    /// The field at the nodes, the midpoints and the impact point, when asked, and what each
+    /// of its points is.
     field: Option<Field>,
+    field_points: Vec<FieldPoint>,
+}
+
+/// A point of the fe field.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum FieldPoint {
+    /// A node: its displacement and slope; the stress and moment of a support's or the impact
+    /// point's envelope point there, else averaged over its elements.
+    Node(usize),
+    /// An element's midpoint: its own stress and moment (the element's only ones), the mean
+    /// of its nodes' displacement and slope (its linear interpolation).
+    Middle(usize),
+    /// The impact point inside an element: its envelope point's stress.
+    Impact,
 }
 
 /// One side of an extrapolation: its two elements (the nearer first) and the weight `w` of
@@ -76,10 +93,10 @@ impl FeStress {
         let mut supports = Vec::new();
         let mut positions = Vec::new();
         let last = nodes.len() - 1;
-        for (support, at, near) in [
-            (ends.0, nodes[0], [0, 1]),
-            (ends.1, nodes[last], [elements - 1, elements.saturating_sub(2)]),
-        ] {
+        for (support, node, near) in
+            [(ends.0, 0, [0, 1]), (ends.1, last, [elements - 1, elements.saturating_sub(2)])]
+        {
+            let at = nodes[node];
             if support == Support::Free {
                 continue;
             }
@@ -89,7 +106,7 @@ impl FeStress {
             } else {
                 0.0
             };
-            supports.push((support == Support::Clamped, near, weight));
+            supports.push((node, support == Support::Clamped, near, weight));
             points.push(at);
             positions.push(at);
         }
@@ -106,21 +123,46 @@ impl FeStress {
             elements,
             supports,
             impact_point,
+            impact,
             stresses: vec![0.0; count],
             observed: None,
             envelope: Envelope::new(points, &positions),
             flexural_rigidity: 0.0,
             field: None,
+            field_points: Vec::new(),
         }
     }
 
-    /// Records the field at the nodes at every [`FeStress::record_field`] call: w = -z (the
-    /// impact direction), slope -theta, and the moment and stress averaged over the node's
-    /// elements (an end node takes its one element's); `width` (m) gives EI.
+    /// Records the field at every [`FeStress::record_field`] call, at the nodes, the elements'
+    /// midpoints and the impact point (every point of the envelope, so that the field holds
+    /// the report's largest stress where it is): w = -z (the impact direction), slope -theta,
+    /// the moment and the stress of each [`FieldPoint`]; `width` (m) gives EI.
     pub(crate) fn with_field(mut self, nodes: &[f64], width: f64) -> Self {
         let thickness = 2.0 * self.half_thickness;
         self.flexural_rigidity = self.youngs_modulus * width * thickness.powi(3) / 12.0;
-        self.field = Some(Field::new(nodes.to_vec()));
+        let mut points: Vec<(f64, FieldPoint)> = nodes
+            .iter()
+            .enumerate()
+            .map(|(i, x)| (*x, FieldPoint::Node(i)))
+            .chain(
+                nodes
+                    .windows(2)
+                    .enumerate()
+                    .map(|(e, w)| (0.5 * (w[0] + w[1]), FieldPoint::Middle(e))),
+            )
+            .collect();
+        let (e, xi) = self.impact;
+        if self.impact_point.is_some() && xi > 0.0 && xi < 1.0 {
+            let at = nodes[e] + xi * (nodes[e + 1] - nodes[e]);
+            // Struck at the midpoint itself: the impact point's value stands for it.
+            if (xi - 0.5).abs() <= 1e-12 {
+                points.retain(|p| p.1 != FieldPoint::Middle(e));
+            }
+            points.push((at, FieldPoint::Impact));
+        }
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self.field = Some(Field::new(points.iter().map(|p| p.0).collect()));
+        self.field_points = points.into_iter().map(|p| p.1).collect();
         self
     }
 
@@ -132,31 +174,69 @@ impl FeStress {
         self
     }
 
-    /// Adds the field of configuration `q` with section strains `strains` at `t` (s), if asked.
+    /// Adds the field of configuration `q` with section strains `strains` at `t` (s), if asked;
+    /// the stresses are those [`FeStress::observe_strains`] left for the same instant.
     pub(crate) fn record_field(&mut self, t: f64, q: &PlanarState, strains: &[(f64, f64, f64)]) {
         let Some(field) = &mut self.field else { return };
         field.push_instant(t);
-        let element = |e: usize| {
-            let (extension, _, curvature) = strains[e];
-            let (youngs, half, ei) = self.sections.get(e).copied().unwrap_or((
-                self.youngs_modulus,
-                self.half_thickness,
-                self.flexural_rigidity,
-            ));
-            (-ei * curvature, youngs * (extension - half * curvature))
+        let moment = |e: usize| {
+            let ei = self.sections.get(e).map_or(self.flexural_rigidity, |s| s.2);
+            -ei * strains[e].2
         };
+        let extrapolated = |([near, far], w): Side| {
+            let (m, s) = (moment(near), self.stresses[near]);
+            (m + w * (m - moment(far)), s + w * (s - self.stresses[far]))
+        };
+        // The impact point's moment and stress: its envelope value, from the side whose
+        // extrapolation is the larger (as `observe_strains` chose it).
+        let at_impact = || {
+            let sides = self.impact_point.iter().flatten().flatten();
+            sides.map(|side| extrapolated(*side)).fold((0.0, 0.0), |a: (f64, f64), v| {
+                if v.1.abs() > a.1.abs() {
+                    v
+                } else {
+                    a
+                }
+            })
+        };
+        let (e, xi) = self.impact;
+        let impact_node = self.impact_point.is_some().then_some(match xi {
+            0.0 => Some(e),
+            1.0 => Some(e + 1),
+            _ => None,
+        });
         let last = self.elements - 1;
-        for i in 0..=self.elements {
-            let (m, s) = match i {
-                0 => element(0),
-                _ if i > last => element(last),
-                _ => {
-                    let (a, b) = (element(i - 1), element(i));
-                    (0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1))
+        let at_node = |i: usize| {
+            if let Some((k, &(_, clamped, pair, w))) =
+                self.supports.iter().enumerate().find(|(_, s)| s.0 == i)
+            {
+                let m = if clamped { extrapolated((pair, w)).0 } else { 0.0 };
+                return (m, self.stresses[self.elements + k]);
+            }
+            if impact_node.flatten() == Some(i) {
+                return at_impact();
+            }
+            let (a, b) = (i.saturating_sub(1), i.min(last));
+            (0.5 * (moment(a) + moment(b)), 0.5 * (self.stresses[a] + self.stresses[b]))
+        };
+        let n = q.z.len();
+        for point in &self.field_points {
+            let ((w, slope), (m, s)) = match *point {
+                FieldPoint::Node(i) => ((-q.z[i], -q.theta[i]), at_node(i)),
+                FieldPoint::Middle(e) => {
+                    let (w, slope) =
+                        (0.5 * (q.z[e] + q.z[e + 1]), 0.5 * (q.theta[e] + q.theta[e + 1]));
+                    ((-w, -slope), (moment(e), self.stresses[e]))
+                }
+                FieldPoint::Impact => {
+                    let (a, b) = (e, (e + 1).min(n - 1));
+                    let w = q.z[a] + xi * (q.z[b] - q.z[a]);
+                    let slope = q.theta[a] + xi * (q.theta[b] - q.theta[a]);
+                    ((-w, -slope), at_impact())
                 }
             };
-            field.displacement.push(-q.z[i]);
-            field.slope.push(-q.theta[i]);
+            field.displacement.push(w);
+            field.slope.push(slope);
             field.moment.push(m);
             field.stress.push(s);
         }
@@ -185,7 +265,7 @@ impl FeStress {
         let extrapolated = |stresses: &[f64], ([near, far], w): Side| {
             stresses[near] + w * (stresses[near] - stresses[far])
         };
-        for (k, &(clamped, pair, weight)) in self.supports.iter().enumerate() {
+        for (k, &(_, clamped, pair, weight)) in self.supports.iter().enumerate() {
             self.stresses[self.elements + k] =
                 if clamped { extrapolated(&self.stresses, (pair, weight)) } else { 0.0 };
         }
