@@ -197,11 +197,12 @@ impl FePlan {
         self.structure.as_deref().filter(|_| self.analytic.is_none())
     }
 
-    /// Each element's section: E (Pa), G (Pa), width and thickness (m): a structure's own, or
-    /// the beam's uniform one.
+    /// Each element's section as the struck face sees it: E (Pa), G (Pa), its size across the
+    /// face and its depth along the strike (m) ([`super::structure::StructurePlan::struck_sections`]),
+    /// or the beam's uniform width and thickness.
     pub(crate) fn element_sections(&self) -> Vec<[f64; 4]> {
         match &self.structure {
-            Some(st) => st.sections.clone(),
+            Some(st) => st.struck_sections(),
             None => {
                 let m = &self.material;
                 vec![

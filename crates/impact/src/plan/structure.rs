@@ -59,6 +59,17 @@ impl StructurePlan {
 }
 
 impl StructurePlan {
+    /// Each element's section as the struck face sees it: E (Pa), G (Pa), its size across the
+    /// face and its depth along the strike (m): `sections` as they are on a thickness face,
+    /// width and thickness swapped on a width face (its bending is about the thickness axis,
+    /// its outer fibre half the width from the centre line).
+    pub(crate) fn struck_sections(&self) -> Vec<[f64; 4]> {
+        match self.face {
+            Face::Thickness => self.sections.clone(),
+            Face::Width => self.sections.iter().map(|&[e, g, w, t]| [e, g, t, w]).collect(),
+        }
+    }
+
     /// The interior nodes where the stress along the arc length may jump: where segments meet
     /// (a corner turns one member's bending into the next one's torsion; a step changes the
     /// section) and where a support or a rotational spring holds a node between the ends (its

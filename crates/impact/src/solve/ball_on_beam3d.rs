@@ -37,6 +37,7 @@ use simo_beam::{BeamModel, BeamState};
 use std::cell::{Cell, RefCell};
 
 use super::ball_on_beam::{ContactPoint, FaceTerms, Order, STICKY_REACH};
+use super::struck::OutOfPlane;
 
 /// Configuration of the coupled model: the beam's and the ball centre's (m).
 #[derive(Debug, Clone)]
@@ -153,6 +154,9 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     /// Every element end whose frame is its node's turned by a corner offset (element, end):
     /// where a section's twist about its own member's axis is not the node's reading.
     corner_ends: Vec<(usize, usize)>,
+    /// Per element, which of the struck faces' pair faces the ball: +1 where the face on the
+    /// + side of its normal axis (E3, or E2 on a width face) does, -1 where the - side's does.
+    sides: Vec<f64>,
     /// Every element's strains (Gamma1..3, K1..3, an array each) at the last net force, from
     /// the same pass, and how many net forces have been evaluated (see
     /// [`super::struck::Struck::force_passes`]).
@@ -209,6 +213,12 @@ fn facing(beam: &BeamModel, (up, face): (Vector3<f64>, Face), e: usize) -> f64 {
     let n = frame.to_rotation_matrix().into_inner().column(normal).into_owned();
     let side = if n.dot(&up) < 0.0 { -1.0 } else { 1.0 };
     side * face.twist_sign()
+}
+
+/// Which of `face`'s pair element `e` of `beam` meets the ball moving along `-up`: +1 where
+/// the face on the + side of its normal axis (E3, or E2 on a width face) does, else -1.
+pub(crate) fn struck_side(beam: &BeamModel, (up, face): (Vector3<f64>, Face), e: usize) -> f64 {
+    facing(beam, (up, face), e) * face.twist_sign()
 }
 
 /// The unknowns and weights whose sum is the struck face's height along `up` at `(i, xi)`
@@ -441,8 +451,12 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
             .filter(|(_, e)| !e.straight())
             .flat_map(|(k, _)| [(k, 0), (k, 1)])
             .collect();
+        let up = up.normalize();
+        let sides =
+            (0..beam.mesh().elements.len()).map(|e| struck_side(&beam, (up, face), e)).collect();
         Self {
             corner_ends,
+            sides,
             beam,
             nb,
             mass,
@@ -450,7 +464,7 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
             radius,
             half_thickness,
             offset,
-            up: up.normalize(),
+            up,
             face,
             law,
             law_state: L::State::default(),
@@ -506,6 +520,39 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// rest) points along `up`, -1 where against it.
     pub(crate) fn facing(&self, e: usize) -> f64 {
         facing(&self.beam, (self.up, self.face), e)
+    }
+
+    /// Element `e`'s strains (Gamma1..3, K1..3) as the struck face sees them: the planar beam's
+    /// (extension, shear along the strike, bending curvature) and out of its plane (the
+    /// lateral curvature, the twist rate, the other shear), so that the face's outer fibre
+    /// strain is extension - (depth/2) curvature. On a thickness face whose + side (along E3)
+    /// is struck, (Gamma1, Gamma3, -K2) (the fibre at z = t/2 strains by Gamma1 + z K2) and
+    /// (K3, K1, Gamma2); on a width face (the fibre at y = w/2 strains by Gamma1 - y K3),
+    /// (Gamma1, Gamma2, K3) and (K2, K1, Gamma3); the - side's negate the curvature.
+    pub(crate) fn struck_strains(
+        &self,
+        e: usize,
+        [g0, g1, g2, k0, k1, k2]: [f64; 6],
+    ) -> ((f64, f64, f64), OutOfPlane) {
+        let side = self.sides[e];
+        match self.face {
+            Face::Thickness => ((g0, g2, -side * k1), (k2, k0, g1)),
+            Face::Width => ((g0, g1, side * k2), (k1, k0, g2)),
+        }
+    }
+
+    /// The strains (Gamma1..3, K1..3) of element `e` from [`Self::struck_strains`]'s.
+    pub(crate) fn strains_from_struck(
+        &self,
+        e: usize,
+        (planar, out_of_plane): ((f64, f64, f64), OutOfPlane),
+    ) -> [f64; 6] {
+        let side = self.sides[e];
+        let ((g0, shear, curvature), (lateral, k0, other)) = (planar, out_of_plane);
+        match self.face {
+            Face::Thickness => [g0, other, shear, k0, -side * curvature, lateral],
+            Face::Width => [g0, shear, other, k0, lateral, side * curvature],
+        }
     }
 
     /// Node `node`'s section rotation about its axis from its reference frame (rad): the

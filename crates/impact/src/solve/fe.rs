@@ -160,8 +160,8 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             stress = stress.with_field(&target.nodes, target.width);
         }
         let sections = target.element_sections();
-        if let Some(st) = &target.structure {
-            stress = stress.with_sections(&st.sections);
+        if target.structure.is_some() {
+            stress = stress.with_sections(&sections);
         }
         let mut strains = vec![(0.0, 0.0, 0.0); target.elements()];
         let mut out_of_plane = vec![(0.0, 0.0, 0.0); target.elements()];

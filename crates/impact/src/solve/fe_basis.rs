@@ -20,6 +20,7 @@
 //! interval in free flight), not searched between them: the maxima are the fe method's kind
 //! (values the field takes at those instants), not the analytic basis' certified ones.
 
+use super::ball_on_beam3d::{struck_side, Face};
 use super::fe_stress::{out_of_plane_factors, FeStress};
 use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::error::ImpactError;
@@ -114,13 +115,13 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
     let residual = static_flexibility.map(|_| truncated.as_ref().map_or(0.0, |(r, _)| *r));
     let site = SiteModes::with_residual(point, static_flexibility, residual)?;
     let static_u = truncated.map(|(_, u)| u).filter(|_| !m.plain_stress_series);
-    let sections = &st.sections;
+    let sections = &st.struck_sections();
     let recorder = FeRecovery::new(
         model,
         (&modes, site.modes(), static_u.as_ref()),
         (sections, basis.quiet_strains()),
         (&fe.nodes, &st.joints(), fe.impact_site()),
-        (st.up, field),
+        (st.up, st.face, field),
     )?;
     Ok(FeSite { site, recorder, below })
 }
@@ -194,6 +195,10 @@ pub(super) struct FeRecovery {
     /// own axis; `None` where every node's is held (a straight member struck on its centre
     /// line: 0).
     twists: Option<Recovery>,
+    /// Per element, which of the struck faces' pair meets the ball, and the faces
+    /// ([`super::ball_on_beam3d::struck_side`]): which curvature bends the struck face.
+    sides: Vec<f64>,
+    face: Face,
     /// Per element, the twist row of each end (its node's, or its own at a corner), and per
     /// row its node.
     twist_rows: Vec<[usize; 2]>,
@@ -231,9 +236,10 @@ impl FeRecovery {
         (modes, point, static_u): (&[simo_beam::Mode], &PointModes, Option<&Col<f64>>),
         (sections, quiet): (&[[f64; 4]], Option<&[[bool; 4]]>),
         (nodes, breaks, (struck, xi)): (&[f64], &[usize], (usize, f64)),
-        (up, field): (nalgebra::Vector3<f64>, bool),
+        (up, face, field): (nalgebra::Vector3<f64>, Face, bool),
     ) -> Result<Self, ImpactError> {
         let mesh = model.mesh();
+        let sides = (0..mesh.elements.len()).map(|e| struck_side(model, (up, face), e)).collect();
         let reference = model.reference_state();
         let local = |v: &Col<f64>, element: &simo_beam::Element| {
             let mut u = nalgebra::SVector::<f64, 12>::zeros();
@@ -296,7 +302,14 @@ impl FeRecovery {
             let mut rows = builder();
             for node in 0..mesh.positions.len() {
                 rows.push(|v| (0..3).map(|k| up[k] * unknown(v, node, k)).sum());
-                rows.push(|v| unknown(v, node, 4));
+                // Minus the slope in the strike's plane, -up . (R0 (psi x E1)) (as the fe
+                // method's `planar_view`): psi_2 on a [beam], -psi_3 on a width face.
+                let frame = mesh.frames[node];
+                let (along_e2, along_e3) = (
+                    up.dot(&(frame * nalgebra::Vector3::y())),
+                    up.dot(&(frame * nalgebra::Vector3::z())),
+                );
+                rows.push(move |v| along_e3 * unknown(v, node, 4) - along_e2 * unknown(v, node, 5));
             }
             Some(rows.finish(point)?)
         } else {
@@ -319,6 +332,8 @@ impl FeRecovery {
             twist_values: vec![0.0; twist_nodes.len()],
             twist_rows,
             twist_nodes,
+            sides,
+            face,
             field_values: vec![0.0; field_rows.as_ref().map_or(0, Recovery::len)],
             strains,
             twists,
@@ -344,10 +359,15 @@ impl BeamRecorder for FeRecovery {
         self.strains.evaluate(q, force, &mut self.values);
         for (e, slots) in self.slots.iter().enumerate() {
             let [extension, twist_rate, k2, k3] = slots.map(|k| k.map_or(0.0, |i| self.values[i]));
-            // The planar beam's (extension, shear, curvature), its curvature -K2 (as the fe
-            // method's 3D beam hands them over); the lateral bending adds at the worst corner.
-            self.section_strains[e] = (extension, 0.0, -k2);
-            self.lateral[e] = self.lateral_per_curvature[e] * k3.abs();
+            // The planar beam's (extension, shear, curvature) as the struck face sees them (as
+            // the fe method's 3D beam hands them over: `BallOnBeam3d::struck_strains`); the
+            // lateral bending adds at the worst corner.
+            let (bending, lateral) = match self.face {
+                Face::Thickness => (-self.sides[e] * k2, k3),
+                Face::Width => (self.sides[e] * k3, k2),
+            };
+            self.section_strains[e] = (extension, 0.0, bending);
+            self.lateral[e] = self.lateral_per_curvature[e] * lateral.abs();
             let tau = self.shear_per_rate[e] * twist_rate.abs();
             if tau > self.max_shear.0 {
                 self.max_shear = (tau, e, at.t);

@@ -299,9 +299,10 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
         BallOnBeam3d::largest_twist(self, q)
     }
-    /// (Gamma1, Gamma3, -K2): extension, the shear along the thickness and the bending
+    /// The struck face's strains ([`BallOnBeam3d::struck_strains`]): on a `[beam]`'s thickness
+    /// face (Gamma1, Gamma3, -K2), extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x
-    /// toward z, a rotation about +y turns z toward x); out of the plane (K3, K1).
+    /// toward z, a rotation about +y turns z toward x); out of the plane (K3, K1, Gamma2).
     fn force_passes(&self) -> u64 {
         BallOnBeam3d::force_passes(self)
     }
@@ -313,14 +314,14 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         last_pass: bool,
     ) {
         let taken = last_pass
-            && self.last_pass_strains(|e, [g0, g1, g2, k0, k1, k2]| {
-                out[e] = (g0, g2, -k1);
-                out_of_plane[e] = (k2, k0, g1);
+            && self.last_pass_strains(|e, strains| {
+                (out[e], out_of_plane[e]) = self.struck_strains(e, strains);
             });
         if !taken {
             self.beam().each_strain(&q.beam, |e, s| {
-                out[e] = (s.gamma[0], s.gamma[2], -s.kappa[1]);
-                out_of_plane[e] = (s.kappa[2], s.kappa[0], s.gamma[1]);
+                let (g, k) = (s.gamma, s.kappa);
+                (out[e], out_of_plane[e]) =
+                    self.struck_strains(e, [g[0], g[1], g[2], k[0], k[1], k[2]]);
             });
         }
     }
@@ -334,20 +335,23 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         out_of_plane: &[OutOfPlane],
     ) -> f64 {
         let beam = self.beam();
-        let elements = beam.mesh().elements.iter().zip(strains).zip(out_of_plane);
+        let elements = beam.mesh().elements.iter().zip(strains).zip(out_of_plane).enumerate();
         let strain: f64 = elements
-            .map(|((e, o), p)| {
+            .map(|(k, ((e, o), p))| {
+                let [g0, g1, g2, k0, k1, k2] = self.strains_from_struck(k, (*o, *p));
                 e.energy_of(&simo_beam::Strains {
-                    gamma: nalgebra::Vector3::new(o.0, p.2, o.1),
-                    kappa: nalgebra::Vector3::new(p.1, -o.2, p.0),
+                    gamma: nalgebra::Vector3::new(g0, g1, g2),
+                    kappa: nalgebra::Vector3::new(k0, k1, k2),
                 })
             })
             .sum();
         strain + beam.spring_energy(&q.beam) + beam.kinetic_energy(v.subrows(0, beam.ndof()))
     }
-    /// Along the arc length: the displacement along `up` (the strike's line) and the section's
-    /// rotation about its width axis E2 from its reference frame (the bending slope, signed as
-    /// the planar beam's): on a straight `[beam]` its z and theta.
+    /// Along the arc length: the displacement along `up` (the strike's line) and the bending
+    /// slope in the strike's plane, as minus the turn of the section's axis E1 toward `up`,
+    /// -up . (R0 (psi x E1)) to first order in the section's rotation psi from its reference
+    /// frame R0 (signed as the planar beam's theta: on a straight `[beam]` its z and theta,
+    /// -psi_2; on a width face the rotation about the thickness axis).
     fn planar_view<'s>(
         &'s self,
         q: &'s BallOnBeam3dConfig,
@@ -361,8 +365,9 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         for k in 0..n {
             let moved = q.beam.positions[k] - mesh.positions[k];
             let turned = (mesh.frames[k].inverse() * q.beam.rotations[k]).scaled_axis();
+            let axis_turn = mesh.frames[k] * turned.cross(&nalgebra::Vector3::x());
             (scratch.x[k], scratch.z[k], scratch.theta[k]) =
-                (mesh.arc_length[k], self.up().dot(&moved), -turned.y);
+                (mesh.arc_length[k], self.up().dot(&moved), self.up().dot(&axis_turn));
         }
         scratch
     }
