@@ -213,6 +213,33 @@ impl FePlan {
         }
     }
 
+    /// The held nodes and how: a structure's (and a `[beam]`'s lowered onto one) as its model
+    /// holds them ([`super::structure::StructurePlan::supports`]), else the beam's ends; and
+    /// as `Free` each end held by nothing, not even a rotational spring (its moment is zero).
+    pub(crate) fn supports(&self) -> Vec<(usize, Support)> {
+        let last = self.nodes.len() - 1;
+        let (mut held, springs): (Vec<(usize, Support)>, Vec<usize>) = match &self.structure {
+            Some(st) => (st.supports(), st.model.rotational_spring_nodes().collect()),
+            None => (
+                [(0, self.ends.0), (last, self.ends.1)]
+                    .into_iter()
+                    .filter(|(_, s)| *s != Support::Free)
+                    .collect(),
+                self.attachments
+                    .iter()
+                    .filter(|a| a.rotational_stiffness > 0.0)
+                    .map(|a| node_at(&self.nodes, a.at))
+                    .collect(),
+            ),
+        };
+        for end in [0, last] {
+            if !held.iter().any(|h| h.0 == end) && !springs.contains(&end) {
+                held.push((end, Support::Free));
+            }
+        }
+        held
+    }
+
     /// The interior nodes where the bending stress may jump (`solve::fe_stress`): a
     /// rotational spring's on a beam (its moment), a structure's joints and interior supports
     /// ([`super::structure::StructurePlan::joints`]).

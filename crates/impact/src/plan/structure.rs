@@ -59,6 +59,25 @@ impl StructurePlan {
 }
 
 impl StructurePlan {
+    /// The held nodes and how: clamped where all six unknowns are, pinned where the three
+    /// translations are (the supports as the model holds them, a `[beam]`'s ends lowered).
+    pub(crate) fn supports(&self) -> Vec<(usize, Support)> {
+        let held = |node: usize, k: std::ops::Range<usize>| {
+            k.into_iter().all(|k| self.model.dof(node, k).is_none())
+        };
+        (0..self.model.mesh().positions.len())
+            .filter_map(|node| {
+                if held(node, 0..6) {
+                    Some((node, Support::Clamped))
+                } else if held(node, 0..3) {
+                    Some((node, Support::Pinned))
+                } else {
+                    None
+                }
+            })
+            .collect()
+    }
+
     /// Each element's section as the struck face sees it: E (Pa), G (Pa), its size across the
     /// face and its depth along the strike (m): `sections` as they are on a thickness face,
     /// width and thickness swapped on a width face (its bending is about the thickness axis,

@@ -152,7 +152,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
     ) -> Result<Self, ImpactError> {
         let mut stress = FeStress::new(
             &target.nodes,
-            target.ends,
+            &target.supports(),
             (target.material.youngs_modulus, target.thickness),
             (target.impact_site(), &target.stress_breaks()),
         );

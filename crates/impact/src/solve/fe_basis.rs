@@ -29,7 +29,7 @@ use crate::plan::{FeBasis, ModalPlan};
 use faer::Col;
 use hht::Model;
 use modal::{PointModes, Recovery, SiteModes};
-use simo_beam::{BeamModel, PlanarState};
+use simo_beam::{BeamModel, PlanarState, Support};
 
 /// The modes of a structure at its contact site and their recovery.
 pub(super) struct FeSite {
@@ -120,7 +120,7 @@ pub(super) fn site(m: &ModalPlan, basis: &FeBasis, field: bool) -> Result<FeSite
         model,
         (&modes, site.modes(), static_u.as_ref()),
         (sections, basis.quiet_strains()),
-        (&fe.nodes, &st.joints(), fe.impact_site()),
+        (&fe.nodes, &fe.supports(), &st.joints(), fe.impact_site()),
         (st.up, st.face, field),
     )?;
     Ok(FeSite { site, recorder, below })
@@ -230,12 +230,15 @@ pub(super) struct FeRecovery {
     max_shear: (f64, usize, f64),
 }
 
+/// A held node and how (see [`FeStress::new`]).
+type Held = (usize, Support);
+
 impl FeRecovery {
     fn new(
         model: &BeamModel,
         (modes, point, static_u): (&[simo_beam::Mode], &PointModes, Option<&Col<f64>>),
         (sections, quiet): (&[[f64; 4]], Option<&[[bool; 4]]>),
-        (nodes, breaks, (struck, xi)): (&[f64], &[usize], (usize, f64)),
+        (nodes, held, breaks, (struck, xi)): (&[f64], &[Held], &[usize], (usize, f64)),
         (up, face, field): (nalgebra::Vector3<f64>, Face, bool),
     ) -> Result<Self, ImpactError> {
         let mesh = model.mesh();
@@ -315,10 +318,9 @@ impl FeRecovery {
         } else {
             None
         };
-        let free = (simo_beam::Support::Free, simo_beam::Support::Free);
         let [e0, _, _, t0] = sections[0];
         let mut stress =
-            FeStress::new(nodes, free, (e0, t0), ((struck, xi), breaks)).with_sections(sections);
+            FeStress::new(nodes, held, (e0, t0), ((struck, xi), breaks)).with_sections(sections);
         if field {
             stress = stress.with_field(nodes, sections[0][2]);
         }

@@ -41,13 +41,14 @@ pub(crate) struct FeStress {
     sections: Vec<(f64, f64, f64)>,
     /// Element count; the envelope's points are the midpoints, then the supports.
     elements: usize,
-    /// For each support, in the order of its envelope point after the midpoints: its node,
-    /// whether it is a clamp, its two nearest elements and the extrapolation weight.
-    supports: Vec<(usize, bool, [usize; 2], f64)>,
+    /// For each support, in the order of its envelope point after the midpoints: its node and
+    /// how its stress is read.
+    supports: Vec<(usize, AtSupport)>,
     /// The impact point's envelope point (after the supports), if it has one: its two sides.
     impact_point: Option<[Option<Side>; 2]>,
-    /// The impact point (element, local coordinate).
+    /// The impact point (element, local coordinate), and the ends that hold no moment.
     impact: (usize, f64),
+    free_ends: Vec<usize>,
     stresses: Vec<f64>,
     /// The time of the last instant in the envelope (s).
     observed: Option<f64>,
@@ -77,13 +78,24 @@ enum FieldPoint {
 /// `sigma_near + w (sigma_near - sigma_far)`.
 type Side = ([usize; 2], f64);
 
+/// How a support's stress is read.
+#[derive(Debug, Clone, Copy)]
+enum AtSupport {
+    /// A pinned end: no moment, 0.
+    Zero,
+    /// Extrapolated from the midpoints on each side that has two (the larger of the two): a
+    /// clamped end from its one side, an interior support from both (a clamp's moment jumps
+    /// there, a pin's does not).
+    Sides([Option<Side>; 2]),
+}
+
 impl FeStress {
-    /// The stress field of a beam on `nodes` (reference x, m) held at its ends by `ends`,
-    /// struck at `impact` (element, local coordinate), whose stress may jump at the nodes
+    /// The stress field of a beam on `nodes` (reference x, m) held at the nodes `held` (node,
+    /// how; `Free` an end that holds no moment: the field's zero there), struck at `impact` (element, local coordinate), whose stress may jump at the nodes
     /// `breaks` (see the module text).
     pub(crate) fn new(
         nodes: &[f64],
-        ends: (Support, Support),
+        held: &[(usize, Support)],
         (youngs_modulus, thickness): (f64, f64),
         (impact, breaks): ((usize, f64), &[usize]),
     ) -> Self {
@@ -93,20 +105,28 @@ impl FeStress {
         let mut supports = Vec::new();
         let mut positions = Vec::new();
         let last = nodes.len() - 1;
-        for (support, node, near) in
-            [(ends.0, 0, [0, 1]), (ends.1, last, [elements - 1, elements.saturating_sub(2)])]
-        {
+        let free_ends = held.iter().filter(|(_, s)| *s == Support::Free).map(|h| h.0).collect();
+        for &(node, support) in held.iter().filter(|(_, s)| *s != Support::Free) {
             let at = nodes[node];
-            if support == Support::Free {
-                continue;
-            }
-            // Linear through the two midpoints, at the end: sigma_0 + w (sigma_0 - sigma_1).
-            let weight = if elements > 1 {
-                (at - mid[near[0]]) / (mid[near[0]] - mid[near[1]])
+            let end = node == 0 || node == last;
+            let read = if end && support == Support::Pinned {
+                AtSupport::Zero
+            } else if end {
+                // Linear through the two midpoints, at the end: sigma_0 + w (sigma_0 - sigma_1)
+                // (one element: its own).
+                let near =
+                    if node == 0 { [0, 1] } else { [elements - 1, elements.saturating_sub(2)] };
+                let weight = if elements > 1 {
+                    (at - mid[near[0]]) / (mid[near[0]] - mid[near[1]])
+                } else {
+                    0.0
+                };
+                AtSupport::Sides([Some((near, weight)), None])
             } else {
-                0.0
+                let sides = impact_sides(nodes, &mid, (node, 0.0), breaks);
+                AtSupport::Sides(sides.unwrap_or([None, None]))
             };
-            supports.push((node, support == Support::Clamped, near, weight));
+            supports.push((node, read));
             points.push(at);
             positions.push(at);
         }
@@ -124,6 +144,7 @@ impl FeStress {
             supports,
             impact_point,
             impact,
+            free_ends,
             stresses: vec![0.0; count],
             observed: None,
             envelope: Envelope::new(points, &positions),
@@ -183,22 +204,16 @@ impl FeStress {
             let ei = self.sections.get(e).map_or(self.flexural_rigidity, |s| s.2);
             -ei * strains[e].2
         };
-        let extrapolated = |([near, far], w): Side| {
-            let (m, s) = (moment(near), self.stresses[near]);
-            (m + w * (m - moment(far)), s + w * (s - self.stresses[far]))
+        // A point's moment and stress from the side whose stress extrapolation is the larger
+        // (as `observe_strains` chose it), the moment extrapolated alike.
+        let sided = |sides: &[Option<Side>; 2]| {
+            let (k, stress) = larger_side(&self.stresses, sides);
+            let m = k
+                .and_then(|k| sides[k])
+                .map_or(0.0, |([near, far], w)| moment(near) + w * (moment(near) - moment(far)));
+            (m, stress)
         };
-        // The impact point's moment and stress: its envelope value, from the side whose
-        // extrapolation is the larger (as `observe_strains` chose it).
-        let at_impact = || {
-            let sides = self.impact_point.iter().flatten().flatten();
-            sides.map(|side| extrapolated(*side)).fold((0.0, 0.0), |a: (f64, f64), v| {
-                if v.1.abs() > a.1.abs() {
-                    v
-                } else {
-                    a
-                }
-            })
-        };
+        let at_impact = || self.impact_point.as_ref().map_or((0.0, 0.0), &sided);
         let (e, xi) = self.impact;
         let impact_node = self.impact_point.is_some().then_some(match xi {
             0.0 => Some(e),
@@ -207,14 +222,22 @@ impl FeStress {
         });
         let last = self.elements - 1;
         let at_node = |i: usize| {
-            if let Some((k, &(_, clamped, pair, w))) =
-                self.supports.iter().enumerate().find(|(_, s)| s.0 == i)
-            {
-                let m = if clamped { extrapolated((pair, w)).0 } else { 0.0 };
-                return (m, self.stresses[self.elements + k]);
+            if let Some((_, read)) = self.supports.iter().find(|s| s.0 == i) {
+                return match read {
+                    AtSupport::Zero => (0.0, 0.0),
+                    AtSupport::Sides(sides) => sided(sides),
+                };
             }
             if impact_node.flatten() == Some(i) {
                 return at_impact();
+            }
+            // An end that holds no moment: none there, and its element's axial stress (its
+            // own value, half an element in, had shown up to a third of the largest stress,
+            // shrinking as the mesh refines).
+            if self.free_ends.contains(&i) {
+                let e = i.min(last);
+                let youngs = self.sections.get(e).map_or(self.youngs_modulus, |s| s.0);
+                return (0.0, youngs * strains[e].0);
             }
             let (a, b) = (i.saturating_sub(1), i.min(last));
             (0.5 * (moment(a) + moment(b)), 0.5 * (self.stresses[a] + self.stresses[b]))
@@ -261,24 +284,33 @@ impl FeStress {
         for (stress, extra) in self.stresses.iter_mut().zip(lateral) {
             *stress += extra.copysign(*stress);
         }
-        // From the midpoints of two elements (the nearer first) to a point beyond them.
-        let extrapolated = |stresses: &[f64], ([near, far], w): Side| {
-            stresses[near] + w * (stresses[near] - stresses[far])
-        };
-        for (k, &(_, clamped, pair, weight)) in self.supports.iter().enumerate() {
-            self.stresses[self.elements + k] =
-                if clamped { extrapolated(&self.stresses, (pair, weight)) } else { 0.0 };
+        for k in 0..self.supports.len() {
+            self.stresses[self.elements + k] = match self.supports[k].1 {
+                AtSupport::Zero => 0.0,
+                AtSupport::Sides(sides) => larger_side(&self.stresses, &sides).1,
+            };
         }
         if let Some(sides) = &self.impact_point {
-            let value = sides
-                .iter()
-                .flatten()
-                .map(|side| extrapolated(&self.stresses, *side))
-                .fold(0.0, |a: f64, v| if v.abs() > a.abs() { v } else { a });
-            self.stresses[self.elements + self.supports.len()] = value;
+            self.stresses[self.elements + self.supports.len()] =
+                larger_side(&self.stresses, sides).1;
         }
         self.envelope.observe(t, &self.stresses);
     }
+}
+
+/// Of a point's extrapolation `sides`, which one's value from `stresses` is the larger, and
+/// that value (0 with neither).
+fn larger_side(stresses: &[f64], sides: &[Option<Side>; 2]) -> (Option<usize>, f64) {
+    let mut best = (None, 0.0_f64);
+    for (k, side) in sides.iter().enumerate() {
+        if let Some(([near, far], w)) = *side {
+            let v = stresses[near] + w * (stresses[near] - stresses[far]);
+            if v.abs() > best.1.abs() {
+                best = (Some(k), v);
+            }
+        }
+    }
+    best
 }
 
 /// The impact point's extrapolation sides (`FeStress`'s `impact_point`) on a beam of
