@@ -3,7 +3,7 @@
 //! line, and against the fe method on the frame (validation/REFERENCES.md 1.13).
 #![allow(clippy::unwrap_used)] // a test stops on a bad fixture
 
-use impact::{simulate, Report, Scene};
+use impact::{simulate, Plan, Report, Scene};
 
 /// The paper's cantilever (L = 1.15 m, 25 x 5 mm, clamped at x = 0) struck at 1.10 m by the
 /// paper's ball (0.2 m drop, gravity off) over the first contact, `offset` (m) off the centre
@@ -232,6 +232,39 @@ fn a_beam_carrying_a_mass_and_a_spring_runs_by_its_own_modes() {
     assert!(off(km_r, kf_r) < 1e-4, "{km_r} vs {kf_r}");
     // The spring stiffens the struck point (it holds the section at 0.5 m of the 1.10 m arm).
     assert!(km_r > km * (1.0 + 1e-3), "{km_r} vs {km}");
+}
+
+#[test]
+fn a_rotational_spring_too_stiff_for_the_modes_is_refused_by_the_modal_method() {
+    // The frame with a spring about all three axes at its free tip: at 1e16 N m/rad (9.1e10
+    // times its elements' 1.09e5 at 40 a member) the modes lost their lowest to round-off (on
+    // the review's frame of 16 a member, the largest displacement 48 % off the fe method's,
+    // the struck section's twist 1.2e-4 rad against 3e-17), silently; refused now, naming the
+    // key and the clamp that holds the node. The fe method runs it; 1e12 (9.1e6 times) runs
+    // by the modes (the review: within 1e-5 of the fe method).
+    let spring = |k: &str| {
+        let tip = format!(
+            "kind = \"clamped\"\n[[structure.spring]]\nat = 1.0\nstiffness = [0.0, 0.0, 0.0]\nrotational_stiffness = [{k}, {k}, {k}]"
+        );
+        std::fs::read_to_string(format!(
+            "{}/../../validation/scenes/frame-impact.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+        .replace("kind = \"clamped\"", &tip)
+        .replace("method = \"fe\"", "method = \"modal\"")
+        .replace("end_time = 0.002", "end_time = 0.0001")
+    };
+    let err = Plan::new(&Scene::from_toml(&spring("1e16")).unwrap()).unwrap_err().to_string();
+    assert!(
+        err.contains("structure.spring[0].rotational_stiffness = [1e16, 1e16, 1e16]")
+            && err.contains("9.1e10 times")
+            && err.contains("kind = \"clamped\""),
+        "{err}"
+    );
+    let fe = spring("1e16").replace("method = \"modal\"", "method = \"fe\"");
+    assert!(Plan::new(&Scene::from_toml(&fe).unwrap()).is_ok());
+    assert!(Plan::new(&Scene::from_toml(&spring("1e12")).unwrap()).is_ok());
 }
 
 #[test]

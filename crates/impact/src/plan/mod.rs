@@ -499,6 +499,16 @@ fn beam_method(
                             allowed,
                         }
                     }
+                    // Its springs are the [beam]'s, in order.
+                    ImpactError::InvalidField { field, value, allowed }
+                        if field.starts_with("structure.spring[") =>
+                    {
+                        ImpactError::InvalidField {
+                            field: field.replacen("structure.spring[", "beam.spring[", 1),
+                            value,
+                            allowed,
+                        }
+                    }
                     e => e,
                 })?;
             plan.damping = damping;

@@ -207,6 +207,9 @@ pub(super) fn modal_plan(
     checked_mesh_keys(s)?;
     let tolerance = s.tolerance.map(super::checked_tolerance).transpose()?;
     let fe = build(scene, spec, pulse, (reasons, warnings))?;
+    if let Some(st) = &fe.structure {
+        modes_keep_springs(spec, &st.sections, &fe.nodes)?;
+    }
     let basis = FeBasis::new(fe, MODE_CUTOFF / pulse.duration)?;
     reasons.extend(basis.reduction());
     let static_flexibility = basis.static_flexibility();
@@ -234,6 +237,48 @@ pub(super) fn modal_plan(
         twin: None,
         torsion: None,
     })
+}
+
+/// The most a rotational spring may outweigh its node's elements (their largest of E I2,
+/// E I3 and G J over their length) for the modal method: the structure's modes are solved in
+/// double precision, where a spring 1e9 times its elements' stiffness leaves the low modes
+/// its round-off (the review's frame, 0.5 m members of 16 elements, 25 x 5 mm, a spring about
+/// all three axes at its free tip: 1e12 N m/rad, 2.3e7 times, agrees with the fe method to
+/// 1e-5; 1e14, 2.3e9 times, is 0.5 % off; 1e16, 66 %).
+const SPRING_OVER_ELEMENTS: f64 = 1e8;
+
+/// Refuses for the modal method a rotational spring that outweighs its node's elements by more
+/// than [`SPRING_OVER_ELEMENTS`], naming it, the ratio and what holds the node instead.
+fn modes_keep_springs(
+    spec: &StructureSpec,
+    sections: &[[f64; 4]],
+    nodes: &[f64],
+) -> Result<(), ImpactError> {
+    for (k, sp) in spec.springs.iter().enumerate() {
+        let Some(rotational) = sp.rotational_stiffness else { continue };
+        let Some(node) = nodes.iter().position(|x| (x - sp.at).abs() <= 1e-9 * (1.0 + x.abs()))
+        else {
+            continue;
+        };
+        let stiffness = |e: usize| {
+            let [young, shear, w, t] = sections[e];
+            let (j, _) = modal::rectangle_torsion(w, t);
+            let largest =
+                (young * w * t.powi(3) / 12.0).max(young * t * w.powi(3) / 12.0).max(shear * j);
+            largest / (nodes[e + 1] - nodes[e])
+        };
+        let elements = [node.checked_sub(1), (node < sections.len()).then_some(node)];
+        let own = elements.into_iter().flatten().map(stiffness).fold(0.0, f64::max);
+        let largest = rotational.iter().copied().fold(0.0, f64::max);
+        if own > 0.0 && largest > SPRING_OVER_ELEMENTS * own {
+            return Err(invalid(
+                &format!("structure.spring[{k}].rotational_stiffness"),
+                format!("[{:e}, {:e}, {:e}]", rotational[0], rotational[1], rotational[2]),
+                &format!("at most {SPRING_OVER_ELEMENTS:e} times the rotational stiffness of the elements at its node ({own:.4e} N m/rad, the largest of E I and G J over their length) for the modal method: this one is {:.1e} times, and the structure's modes, solved in double precision, would lose their lowest to its round-off; hold the node by a [[structure.support]] (kind = \"clamped\") instead, or run solver.method = \"fe\"", largest / own),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A `[beam]` that carries masses or springs, written as the `[structure]` it is (one straight
