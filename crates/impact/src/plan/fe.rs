@@ -539,10 +539,10 @@ const MIN_ELEMENT: f64 = 1e-7;
 /// elements h long at the impact point, lambda the flexural wavelength at omega t_c =
 /// MODE_CUTOFF: on the paper's tip (validation/REFERENCES.md 1.5, uniform meshes) 21, 7.2,
 /// 2.1 and 0.5 % at 18, 9, 4.5 and 2.25 mm (lambda = 24.5 mm): 0.39, 0.53, 0.60, 0.60.
-const STRESS_MESH_ERROR: f64 = 0.6;
+pub(super) const STRESS_MESH_ERROR: f64 = 0.6;
 
 /// A mesh whose largest stress would be this much low or more is warned about.
-const STRESS_MESH_WARNING: f64 = 0.05;
+pub(super) const STRESS_MESH_WARNING: f64 = 0.05;
 
 /// Elements at least per half-wave of the first mode, below which the first mode (the
 /// swing: the largest displacement, the equivalent static force, the stress at the supports)

@@ -281,6 +281,53 @@ fn modes_keep_springs(
     Ok(())
 }
 
+/// Warns where the struck element is too long for the bending wave the pulse excites in the
+/// strike's plane, as a `[beam]`'s mesh check does (`super::fe`'s `resolution`: the largest
+/// stress near the ball low by about 0.6 (h/lambda)^2, the contact force too), naming the
+/// segment's `elements` and how many would do; not with `solver.tolerance`, whose refinement
+/// checks its meshes against each other.
+fn mesh_at_impact(
+    scene: &Scene,
+    (sections, stations, (e, segment)): (&[[f64; 4]], &[f64], (usize, usize)),
+    (face, duration): (Face, f64),
+    warnings: &mut Vec<String>,
+) {
+    if scene.solver.tolerance.is_some() {
+        return;
+    }
+    let Some(st) = &scene.structure else { return };
+    let [young, _, w, t] = sections[e];
+    let density = st.segments[segment]
+        .section
+        .as_ref()
+        .and_then(|own| own.density)
+        .or(st.section.density)
+        .unwrap_or(0.0);
+    let (across, depth) = if face == Face::Thickness { (w, t) } else { (t, w) };
+    let rigidity = young * across * depth.powi(3) / 12.0;
+    let omega = MODE_CUTOFF / duration;
+    let wavelength =
+        2.0 * std::f64::consts::PI * (rigidity / (density * w * t)).powf(0.25) / omega.sqrt();
+    let h = stations[e + 1] - stations[e];
+    let stress_error = super::fe::STRESS_MESH_ERROR * (h / wavelength).powi(2);
+    if density > 0.0 && stress_error > super::fe::STRESS_MESH_WARNING {
+        let size = if h > wavelength {
+            "several times off".to_string()
+        } else {
+            format!("about {:.0} % low", 100.0 * stress_error)
+        };
+        let elements = st.segments[segment].elements;
+        let enough = (elements as f64 * h
+            / (wavelength
+                * (super::fe::STRESS_MESH_WARNING / super::fe::STRESS_MESH_ERROR).sqrt()))
+        .ceil();
+        warnings.push(format!(
+            "structure.segment[{segment}].elements = {elements}: elements of {h:.3e} m at the impact point, {:.2} of the flexural wavelength the pulse excites in the strike's plane ({wavelength:.3e} m at omega t_c = {MODE_CUTOFF}): the contact force and the stress near the ball are not resolved (the largest stress {size}); give the segment at least {enough} elements, or set solver.tolerance",
+            h / wavelength
+        ));
+    }
+}
+
 /// A `[beam]` that carries masses or springs, written as the `[structure]` it is (one straight
 /// member along x, struck on its thickness face from +z, a node at each attachment and at the
 /// impact point), for the modal method on its finite-element basis. The mesh: elements of at
@@ -827,6 +874,7 @@ fn build(
         if face == Face::Thickness { "thickness" } else { "width" },
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
+    mesh_at_impact(scene, (&sections, &stations, (e, k)), (face, pulse.duration), warnings);
     if s.method != MethodName::Modal {
         reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side) and every accepted step; the twist is read at every node".into());
     }
