@@ -405,7 +405,8 @@ pub struct ImpactSpec {
     /// Impact speed (m/s), toward the beam.
     #[schemars(range(min = 1e-6, max = 1e4), extend("x-unit" = "m/s"))]
     pub speed: Option<f64>,
-    /// Whether gravity (9.81 m/s^2, toward the beam) acts on the ball during the run.
+    /// Whether gravity (9.81 m/s^2, toward the beam) acts on the ball during the run; on a
+    /// `[structure]` (z up) only with a strike straight down, `impact.direction = [0, 0, -1]`.
     #[serde(default = "default_gravity")]
     pub gravity: bool,
 }

@@ -237,6 +237,21 @@ fn a_structures_field_runs_along_its_arc_length() {
 }
 
 #[test]
+fn gravity_on_a_structure_needs_a_strike_straight_down() {
+    // Gravity acts along the ball's velocity: struck from below with it on, the ball had been
+    // pulled back up into the frame (three contacts in 0.3 s); refused, naming the key.
+    let below = ("direction = [0.0, 0.0, -1.0]", "direction = [0.0, 0.0, 1.0]");
+    let on = ("gravity = false", "gravity = true");
+    let err = Plan::new(&frame(&[below, on]).unwrap()).unwrap_err().to_string();
+    assert!(
+        err.starts_with("impact.gravity = true") && err.contains("[0.000000, 0.000000, 1.000000]"),
+        "{err}"
+    );
+    assert!(Plan::new(&frame(&[below]).unwrap()).is_ok());
+    assert!(Plan::new(&frame(&[on]).unwrap()).is_ok());
+}
+
+#[test]
 fn a_struck_segment_too_coarse_for_the_pulse_warns_by_its_key() {
     // 8 elements a member: 62.5 mm at the impact point against the 24.65 mm bending wave the
     // pulse excites (omega t_c = 20), as a [beam]'s mesh check says of its own (the review's

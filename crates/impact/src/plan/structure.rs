@@ -813,6 +813,15 @@ fn build(
     // Scaled by its largest component first: the norm of [0, 0, 1e300] overflows, of
     // [0, 0, 1e-300] underflows, and any length is allowed.
     let d = (d / d.amax()).normalize();
+    // Gravity acts along the ball's velocity: on a structure (z up) that is the world's only
+    // for a strike straight down (one from below had been pulled back up into the structure,
+    // three contacts in 0.3 s). A drop height alone is a speed, sqrt(2 g h).
+    if impact.gravity && 1.0 + d.z > NORMAL {
+        return Err(ImpactError::Inconsistent(format!(
+            "impact.gravity = true: gravity acts on the ball along its velocity (a drop), so with it the strike must be straight down (impact.direction = [0, 0, -1], z up); this one is [{:.6}, {:.6}, {:.6}]: set impact.gravity = false (the ball then keeps its impact speed)",
+            d.x, d.y, d.z
+        )));
+    }
     let show = |v: Vector3<f64>| format!("[{:.6}, {:.6}, {:.6}]", v.x, v.y, v.z);
     // The face the direction is normal to: its distance from the centre line, the axis and
     // the size of the face across (where the offset goes).
