@@ -542,8 +542,9 @@ pub struct SolverSpec {
     /// Modal method: put the truncated modes' static compliance at the impact point (the
     /// beam's static flexibility minus the kept modes' share) in series with the contact, as
     /// the mode-acceleration method does: the modes above the cutoff answer the force
-    /// quasi-statically. Default false on a `[beam]` (true with `tolerance`), true on a
-    /// `[structure]` (on a free one by inertia relief).
+    /// quasi-statically. Default false on a `[beam]` struck on its centre line (true with
+    /// `tolerance`), true off it (`impact.offset`: the torsion modes' static share falls only
+    /// as 1/N) and on a `[structure]` (on a free one by inertia relief).
     #[schemars(extend("default" = false))]
     pub residual_flexibility: Option<bool>,
     /// Modal method: recover the bending stress by the plain modal series
