@@ -301,3 +301,20 @@ fn every_search_of_a_window_ending_inside_a_long_contact_is_certified() {
     let (gap, note) = searches_gap(&r);
     assert!(gap <= 1e-4, "{note}");
 }
+
+#[test]
+fn a_free_free_beam_s_stress_takes_its_static_share_by_inertia_relief() {
+    // A 0.5 m strip struck at 0.4 m at 1 m/s, 0.1 ms: no wave reaches an end before the
+    // largest stress, so every support gives the same one. The free-free beam's had come from
+    // the plain series (no static moment to take the truncated modes' share from): 1.1907e7
+    // Pa at the 52 modes the plan chooses, 15 % low. With the static moment by inertia relief
+    // (modal::Beam::static_curvature), measured 1.409579e7 against the cantilever's 1.409582e7.
+    let run = |support: &str| {
+        let text = format!(
+            "name = \"strip\"\n[beam]\nlength = 0.5\nwidth = 0.025\nthickness = 0.005\nsupport = \"{support}\"\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n[ball]\nradius = 0.005\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n[impact]\nposition = 0.4\nspeed = 1.0\ngravity = false\n[solver]\nmethod = \"modal\"\nend_time = 1e-4\n"
+        );
+        simulate(&Scene::from_toml(&text).unwrap()).unwrap().report.bending_stress.unwrap().max
+    };
+    let (free, clamped) = (run("free-free"), run("clamped-free"));
+    assert!((free / clamped - 1.0).abs() < 1e-4, "{free} vs {clamped}");
+}

@@ -285,9 +285,22 @@ impl Beam {
     /// of beam tables (Roark, Table 8.1). Pinned-pinned: -x (L - c)/(L EI) for x <= c,
     /// -c (L - x)/(L EI) beyond. Supports clamped at 0: the cantilever's (c - x)_+ plus the far
     /// support's force F and moment M (`redundants`, shear included): ((c - x)_+ + F (L - x) +
-    /// M)/EI. `None` for free-free.
+    /// M)/EI. Free-free, by inertia relief (the force balanced by the rigid-body motion's
+    /// inertia, which the elastic modes' static sum holds): the rigid acceleration a0 +
+    /// alpha (s - L/2) with a0 = 1/(rho A L) and alpha = (c - L/2)/(rho A L^3/12 + rho I L),
+    /// and M(x) = (c - x)_+ - rho A [(a0 + alpha (x - L/2)) b^2/2 + alpha b^3/3] - rho I alpha b
+    /// over the part beyond x, b = L - x (zero at both ends).
     pub fn static_curvature(&self, c: f64, x: f64) -> Option<f64> {
         let (l, ei) = (self.length, self.flexural_rigidity);
+        if self.support == Support::FreeFree {
+            let (mu, rho_i) = (self.mass_per_length, self.shear.map_or(0.0, |s| s.rotary_inertia));
+            let a0 = 1.0 / (mu * l);
+            let alpha = (c - 0.5 * l) / (mu * l.powi(3) / 12.0 + rho_i * l);
+            let b = l - x;
+            let inertia =
+                mu * ((a0 + alpha * (x - 0.5 * l)) * b * b / 2.0 + alpha * b.powi(3) / 3.0);
+            return Some(((c - x).max(0.0) - inertia - rho_i * alpha * b) / ei);
+        }
         if self.support == Support::PinnedPinned {
             let sagging = if x <= c { x * (l - c) / l } else { c * (l - x) / l };
             return Some(-sagging / ei);

@@ -237,7 +237,7 @@ impl ModalStress {
             .collect();
         let near_count = near.len();
         let points: Vec<f64> = near.iter().copied().chain(grid.iter().map(|g| g.1)).collect();
-        // The plain series: no static part, so no correction (as for a free-free beam).
+        // The plain series, as asked: no static part, so no correction.
         let static_beam = beam.static_curvature(position, 0.0).filter(|_| !plain).map(|_| *beam);
         let static_q: Vec<f64> = shapes
             .iter()
