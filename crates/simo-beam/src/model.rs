@@ -24,6 +24,10 @@ pub enum Support {
     Free,
     /// Position fixed, rotation free.
     Pinned,
+    /// Position and the twist about the beam's axis (the node frame's E1) fixed, bending
+    /// rotations free: a fork, a simply supported end that holds the section upright (in the
+    /// plane, a pin).
+    Forked,
     /// Position and rotation fixed.
     Clamped,
 }
@@ -44,6 +48,8 @@ pub(crate) fn number_unknowns<const N: usize>(
                 let held = match support {
                     Support::Free => false,
                     Support::Pinned => k < translations,
+                    // The twist, the first rotation, where there is one (6 unknowns a node).
+                    Support::Forked => k < translations || (N == 6 && k == translations),
                     Support::Clamped => true,
                 };
                 (!held).then(|| {
@@ -218,6 +224,7 @@ impl BeamModel {
         held[node] = std::array::from_fn(|k| match support {
             Support::Free => false,
             Support::Pinned => k < 3 || was[k],
+            Support::Forked => k < 4 || was[k],
             Support::Clamped => true,
         });
         self.renumber(&held);

@@ -354,7 +354,7 @@ pub struct SupportSpec {
     /// Arc length from the start of the first piece (m); must be a node.
     #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub at: f64,
-    /// Clamped or pinned.
+    /// Clamped, pinned or forked.
     pub kind: Support,
 }
 

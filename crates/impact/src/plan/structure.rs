@@ -377,10 +377,14 @@ fn beam_as_structure(
     segments: Vec<simo_beam::scene::SegmentSpec>,
 ) -> StructureSpec {
     let [first, last] = beam.support.ends();
+    // A [beam]'s pinned end is a fork in 3D: it holds the twist, as its torsion modes do
+    // (validation/REFERENCES.md 1.9); a bare pin would leave the strip free to spin about its
+    // axis (struck off the centre line, its twist had grown without bound).
+    let forked = |kind: Support| if kind == Support::Pinned { Support::Forked } else { kind };
     let supports = [(0.0, first), (beam.length, last)]
         .into_iter()
         .filter(|(_, kind)| *kind != Support::Free)
-        .map(|(at, kind)| simo_beam::scene::SupportSpec { at, kind })
+        .map(|(at, kind)| simo_beam::scene::SupportSpec { at, kind: forked(kind) })
         .collect();
     StructureSpec {
         section: simo_beam::scene::SectionSpec {
