@@ -108,16 +108,25 @@ fn show(value: f64) -> String {
     }
 }
 
-/// A TOML reader's message with the Rust type names a scene file's author does not write
-/// (`usize`, `f64`, `i128`) put in words.
+/// A TOML reader's message with the Rust and serde type names a scene file's author does not
+/// write (`usize`, `f64`, `i128`, a sequence, a map) put in TOML's words.
 pub fn toml_message(error: &toml::de::Error) -> String {
-    const WORDS: [(&str, &str); 4] = [
+    const WORDS: [(&str, &str); 8] = [
         (" as i128,", " (more than 64 bits),"),
         ("expected usize", "expected a whole number, 0 or more"),
         ("expected u64", "expected a whole number, 0 or more"),
         ("expected f64", "expected a number"),
+        ("invalid type: sequence,", "invalid type: an array,"),
+        ("expected a sequence", "expected an array"),
+        ("invalid type: map,", "invalid type: a table,"),
+        ("expected a map", "expected a table"),
     ];
     WORDS.iter().fold(error.to_string(), |m, (rust, words)| m.replace(rust, words))
+}
+
+/// A point or direction as a scene file writes it, `[x, y, z]`.
+fn point(v: &Vector3<f64>) -> String {
+    format!("[{}, {}, {}]", show(v.x), show(v.y), show(v.z))
 }
 
 /// `value` to 4 significant digits (a derived length in a message).
@@ -647,8 +656,11 @@ impl SegmentSpec {
                 if (s - p).norm() > 1e-9 * (1.0 + p.norm()) {
                     return Err(invalid(
                         field("start"),
-                        format!("{s:?}"),
-                        &format!("the end of the previous segment, {:?} (or leave it out)", p),
+                        point(&s),
+                        &format!(
+                            "the end of the previous segment, {} (or leave it out)",
+                            point(&p)
+                        ),
                     ));
                 }
                 p
@@ -661,7 +673,7 @@ impl SegmentSpec {
                 if axis.norm() < MIN_SEGMENT {
                     return Err(invalid(
                         field("end"),
-                        format!("{end:?}"),
+                        point(&end),
                         &format!(
                             "a point at least {MIN_SEGMENT:e} m from the start (the segment's length is {:e} m)",
                             axis.norm()
@@ -676,7 +688,7 @@ impl SegmentSpec {
                 if hint.normalize().cross(&axis.normalize()).norm() < 1e-6 {
                     return Err(invalid(
                         field("thickness_direction"),
-                        format!("{hint:?}"),
+                        point(&hint),
                         "a direction not along the segment",
                     ));
                 }
@@ -721,7 +733,7 @@ impl SegmentSpec {
                 if radius == 0.0 || normal.dot(&radial).abs() > 1e-9 * radius {
                     return Err(invalid(
                         field("centre"),
-                        format!("{centre:?}"),
+                        point(&centre),
                         "a point away from the start, in the plane through the start normal to `normal`",
                     ));
                 }
@@ -729,7 +741,7 @@ impl SegmentSpec {
                 if length < MIN_SEGMENT {
                     return Err(invalid(
                         field("centre"),
-                        format!("{centre:?}"),
+                        point(&centre),
                         &format!(
                             "a centre that makes the arc at least {MIN_SEGMENT:e} m long (radius {radius:e} m times {angle} degrees is {length:e} m)"
                         ),
@@ -746,9 +758,14 @@ impl SegmentSpec {
                 )?;
                 Ok((mesh, length))
             }
-            _ => Err(SceneError::Inconsistent(format!(
+            (end, centre, normal, angle) => Err(SceneError::Inconsistent(format!(
                 "segment[{index}]: give `end` (straight) or `centre`, `normal` and `angle_degrees` \
-                 (arc)"
+                 (arc){}",
+                if end.is_some() && (centre.is_some() || normal.is_some() || angle.is_some()) {
+                    ", not both"
+                } else {
+                    ""
+                }
             ))),
         }
     }
@@ -771,7 +788,10 @@ pub fn node_at(stations: &[f64], field: String, s: f64) -> Result<usize, SceneEr
             node = i;
         }
     }
-    if !(s.is_finite() && (stations[node] - s).abs() <= 1e-9 * total.max(1.0)) {
+    if !s.is_finite() {
+        return Err(invalid(field, s, &format!("the arc length of a node, from 0 to {total} m")));
+    }
+    if (stations[node] - s).abs() > 1e-9 * total.max(1.0) {
         return Err(invalid(
             field,
             s,
@@ -894,7 +914,7 @@ fn not_folded(
     let least = 2.0 * (depth / shorter).atan().to_degrees();
     let (key, value) = match (seg.end, seg.centre) {
         (Some(end), _) => ("end", format!("{end:?}")),
-        (None, centre) => ("centre", format!("{centre:?}")),
+        (None, centre) => ("centre", centre.map_or_else(String::new, |c| format!("{c:?}"))),
     };
     let how = if overlap.is_finite() {
         format!(

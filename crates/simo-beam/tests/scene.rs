@@ -149,6 +149,13 @@ fn bad_beam_scenes_name_the_field() {
         ("elements = 32", "elements = 2.5", "floating point `2.5`, expected a whole number, 0 or more"),
         ("elements = 32", "elements = 99999999999999999999", "(more than 64 bits), expected a whole"),
         ("load_steps = 10", "load_steps = \"ten\"", "string \"ten\", expected a whole number"),
+        ("at = 0.0", "at = [0.0]", "invalid type: an array, expected a number"),
+        // Points as written, [x, y, z] (nalgebra's column had printed [[1.0, 0.0, 0.0]]).
+        ("end = [1.0, 0.0, 0.0]", "end = [0.0, 0.0, 0.0]", "segment[0].end = [0, 0, 0]: a point"),
+        ("end = [1.0, 0.0, 0.0]", "end = [1.0, 0.0, 0.0]\ncentre = [0.0, 1.0, 0.0]", "(arc), not both"),
+        // No nearest node to infinity.
+        ("at = 0.0", "at = inf", "support[0].at = inf: the arc length of a node, from 0 to 1 m"),
+        ("end = [1.0, 0.0, 0.0]", "end = \"far\"", "expected an array"),
         // An arc too short to mesh (radius 1e-12 m): refused for its length too (it ran, with a
         // stress 570 times the frame's at the corner).
         (

@@ -755,7 +755,7 @@ fn build(
         section.poisson_ratio,
     ) {
         (Some(w), Some(t), Some(e), Some(nu)) => Ok([e, e / (2.0 * (1.0 + nu)), w, t]),
-        _ => Err(ImpactError::Inconsistent(format!("{key}: give width and thickness (m), a rectangle of a material (youngs_modulus, poisson_ratio, density): the ball strikes one of its faces"))),
+        _ => Err(ImpactError::Inconsistent(format!("{key}: give width and thickness (m), a rectangle of a material (youngs_modulus, poisson_ratio, density): a struck structure's stresses are read at its members' faces, which the stiffnesses alone do not place"))),
     }
     };
     let shared = rectangle("structure.section", &spec.section)?;
@@ -793,7 +793,7 @@ fn build(
     // the structure's section).
     let [struck_e, _, width, thickness] = sections[e];
     if (struck_e - shared[0]).abs() > 1e-12 * shared[0] {
-        return Err(ImpactError::Inconsistent(format!("impact.at = {at} m strikes a segment whose own section's youngs_modulus ({struck_e} Pa) is not the structure's ({} Pa): the contact is set from [structure.section]; strike a member of that material", shared[0])));
+        return Err(ImpactError::Inconsistent(format!("impact.at = {at} m strikes a segment whose own section's youngs_modulus ({struck_e:e} Pa) is not the structure's ({:e} Pa): the contact is set from [structure.section]; strike a member of that material", shared[0])));
     }
     // The struck element's own end frames (at a corner its node's frame is the other
     // member's: the faces' normals were interpolated from it on the element after a corner).
