@@ -237,6 +237,28 @@ fn a_structures_field_runs_along_its_arc_length() {
 }
 
 #[test]
+fn a_strike_at_a_free_end_of_a_structure_warns_as_a_beam_s_does() {
+    // The frame struck at its free tip (s = 1 m): the patch (radius about 3.7e-4 m) runs over
+    // the member's end, as a [beam]'s free-end check says (it had said nothing); at 0.9 m not.
+    // The plan also says why auto chose the fe method.
+    let tip = Plan::new(&frame(&[("at = 0.9 ", "at = 1.0 ")]).unwrap()).unwrap();
+    assert!(
+        tip.warnings()
+            .iter()
+            .any(|w| w.starts_with("impact.at is 0.000e0 m from a free end of the structure")),
+        "{:?}",
+        tip.warnings()
+    );
+    let inside = Plan::new(&frame(&[("method = \"fe\"", "method = \"auto\"")]).unwrap()).unwrap();
+    assert!(!inside.warnings().iter().any(|w| w.contains("free end")));
+    assert!(inside
+        .summary()
+        .reasons
+        .iter()
+        .any(|r| r.starts_with("method fe (auto): a [structure]")));
+}
+
+#[test]
 fn gravity_on_a_structure_needs_a_strike_straight_down() {
     // Gravity acts along the ball's velocity: struck from below with it on, the ball had been
     // pulled back up into the frame (three contacts in 0.3 s); refused, naming the key.

@@ -530,7 +530,10 @@ pub(crate) fn static_stiffness(
     match flexibility {
         Some(f) if f > 0.0 => Some(1.0 / f),
         _ => {
-            warnings.push("no static stiffness at the impact point (the beam or structure is not held there against a static force: a free body, a mechanism, or a point its supports hold): no equivalent static force".into());
+            // Said once: the plan may have named the mechanism already.
+            if !warnings.iter().any(|w| w.contains("no static stiffness")) {
+                warnings.push("no static stiffness at the impact point (the beam or structure is not held there against a static force: a free body, a mechanism, or a point its supports hold): no equivalent static force".into());
+            }
             None
         }
     }

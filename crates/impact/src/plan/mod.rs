@@ -958,12 +958,12 @@ impl Plan {
                     (&mut reasons, &mut warnings),
                 )?)
             }
-            Struck::Structure(st) => Method::Fe(structure::plan(
-                scene,
-                st,
-                &pulse,
-                (&mut reasons, &mut warnings),
-            )?),
+            Struck::Structure(st) => {
+                if s.method == MethodName::Auto {
+                    reasons.push("method fe (auto): a [structure] runs by the fe method's 3D beam, which follows it without a modal model; solver.method = \"modal\" takes its own modes (their eigen-solution first)".into());
+                }
+                Method::Fe(structure::plan(scene, st, &pulse, (&mut reasons, &mut warnings))?)
+            }
         };
         let (time_step, energy_tolerance) =
             contact_step(&method, s, estimated_duration, &mut reasons)?;

@@ -888,6 +888,16 @@ fn build(
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
     mesh_at_impact(scene, (&sections, &stations, (e, k)), (face, pulse.duration), warnings);
+    // As a [beam]'s (`super::free_end`): the patch over a free end of the chain.
+    let patch = (scene.ball.radius * pulse.max_approach).sqrt();
+    let held =
+        |end: f64| spec.supports.iter().any(|sp| (sp.at - end).abs() <= 1e-9 * total.max(1.0));
+    let free_ends = [0.0, total].into_iter().filter(|end| !held(*end));
+    if let Some(distance) = free_ends.map(|end| (end - at).abs()).find(|d| *d < patch) {
+        warnings.push(format!(
+            "impact.at is {distance:.3e} m from a free end of the structure, within the contact radius (about {patch:.3e} m): the contact patch runs over the member's end, where the contact law (a half-space) does not hold, and the beam models load one point where the response changes fast with it (validation/REFERENCES.md 1.6); strike at least the contact radius inside the end for a result the models vouch for"
+        ));
+    }
     if s.method != MethodName::Modal {
         reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side) and every accepted step; the twist is read at every node".into());
     }
