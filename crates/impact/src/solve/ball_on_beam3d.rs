@@ -529,30 +529,35 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// is struck, (Gamma1, Gamma3, -K2) (the fibre at z = t/2 strains by Gamma1 + z K2) and
     /// (K3, K1, Gamma2); on a width face (the fibre at y = w/2 strains by Gamma1 - y K3),
     /// (Gamma1, Gamma2, K3) and (K2, K1, Gamma3); the - side's negate the curvature.
+    #[inline(always)]
     pub(crate) fn struck_strains(
-        &self,
-        e: usize,
+        face: Face,
+        side: f64,
         [g0, g1, g2, k0, k1, k2]: [f64; 6],
     ) -> ((f64, f64, f64), OutOfPlane) {
-        let side = self.sides[e];
-        match self.face {
+        match face {
             Face::Thickness => ((g0, g2, -side * k1), (k2, k0, g1)),
             Face::Width => ((g0, g1, side * k2), (k1, k0, g2)),
         }
     }
 
-    /// The strains (Gamma1..3, K1..3) of element `e` from [`Self::struck_strains`]'s.
+    /// The strains (Gamma1..3, K1..3) from [`Self::struck_strains`]'s.
+    #[inline(always)]
     pub(crate) fn strains_from_struck(
-        &self,
-        e: usize,
+        face: Face,
+        side: f64,
         (planar, out_of_plane): ((f64, f64, f64), OutOfPlane),
     ) -> [f64; 6] {
-        let side = self.sides[e];
         let ((g0, shear, curvature), (lateral, k0, other)) = (planar, out_of_plane);
-        match self.face {
+        match face {
             Face::Thickness => [g0, other, shear, k0, -side * curvature, lateral],
             Face::Width => [g0, shear, other, k0, lateral, side * curvature],
         }
+    }
+
+    /// Per element, which of the struck faces' pair meets the ball ([`struck_side`]).
+    pub(crate) fn sides(&self) -> &[f64] {
+        &self.sides
     }
 
     /// Node `node`'s section rotation about its axis from its reference frame (rad): the

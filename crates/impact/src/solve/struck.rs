@@ -313,15 +313,16 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         out_of_plane: &mut [OutOfPlane],
         last_pass: bool,
     ) {
+        let (face, sides) = (self.face(), self.sides());
         let taken = last_pass
             && self.last_pass_strains(|e, strains| {
-                (out[e], out_of_plane[e]) = self.struck_strains(e, strains);
+                (out[e], out_of_plane[e]) = Self::struck_strains(face, sides[e], strains);
             });
         if !taken {
             self.beam().each_strain(&q.beam, |e, s| {
                 let (g, k) = (s.gamma, s.kappa);
                 (out[e], out_of_plane[e]) =
-                    self.struck_strains(e, [g[0], g[1], g[2], k[0], k[1], k[2]]);
+                    Self::struck_strains(face, sides[e], [g[0], g[1], g[2], k[0], k[1], k[2]]);
             });
         }
     }
@@ -334,11 +335,11 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         strains: &[(f64, f64, f64)],
         out_of_plane: &[OutOfPlane],
     ) -> f64 {
-        let beam = self.beam();
-        let elements = beam.mesh().elements.iter().zip(strains).zip(out_of_plane).enumerate();
+        let (beam, face) = (self.beam(), self.face());
+        let elements = beam.mesh().elements.iter().zip(strains).zip(out_of_plane).zip(self.sides());
         let strain: f64 = elements
-            .map(|(k, ((e, o), p))| {
-                let [g0, g1, g2, k0, k1, k2] = self.strains_from_struck(k, (*o, *p));
+            .map(|(((e, o), p), side)| {
+                let [g0, g1, g2, k0, k1, k2] = Self::strains_from_struck(face, *side, (*o, *p));
                 e.energy_of(&simo_beam::Strains {
                     gamma: nalgebra::Vector3::new(g0, g1, g2),
                     kappa: nalgebra::Vector3::new(k0, k1, k2),
