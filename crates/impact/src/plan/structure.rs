@@ -60,7 +60,8 @@ impl StructurePlan {
 
 impl StructurePlan {
     /// The held nodes and how: clamped where all six unknowns are, pinned where the three
-    /// translations are (the supports as the model holds them, a `[beam]`'s ends lowered).
+    /// translations are (a fork's too: neither holds a bending moment), as the model holds
+    /// them (a `[beam]`'s ends lowered too).
     pub(crate) fn supports(&self) -> Vec<(usize, Support)> {
         let held = |node: usize, k: std::ops::Range<usize>| {
             k.into_iter().all(|k| self.model.dof(node, k).is_none())
@@ -888,12 +889,15 @@ fn build(
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
     mesh_at_impact(scene, (&sections, &stations, (e, k)), (face, pulse.duration), warnings);
-    // As a [beam]'s (`super::free_end`): the patch over a free end of the chain.
+    // As a [beam]'s (`super::free_end`): the patch over a free end of the chain (said once:
+    // a [beam] lowered onto a structure has said it).
+    let said = warnings.iter().any(|w| w.contains("from a free end of the beam"));
     let patch = (scene.ball.radius * pulse.max_approach).sqrt();
     let held =
         |end: f64| spec.supports.iter().any(|sp| (sp.at - end).abs() <= 1e-9 * total.max(1.0));
     let free_ends = [0.0, total].into_iter().filter(|end| !held(*end));
-    if let Some(distance) = free_ends.map(|end| (end - at).abs()).find(|d| *d < patch) {
+    let distance = free_ends.map(|end| (end - at).abs()).find(|d| *d < patch);
+    if let Some(distance) = distance.filter(|_| !said) {
         warnings.push(format!(
             "impact.at is {distance:.3e} m from a free end of the structure, within the contact radius (about {patch:.3e} m): the contact patch runs over the member's end, where the contact law (a half-space) does not hold, and the beam models load one point where the response changes fast with it (validation/REFERENCES.md 1.6); strike at least the contact radius inside the end for a result the models vouch for"
         ));

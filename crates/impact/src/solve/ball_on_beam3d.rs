@@ -221,6 +221,40 @@ pub(crate) fn struck_side(beam: &BeamModel, (up, face): (Vector3<f64>, Face), e:
     facing(beam, (up, face), e) * face.twist_sign()
 }
 
+/// A section's strains (Gamma1..3, K1..3) as the struck `face` sees them, `side` its pair's
+/// face the ball meets ([`struck_side`]): the planar beam's (extension, shear along the
+/// strike, bending curvature) and out of its plane (the lateral curvature, the twist rate,
+/// the other shear), so that the face's outer fibre strain is extension - (depth/2)
+/// curvature. On a thickness face whose + side (along E3)
+/// is struck, (Gamma1, Gamma3, -K2) (the fibre at z = t/2 strains by Gamma1 + z K2) and
+/// (K3, K1, Gamma2); on a width face (the fibre at y = w/2 strains by Gamma1 - y K3),
+/// (Gamma1, Gamma2, K3) and (K2, K1, Gamma3); the - side's negate the curvature.
+#[inline(always)]
+pub(crate) fn struck_strains(
+    face: Face,
+    side: f64,
+    [g0, g1, g2, k0, k1, k2]: [f64; 6],
+) -> ((f64, f64, f64), OutOfPlane) {
+    match face {
+        Face::Thickness => ((g0, g2, -side * k1), (k2, k0, g1)),
+        Face::Width => ((g0, g1, side * k2), (k1, k0, g2)),
+    }
+}
+
+/// The strains (Gamma1..3, K1..3) from [`struck_strains`]'s.
+#[inline(always)]
+pub(crate) fn strains_from_struck(
+    face: Face,
+    side: f64,
+    (planar, out_of_plane): ((f64, f64, f64), OutOfPlane),
+) -> [f64; 6] {
+    let ((g0, shear, curvature), (lateral, k0, other)) = (planar, out_of_plane);
+    match face {
+        Face::Thickness => [g0, other, shear, k0, -side * curvature, lateral],
+        Face::Width => [g0, shear, other, k0, lateral, side * curvature],
+    }
+}
+
 /// The unknowns and weights whose sum is the struck face's height along `up` at `(i, xi)`
 /// (element, local coordinate) of `beam`, `offset` (m) across the face: the two nodes'
 /// translations along `up`, interpolated linearly, and their rotations about the section axis
@@ -520,39 +554,6 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// rest) points along `up`, -1 where against it.
     pub(crate) fn facing(&self, e: usize) -> f64 {
         facing(&self.beam, (self.up, self.face), e)
-    }
-
-    /// Element `e`'s strains (Gamma1..3, K1..3) as the struck face sees them: the planar beam's
-    /// (extension, shear along the strike, bending curvature) and out of its plane (the
-    /// lateral curvature, the twist rate, the other shear), so that the face's outer fibre
-    /// strain is extension - (depth/2) curvature. On a thickness face whose + side (along E3)
-    /// is struck, (Gamma1, Gamma3, -K2) (the fibre at z = t/2 strains by Gamma1 + z K2) and
-    /// (K3, K1, Gamma2); on a width face (the fibre at y = w/2 strains by Gamma1 - y K3),
-    /// (Gamma1, Gamma2, K3) and (K2, K1, Gamma3); the - side's negate the curvature.
-    #[inline(always)]
-    pub(crate) fn struck_strains(
-        face: Face,
-        side: f64,
-        [g0, g1, g2, k0, k1, k2]: [f64; 6],
-    ) -> ((f64, f64, f64), OutOfPlane) {
-        match face {
-            Face::Thickness => ((g0, g2, -side * k1), (k2, k0, g1)),
-            Face::Width => ((g0, g1, side * k2), (k1, k0, g2)),
-        }
-    }
-
-    /// The strains (Gamma1..3, K1..3) from [`Self::struck_strains`]'s.
-    #[inline(always)]
-    pub(crate) fn strains_from_struck(
-        face: Face,
-        side: f64,
-        (planar, out_of_plane): ((f64, f64, f64), OutOfPlane),
-    ) -> [f64; 6] {
-        let ((g0, shear, curvature), (lateral, k0, other)) = (planar, out_of_plane);
-        match face {
-            Face::Thickness => [g0, other, shear, k0, -side * curvature, lateral],
-            Face::Width => [g0, shear, other, k0, lateral, side * curvature],
-        }
     }
 
     /// Per element, which of the struck faces' pair meets the ball ([`struck_side`]).

@@ -20,7 +20,7 @@
 //! interval in free flight), not searched between them: the maxima are the fe method's kind
 //! (values the field takes at those instants), not the analytic basis' certified ones.
 
-use super::ball_on_beam3d::{struck_side, Face};
+use super::ball_on_beam3d::{struck_side, struck_strains, Face};
 use super::fe_stress::{out_of_plane_factors, FeStress};
 use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::error::ImpactError;
@@ -361,14 +361,12 @@ impl BeamRecorder for FeRecovery {
         self.strains.evaluate(q, force, &mut self.values);
         for (e, slots) in self.slots.iter().enumerate() {
             let [extension, twist_rate, k2, k3] = slots.map(|k| k.map_or(0.0, |i| self.values[i]));
-            // The planar beam's (extension, shear, curvature) as the struck face sees them (as
-            // the fe method's 3D beam hands them over: `BallOnBeam3d::struck_strains`); the
-            // lateral bending adds at the worst corner.
-            let (bending, lateral) = match self.face {
-                Face::Thickness => (-self.sides[e] * k2, k3),
-                Face::Width => (self.sides[e] * k3, k2),
-            };
-            self.section_strains[e] = (extension, 0.0, bending);
+            // The planar beam's (extension, shear, curvature) as the struck face sees them, as
+            // the fe method's 3D beam hands them over; the lateral bending adds at the worst
+            // corner.
+            let all = [extension, 0.0, 0.0, twist_rate, k2, k3];
+            let (planar, (lateral, _, _)) = struck_strains(self.face, self.sides[e], all);
+            self.section_strains[e] = planar;
             self.lateral[e] = self.lateral_per_curvature[e] * lateral.abs();
             let tau = self.shear_per_rate[e] * twist_rate.abs();
             if tau > self.max_shear.0 {

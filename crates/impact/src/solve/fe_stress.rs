@@ -5,9 +5,13 @@
 //! the stress is recovered. On the struck face (+z at rest, the ball's side; w = -z), the fibre
 //! strain is extension - (h/2) kappa, so sigma = E (extension - (h/2) kappa): the bending stress
 //! M (h/2)/I with tension positive on the struck face, plus the axial stress N/A of the same
-//! fibre. A clamp's stress is extrapolated linearly from its two nearest midpoints; a pinned
-//! end holds no moment and reports its zero (its axial stress aside). The envelope is observed
-//! at every accepted step.
+//! fibre. A clamped end's stress is extrapolated linearly from its two nearest midpoints; a
+//! pinned end holds no moment and reports its zero (its axial stress aside); an interior
+//! support (a structure's) reports the larger of the extrapolations from its two sides (a
+//! clamp's moment jumps there). The envelope is observed at every accepted step. The field,
+//! when asked, holds every envelope point (the midpoints, the supports, the impact point) and
+//! the nodes between them (their elements' mean; a free end no moment), so that the
+//! report's largest stress is a point of it.
 //!
 //! **Under the ball.** The midpoints alone miss the peak of a moment with a kink: under the
 //! ball the moment's slope jumps by the contact force, and the midpoints on either side are
@@ -91,8 +95,9 @@ enum AtSupport {
 
 impl FeStress {
     /// The stress field of a beam on `nodes` (reference x, m) held at the nodes `held` (node,
-    /// how; `Free` an end that holds no moment: the field's zero there), struck at `impact` (element, local coordinate), whose stress may jump at the nodes
-    /// `breaks` (see the module text).
+    /// how; `Free` an end that holds no moment: the field's zero there), struck at `impact`
+    /// (element, local coordinate), whose stress may jump at the nodes `breaks` (see the
+    /// module text).
     pub(crate) fn new(
         nodes: &[f64],
         held: &[(usize, Support)],

@@ -299,7 +299,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
         BallOnBeam3d::largest_twist(self, q)
     }
-    /// The struck face's strains ([`BallOnBeam3d::struck_strains`]): on a `[beam]`'s thickness
+    /// The struck face's strains ([`super::ball_on_beam3d::struck_strains`]): on a `[beam]`'s thickness
     /// face (Gamma1, Gamma3, -K2), extension, the shear along the thickness and the bending
     /// curvature about the width axis, signed as the planar beam's (its rotation turns x
     /// toward z, a rotation about +y turns z toward x); out of the plane (K3, K1, Gamma2).
@@ -316,13 +316,17 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         let (face, sides) = (self.face(), self.sides());
         let taken = last_pass
             && self.last_pass_strains(|e, strains| {
-                (out[e], out_of_plane[e]) = Self::struck_strains(face, sides[e], strains);
+                (out[e], out_of_plane[e]) =
+                    super::ball_on_beam3d::struck_strains(face, sides[e], strains);
             });
         if !taken {
             self.beam().each_strain(&q.beam, |e, s| {
                 let (g, k) = (s.gamma, s.kappa);
-                (out[e], out_of_plane[e]) =
-                    Self::struck_strains(face, sides[e], [g[0], g[1], g[2], k[0], k[1], k[2]]);
+                (out[e], out_of_plane[e]) = super::ball_on_beam3d::struck_strains(
+                    face,
+                    sides[e],
+                    [g[0], g[1], g[2], k[0], k[1], k[2]],
+                );
             });
         }
     }
@@ -339,7 +343,8 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         let elements = beam.mesh().elements.iter().zip(strains).zip(out_of_plane).zip(self.sides());
         let strain: f64 = elements
             .map(|(((e, o), p), side)| {
-                let [g0, g1, g2, k0, k1, k2] = Self::strains_from_struck(face, *side, (*o, *p));
+                let [g0, g1, g2, k0, k1, k2] =
+                    super::ball_on_beam3d::strains_from_struck(face, *side, (*o, *p));
                 e.energy_of(&simo_beam::Strains {
                     gamma: nalgebra::Vector3::new(g0, g1, g2),
                     kappa: nalgebra::Vector3::new(k0, k1, k2),
