@@ -510,8 +510,10 @@ pub struct SolverSpec {
     /// Method.
     #[serde(default)]
     pub method: MethodName,
-    /// Number of modes (modal method, on a uniform `[beam]`'s analytic modes); default chosen
-    /// by the plan. The finite-element modes of a `[structure]` or of a beam with masses or
+    /// Number of modes (modal method, on a uniform `[beam]`'s analytic modes); default all
+    /// below omega t_c = 20 for the estimated contact duration t_c, or below 12 times the
+    /// contact's local frequency where that is higher (a ball heavy against the beam; the plan
+    /// says which). The finite-element modes of a `[structure]` or of a beam with masses or
     /// springs are all those below the pulse's cutoff: refused there (`tolerance` refines them).
     #[schemars(range(min = 1, max = 20_000))]
     pub modes: Option<usize>,

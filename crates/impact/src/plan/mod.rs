@@ -578,7 +578,9 @@ fn beam_method(
         Ok(Method::Fe(fe))
     } else {
         let (chosen, twin) = theory::choose(s.beam_theory, beam, both, pulse, reasons);
-        let mut plan = modal::plan(s, chosen, position, damping, pulse.duration, reasons)?;
+        let local =
+            modal::local_frequency(&chosen, (pulse.ball_mass, pulse.speed, pulse.max_approach));
+        let mut plan = modal::plan(s, chosen, position, damping, (pulse.duration, local), reasons)?;
         plan.twin = twin;
         if let Some(t) = torsion {
             reasons.push(format!(
