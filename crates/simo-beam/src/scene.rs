@@ -1163,6 +1163,16 @@ impl BeamScene {
                 }
                 positive("dynamic.duration", spec.duration, "s")?;
                 positive("dynamic.time_step", spec.time_step, "s")?;
+                if spec.time_step > spec.duration {
+                    return Err(invalid(
+                        "dynamic.time_step".into(),
+                        show(spec.time_step),
+                        &format!(
+                            "at most dynamic.duration ({} s): one step would be cut to the duration",
+                            show(spec.duration)
+                        ),
+                    ));
+                }
                 let steps = (spec.duration / spec.time_step).ceil();
                 if steps > 1e8 {
                     return Err(invalid(

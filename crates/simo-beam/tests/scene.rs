@@ -199,6 +199,12 @@ fn bad_beam_scenes_name_the_field() {
     for (from, to, expect) in [
         ("alpha = 0.0", "alpha = 0.2", "dynamic.alpha"),
         ("time_step = 0.05", "time_step = -0.05", "dynamic.time_step"),
+        // Longer than the duration: it had taken one step cut to the duration, silently.
+        (
+            "time_step = 0.05",
+            "time_step = 31.0",
+            "dynamic.time_step = 31: at most dynamic.duration (30 s)",
+        ),
         ("duration = 30.0", "duration = nan", "dynamic.duration"),
         ("mass_per_length = 1.0", "mass_per_length = 0.0", "section.mass_per_length"),
         (
