@@ -14,7 +14,7 @@ pub const MODE_CUTOFF: f64 = 20.0;
 /// Modes are kept up to this many times the contact's local frequency too (see
 /// [`local_frequency`]), where that is the higher cutoff: a ball heavy against the beam
 /// meets the beam's local response faster than its own rigid-support pulse. The paper's ball
-/// on its beam has omega t_c = 20 at 15.2 times its local frequency, so 12 leaves its modes
+/// on its beam has omega t_c = 20 at 15.3 times its local frequency, so 12 leaves its modes
 /// as they were; the review's 1 kg ball at 0.5 m/s on the same beam had 32 modes, 18 % over
 /// the converged peak force, and takes 107 now, 0.4 % over. With `solver.tolerance` the
 /// ladder starts from the pulse's count, as before, and finds its own.
@@ -127,9 +127,9 @@ pub(super) fn plan(
     let needed = modes_needed(&beam, (duration, local))?;
     let cutoff = if needed > by_pulse {
         reasons.push(format!("modes up to {LOCAL_CUTOFF} times the contact's local frequency {local:.4e} rad/s (the contact's stiffness against the beam's point stiffness), above omega t_c = {MODE_CUTOFF}'s {by_pulse}: the ball is heavy against the beam, whose local response sets the force's time scale (a 1 kg ball at 0.5 m/s on the paper's beam: 32 modes by the pulse were 18 % over the converged peak force)"));
-        format!("{LOCAL_CUTOFF} times the contact's local frequency")
+        format!("below {LOCAL_CUTOFF} times the contact's local frequency")
     } else {
-        format!("omega t_c <= {MODE_CUTOFF}")
+        format!("with omega t_c <= {MODE_CUTOFF} for the estimated contact duration")
     };
     // A pulse short against the beam's waves (a tiny ball) excites more modes than the method
     // takes: refused unless a count is given (it ran on 20000, clamped, for minutes).
@@ -166,7 +166,7 @@ pub(super) fn plan(
             ));
         }
         let tolerance = super::checked_tolerance(tolerance)?;
-        reasons.push(format!("modes from {needed} ({cutoff}), doubled until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (the estimated error of the finer is a third of their difference: Richardson at second order, where the paper's tip converges at about third order in the modes)"));
+        reasons.push(format!("modes from {needed} (all {cutoff}), doubled until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (the estimated error of the finer is a third of their difference: Richardson at second order, where the paper's tip converges at about third order in the modes)"));
         return Ok(ModalPlan {
             basis: ModalBasis::Analytic(beam),
             position,
@@ -185,13 +185,11 @@ pub(super) fn plan(
             return Err(invalid("solver.modes", n, &format!("must be at most {MAX_MODES}")))
         }
         Some(n) => {
-            reasons.push(format!("{n} modes, as asked ({cutoff} would need {needed})"));
+            reasons.push(format!("{n} modes, as asked (all {cutoff} would be {needed})"));
             n
         }
         None => {
-            reasons.push(format!(
-                "{needed} modes: all with {cutoff} for the estimated contact duration"
-            ));
+            reasons.push(format!("{needed} modes: all {cutoff}"));
             needed
         }
     };
