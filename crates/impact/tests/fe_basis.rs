@@ -179,6 +179,23 @@ fn the_twist_at_a_corner_is_read_about_each_member_s_own_axis() {
 }
 
 #[test]
+fn a_beam_left_a_mechanism_by_its_springs_is_refused_in_its_own_words() {
+    // A free-free strip on two springs along z: its 3D beam keeps 4 rigid-body motions (along
+    // x and y, about x and z), which the modal method would take linearised at rest. The
+    // refusal had spoken of "structure.support: no support"; it names the [beam]'s keys.
+    let text = "name = \"strip\"\n[beam]\nlength = 0.5\nwidth = 0.025\nthickness = 0.005\nsupport = \"free-free\"\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n[[beam.spring]]\nat = 0.0\nstiffness = 1e6\n[[beam.spring]]\nat = 0.5\nstiffness = 1e6\n[ball]\nradius = 0.005\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n[impact]\nposition = 0.4\nspeed = 1.0\ngravity = false\n[solver]\nmethod = \"modal\"\nend_time = 1e-4\n";
+    let err = Plan::new(&Scene::from_toml(text).unwrap()).unwrap_err().to_string();
+    assert!(
+        err.starts_with("beam.support = \"free-free\" with its springs")
+            && err.contains("4 rigid-body motion(s)")
+            && !err.contains("structure"),
+        "{err}"
+    );
+    let fe = text.replace("method = \"modal\"", "method = \"fe\"");
+    assert!(Plan::new(&Scene::from_toml(&fe).unwrap()).is_ok());
+}
+
+#[test]
 fn an_interior_support_of_a_structure_lists_its_stress() {
     // The frame pinned at its corner as well as clamped at its root, struck out of its plane
     // on the free member: the corner's stress is an interior support's, the larger of the

@@ -250,12 +250,8 @@ fn a_value_of_the_wrong_type_is_named_in_words_not_rust_types() {
     // The TOML reader says "expected usize" and "expected f64"; a scene's author wrote a
     // count or a number.
     for (from, to, expect) in [
-        (
-            "modes = 128",
-            "modes = 12.5",
-            "floating point `12.5`, expected a whole number, 0 or more",
-        ),
-        ("modes = 128", "modes = -4", "integer `-4`, expected a whole number, 0 or more"),
+        ("modes = 128", "modes = 12.5", "floating point `12.5`, expected a whole number (a count)"),
+        ("modes = 128", "modes = -4", "integer `-4`, expected a whole number (a count)"),
         ("radius = 0.005", "radius = \"5 mm\"", "string \"5 mm\", expected a number"),
     ] {
         let text = paper_tip();

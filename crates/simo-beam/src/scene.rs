@@ -113,8 +113,8 @@ fn show(value: f64) -> String {
 pub fn toml_message(error: &toml::de::Error) -> String {
     const WORDS: [(&str, &str); 8] = [
         (" as i128,", " (more than 64 bits),"),
-        ("expected usize", "expected a whole number, 0 or more"),
-        ("expected u64", "expected a whole number, 0 or more"),
+        ("expected usize", "expected a whole number (a count)"),
+        ("expected u64", "expected a whole number (a count)"),
         ("expected f64", "expected a number"),
         ("invalid type: sequence,", "invalid type: an array,"),
         ("expected a sequence", "expected an array"),

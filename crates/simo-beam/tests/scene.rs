@@ -146,7 +146,7 @@ fn bad_beam_scenes_name_the_field() {
         ),
         ("force = [0.0, 0.0, -10.0]", "force = [0.0, 0.0, -10.0, \"junk\"]", "expected a number"),
         // The reader's Rust type names in words: a count is a whole number, a value a number.
-        ("elements = 32", "elements = 2.5", "floating point `2.5`, expected a whole number, 0 or more"),
+        ("elements = 32", "elements = 2.5", "floating point `2.5`, expected a whole number (a count)"),
         ("elements = 32", "elements = 99999999999999999999", "(more than 64 bits), expected a whole"),
         ("load_steps = 10", "load_steps = \"ten\"", "string \"ten\", expected a whole number"),
         ("at = 0.0", "at = [0.0]", "invalid type: an array, expected a number"),

@@ -499,6 +499,15 @@ fn beam_method(
                             allowed,
                         }
                     }
+                    // A mechanism in the [beam]'s words: its supports and springs (along z).
+                    ImpactError::Inconsistent(m) if m.starts_with("the structure is a mechanism") => {
+                        let free = m.split(" leave ").nth(1).and_then(|r| r.split(' ').next());
+                        let name = SupportName::NAMES
+                            .iter()
+                            .find(|(_, s, _)| *s == beam.support)
+                            .map_or("", |(n, ..)| n);
+                        ImpactError::Inconsistent(format!("beam.support = \"{name}\" with its springs (along z, about the width axis): on its own modes, those of its 3D finite-element beam, {} rigid-body motion(s) stay free, which the modal method would take linearised at rest; hold the beam by its supports, or strike it by solver.method = \"fe\"", free.unwrap_or("some")))
+                    }
                     // Its springs are the [beam]'s, in order.
                     ImpactError::InvalidField { field, value, allowed }
                         if field.starts_with("structure.spring[") =>
