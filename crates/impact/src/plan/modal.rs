@@ -124,7 +124,12 @@ pub(super) fn plan(
     // the local frequency may ask for more.
     let by_pulse = modes_needed(&beam, (duration, 0.0))?;
     let local = if s.tolerance.is_some() { 0.0 } else { local };
-    let needed = modes_needed(&beam, (duration, local))?;
+    // Counted again only where the local cutoff is the higher.
+    let needed = if LOCAL_CUTOFF * local > MODE_CUTOFF / duration {
+        modes_needed(&beam, (duration, local))?
+    } else {
+        by_pulse
+    };
     let cutoff = if needed > by_pulse {
         reasons.push(format!("modes up to {LOCAL_CUTOFF} times the contact's local frequency {local:.4e} rad/s (the contact's stiffness against the beam's point stiffness), above omega t_c = {MODE_CUTOFF}'s {by_pulse}: the ball is heavy against the beam, whose local response sets the force's time scale (a 1 kg ball at 0.5 m/s on the paper's beam: 32 modes by the pulse were 18 % over the converged peak force)"));
         format!("below {LOCAL_CUTOFF} times the contact's local frequency")
