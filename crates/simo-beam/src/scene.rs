@@ -460,6 +460,8 @@ pub struct BeamRun {
     pub name: String,
     /// Arc length (m) of the tracked node.
     pub tracked_arc_length: f64,
+    /// Static (the history's first column a load factor) or dynamic (a time).
+    pub analysis: AnalysisName,
     /// History of the tracked node.
     pub history: Vec<TrackSample>,
     /// The final configuration.
@@ -1231,6 +1233,7 @@ impl BeamScene {
             warnings,
             name: self.name.clone(),
             tracked_arc_length: stations.0[track],
+            analysis: self.analysis,
             history,
             shape,
             unknowns: model.ndof(),
@@ -1242,15 +1245,20 @@ impl BeamScene {
 }
 
 impl BeamRun {
-    /// Writes the tracked node's history as CSV: `time_or_load` (s or -), `x_m`, `y_m`, `z_m`,
-    /// rotation vector `rx_rad`, `ry_rad`, `rz_rad`, `strain_energy_j`, `kinetic_energy_j`.
+    /// Writes the tracked node's history as CSV: `time_s` (dynamics) or `load_factor_-`
+    /// (statics), `x_m`, `y_m`, `z_m`, rotation vector `rx_rad`, `ry_rad`, `rz_rad`,
+    /// `strain_energy_j`, `kinetic_energy_j`.
     ///
     /// # Errors
     /// I/O errors of `out`.
     pub fn write_history_csv(&self, mut out: impl std::io::Write) -> std::io::Result<()> {
+        let first = match self.analysis {
+            AnalysisName::Static => "load_factor_-",
+            AnalysisName::Dynamic => "time_s",
+        };
         writeln!(
             out,
-            "time_or_load,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,strain_energy_j,kinetic_energy_j"
+            "{first},x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,strain_energy_j,kinetic_energy_j"
         )?;
         for s in &self.history {
             let [x, y, z] = s.position;

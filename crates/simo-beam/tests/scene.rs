@@ -35,6 +35,10 @@ fn mattiasson_scene_file_matches_the_elastica() {
     assert!(run.history.windows(2).all(|w| w[1].time_or_load > w[0].time_or_load));
     assert_eq!(run.shape.len(), 33);
     assert_eq!(run.shape[32].position, last.position);
+    // The history's first column is named with its unit: a load factor here.
+    let mut csv = Vec::new();
+    run.write_history_csv(&mut csv).unwrap();
+    assert!(String::from_utf8(csv).unwrap().starts_with("load_factor_-,x_m,"));
 }
 
 #[test]
@@ -67,6 +71,9 @@ fn right_angle_scene_file_is_the_benchmark_model() {
     s.dynamic.as_mut().unwrap().duration = 4.0;
     let run = s.run(|_| {}).unwrap();
     let (bench, _) = simo_beam::benchmarks::right_angle_cantilever(10, 0.05, 4.0).unwrap();
+    let mut csv = Vec::new();
+    run.write_history_csv(&mut csv).unwrap();
+    assert!(String::from_utf8(csv).unwrap().starts_with("time_s,x_m,"));
     assert_eq!(run.history.len(), bench.len());
     for (a, (t, z)) in run.history.iter().zip(&bench) {
         assert!((a.time_or_load - t).abs() < 1e-12);
