@@ -1256,10 +1256,7 @@ impl BeamRun {
             AnalysisName::Static => "load_factor_-",
             AnalysisName::Dynamic => "time_s",
         };
-        writeln!(
-            out,
-            "{first},x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,strain_energy_j,kinetic_energy_j"
-        )?;
+        writeln!(out, "{first},x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,strain_energy_j,kinetic_energy_j")?;
         for s in &self.history {
             let [x, y, z] = s.position;
             let [rx, ry, rz] = s.rotation;
