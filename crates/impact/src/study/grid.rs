@@ -347,9 +347,12 @@ impl Grid {
         cells.extend(self.point(i).iter().map(|(_, v)| cell(v)));
         match result {
             Ok(r) => {
-                cells.extend(
-                    scalars(r).iter().map(|x| x.map_or(String::new(), |v| format!("{v:.9e}"))),
-                );
+                cells.extend(scalars(r).iter().zip(COLUMNS).map(|(x, column)| match x {
+                    // A count is written as the whole number it is.
+                    Some(v) if column == "contact_count" => format!("{v:.0}"),
+                    Some(v) => format!("{v:.9e}"),
+                    None => String::new(),
+                }));
                 cells.push(String::new());
             }
             Err(why) => {
@@ -667,6 +670,18 @@ mod tests {
             toml::from_str(include_str!("../../../../validation/scenes/paper-tip.toml")).unwrap();
         let g = Grid::new(vec![Axis::parse("solver.modes=16:64:3", &[]).unwrap()]).unwrap();
         assert_eq!(g.scene(&beam, 1).unwrap().solver.modes, Some(40));
+    }
+
+    #[test]
+    fn a_row_writes_the_contact_count_as_a_whole_number_and_the_rest_with_ten_digits() {
+        // The half-space strike of validation/scenes/half-space-r10.toml: one contact.
+        let g = Grid::new(vec![Axis::parse("impact.speed=1", &[]).unwrap()]).unwrap();
+        let report = crate::simulate(&g.scene(&base(), 0).unwrap()).unwrap().report;
+        let row = g.row(0, Ok(&report));
+        let header = g.header();
+        let cell = |name: &str| &row[header.iter().position(|h| h == name).unwrap()];
+        assert_eq!(cell("contact_count"), "1");
+        assert_eq!(cell("impact_speed_m_s"), "1.000000000e0");
     }
 
     #[test]
