@@ -173,20 +173,24 @@ pub(crate) fn run(path: &Path, outputs: &Outputs<'_>) -> anyhow::Result<bool> {
             )?;
         }
     }
-    if let (Some(twist), Some(t)) = (r.max_twist, r.max_twist_time) {
+    // Twist lines only where something twisted (a centred strike on a structure's modes
+    // reports exact zeros), positions named as the stress's are.
+    let x = crate::plots::along(&r.plan).0;
+    let arc = if r.plan.structure { " (arc length)" } else { "" };
+    if let (Some(twist), Some(t)) = (r.max_twist.filter(|w| *w != 0.0), r.max_twist_time) {
         say!("largest twist of the struck section {twist:.4e} rad at t = {t:.4e} s")?;
     }
-    if let Some(w) = &r.largest_twist {
+    if let Some(w) = r.largest_twist.as_ref().filter(|w| w.max != 0.0) {
         say!(
-            "largest twist anywhere {:.4e} rad at s = {:.4} m (arc length), t = {:.4e} s",
+            "largest twist anywhere {:.4e} rad at {x} = {:.4} m{arc}, t = {:.4e} s",
             w.max,
             w.position,
             w.time
         )?;
     }
-    if let Some(w) = &r.torsion_shear {
+    if let Some(w) = r.torsion_shear.as_ref().filter(|w| w.max != 0.0) {
         say!(
-            "largest torsion shear stress {:.4e} Pa at s = {:.4} m, t = {:.4e} s",
+            "largest torsion shear stress {:.4e} Pa at {x} = {:.4} m{arc}, t = {:.4e} s",
             w.max,
             w.position,
             w.time
