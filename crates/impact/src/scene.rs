@@ -558,11 +558,14 @@ pub struct SolverSpec {
     /// Interval of the recorded history in free flight (s).
     #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "s"))]
     pub output_interval: Option<f64>,
-    /// Number of equal finite elements (fe method); default a mesh graded from the impact point.
+    /// Number of equal finite elements (fe method); default elements of `element_size` as far
+    /// from the impact point as the pulse's waves reach within the window, growing beyond.
     #[schemars(range(min = 1, max = 100_000))]
     pub elements: Option<usize>,
-    /// Element length at the impact point (m) of the graded mesh (fe method); default 1/16 of
-    /// the flexural wavelength at the fastest frequency the pulse excites.
+    /// Element length (m) of the default mesh (fe method) as far from the impact point as the
+    /// pulse's waves reach within the window (their group velocity at omega t_c = 20 times
+    /// `end_time`), the elements growing by 1.15 each beyond; default 1/16 of the flexural
+    /// wavelength at that frequency, the fastest the pulse excites.
     #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "m"))]
     pub element_size: Option<f64>,
     /// HHT alpha in [-1/3, 0] (fe method); default -0.05.

@@ -268,12 +268,13 @@ fn a_frame_forked_at_both_ends_is_held_where_pinned_ends_leave_a_mechanism() {
 fn a_beam_carrying_a_mass_and_a_spring_runs_by_its_own_modes() {
     // The paper's cantilever with a 20 g sensor at 0.9 m and a 2000 N/m spring at 0.5 m,
     // struck at 1.10 m, 5 mm off the centre line: by the modal method the [beam] is lowered to
-    // the [structure] it is (375 elements, a node at each attachment and at the ball; 383 modes
-    // below omega t_c = 20) and against the fe method's 3D beam at 368 equal elements. Measured
-    // over 2 ms: 41.173 against 41.184 us, 1107.13 against 1106.73 N (3.6e-4), the largest
-    // displacement at the impact point 3.6346e-4 against 3.6364e-4 m (5e-4), the twist of the
-    // struck section 1.9448e-3 against 1.9449e-3 rad. Over the first contact here, bounds
-    // 2e-3 (the two meshes differ; each is second order).
+    // the [structure] it is (748 elements of at most a sixteenth of the bending wave at the
+    // cutoff, a node at each attachment and at the ball; 259 modes below omega t_c = 20) and
+    // against the fe method's 3D beam at 736 equal elements. Measured over 2 ms: 41.188
+    // against 41.206 us, 1107.29 against 1107.21 N (8e-5), the largest displacement at the
+    // impact point 3.6453e-4 against 3.6458e-4 m (1.4e-4), the twist of the struck section
+    // 1.9409e-3 against 1.9403e-3 rad. Over the first contact here, bounds 2e-3 (the two
+    // meshes differ; each is second order).
     let text = |method: &str| {
         format!(
             "name = \"sensor\"\n[beam]\nlength = 1.15\nwidth = 0.025\nthickness = 0.005\nsupport = \"clamped-free\"\n\
@@ -286,7 +287,7 @@ fn a_beam_carrying_a_mass_and_a_spring_runs_by_its_own_modes() {
     };
     let run = |method: &str| simulate(&Scene::from_toml(&text(method)).unwrap()).unwrap().report;
     let modal = run("method = \"modal\"");
-    let fe = run("method = \"fe\"\nfe_model = \"3d\"\nelements = 368");
+    let fe = run("method = \"fe\"\nfe_model = \"3d\"\nelements = 736");
     assert!(modal.plan.reasons.iter().any(|r| r.contains(
         "modes from the beam's finite elements (solver.modal_basis = \"fe\", the default here)"
     )));
@@ -294,7 +295,7 @@ fn a_beam_carrying_a_mass_and_a_spring_runs_by_its_own_modes() {
     assert!(off(m.duration, f.duration) < 2e-3, "{} vs {}", m.duration, f.duration);
     assert!(off(m.peak_force, f.peak_force) < 2e-3, "{} vs {}", m.peak_force, f.peak_force);
     // The struck section's twist is still growing at the window's end (its peak is at 126 us):
-    // a value at one instant, 2.4e-3 apart (over 2 ms, at its peak, 5e-5).
+    // a value at one instant, 8.5e-4 apart (over 2 ms, at its peak, 3.2e-4).
     let (tm, tf) = (modal.max_twist.unwrap(), fe.max_twist.unwrap());
     assert!(off(tm, tf) < 5e-3, "{tm} vs {tf}");
     // Its static stiffness is the carried beam's own static solve (the spring included).
@@ -309,7 +310,7 @@ fn a_beam_carrying_a_mass_and_a_spring_runs_by_its_own_modes() {
     };
     let (modal_r, fe_r) = (
         sprung("method = \"modal\""),
-        sprung("method = \"fe\"\nfe_model = \"3d\"\nelements = 368"),
+        sprung("method = \"fe\"\nfe_model = \"3d\"\nelements = 736"),
     );
     let (m, f) = (&modal_r.contacts[0], &fe_r.contacts[0]);
     assert!(off(m.duration, f.duration) < 2e-3, "{} vs {}", m.duration, f.duration);

@@ -383,8 +383,7 @@ pub(super) fn plan(
     let Steps { alpha, samples, free_time_step, .. } = steps;
     let estimated_duration = pulse.duration;
     reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero (and it takes about 4.5x the time: validation/REFERENCES.md 1.9; solver.fe_model = \"3d\" forces it)".into());
-    let nodes =
-        with_nodes_at(mesh(s, &analytic, position, estimated_duration, reasons)?, &attachments);
+    let nodes = with_nodes_at(mesh(s, &analytic, position, pulse, reasons)?, &attachments);
     if !attachments.is_empty() {
         let places: Vec<String> = attachments
             .iter()
@@ -458,15 +457,17 @@ pub(super) fn model(
     Ok(three_d)
 }
 
-/// The node positions (m): `solver.elements` equal elements, or a mesh graded from the impact
-/// point from `solver.element_size` or from the flexural wavelength the pulse excites.
+/// The node positions (m): `solver.elements` equal elements, or elements of `solver.element_size`
+/// or of 1/16 of the flexural wavelength the pulse excites wherever its waves reach within the
+/// window, growing beyond (see [`FE_GROWTH`]).
 fn mesh(
     s: &SolverSpec,
     beam: &modal::Beam,
     position: f64,
-    estimated_duration: f64,
+    pulse: &Pulse,
     reasons: &mut Vec<String>,
 ) -> Result<Vec<f64>, ImpactError> {
+    let estimated_duration = pulse.duration;
     let length = beam.length();
     // Flexural wavelength at the fastest frequency the pulse excites (omega t_c = MODE_CUTOFF,
     // as for the modes): lambda = 2 pi (EI / rho A)^(1/4) / sqrt(omega).
@@ -506,9 +507,21 @@ fn mesh(
                 Some(h) => h.min(length),
                 None => (wavelength / FE_ELEMENTS_PER_WAVELENGTH).min(length / 16.0),
             };
-            // Elements needed: about log(1 + L (r - 1) / h0) / log(r) per side.
-            let estimate =
-                2.0 * (1.0 + length * (FE_GROWTH - 1.0) / h0).ln() / FE_GROWTH.ln() + 32.0;
+            // The waves the mesh is sized for (omega t_c <= MODE_CUTOFF) travel at most at their
+            // group velocity at the cutoff, 2 sqrt(omega) (EI / rho A)^(1/4) (Euler-Bernoulli's,
+            // above the Timoshenko beam's): within the window they reach no further from the
+            // ball, and no reflection of them either. Elements stay h0 long there; beyond they
+            // grow, where nothing the pulse sends arrives before the window ends.
+            let window =
+                s.end_time.filter(|t| t.is_finite() && *t > 0.0).unwrap_or(super::DEFAULT_END_TIME);
+            let group_velocity =
+                2.0 * omega.sqrt() * (beam.flexural_rigidity() / beam.mass_per_length()).powf(0.25);
+            let reach = group_velocity * window;
+            // Elements needed: those within the reach, and about log(1 + L (r - 1) / h0) / log(r)
+            // per side beyond.
+            let estimate = (2.0 * reach).min(length) / h0
+                + 2.0 * (1.0 + length * (FE_GROWTH - 1.0) / h0).ln() / FE_GROWTH.ln()
+                + 32.0;
             if estimate > MAX_ELEMENTS as f64 {
                 return Err(invalid(
                     "solver.element_size",
@@ -516,16 +529,18 @@ fn mesh(
                     "too small: the mesh would exceed 100000 elements",
                 ));
             }
-            let nodes = graded_nodes(length, position, h0, FE_GROWTH, length / 16.0);
+            let nodes = graded_nodes(length, position, (h0, reach), FE_GROWTH, length / 16.0);
             let why = if s.element_size.is_some() {
                 "as asked".to_string()
             } else {
                 format!("1/{FE_ELEMENTS_PER_WAVELENGTH} of the flexural wavelength {wavelength:.3e} m at omega t_c = {MODE_CUTOFF}")
             };
-            reasons.push(format!(
-                "{} elements graded from {h0:.3e} m at the impact point ({why}) growing by {FE_GROWTH} per element to at most L/16",
-                nodes.len() - 1
-            ));
+            let grading = if position - reach <= 0.0 && position + reach >= length {
+                format!("everywhere: the waves reach the whole beam within the window (at {group_velocity:.4e} m/s, the group velocity at omega t_c = {MODE_CUTOFF}, {reach:.3e} m in {window:.3e} s)")
+            } else {
+                format!("within {reach:.3e} m of the impact point, as far as the waves reach in the window ({group_velocity:.4e} m/s, the group velocity at omega t_c = {MODE_CUTOFF}, for {window:.3e} s), growing by {FE_GROWTH} per element beyond to at most L/16")
+            };
+            reasons.push(format!("{} elements of {h0:.3e} m ({why}) {grading}", nodes.len() - 1));
             Ok(nodes)
         }
     }
@@ -618,7 +633,7 @@ fn resolution(
             format!("about {:.0} % low", 100.0 * stress_error)
         };
         warnings.push(format!(
-            "{key}: elements of {at_impact:.3e} m at the impact point, {:.2} of the flexural wavelength the pulse excites ({wavelength:.3e} m): the contact force and the stress near the ball are not resolved (the largest stress {size}); the default mesh grades from {:.3e} m there, or set solver.tolerance",
+            "{key}: elements of {at_impact:.3e} m at the impact point, {:.2} of the flexural wavelength the pulse excites ({wavelength:.3e} m): the contact force and the stress near the ball are not resolved (the largest stress {size}); the default mesh has elements of {:.3e} m there, or set solver.tolerance",
             at_impact / wavelength,
             wavelength / FE_ELEMENTS_PER_WAVELENGTH
         ));
@@ -636,9 +651,15 @@ pub(crate) fn uniform(length: f64, n: usize) -> Vec<f64> {
     (0..=n).map(|i| length * i as f64 / n as f64).collect()
 }
 
-/// Nodes from 0 to `length` with a node at `centre`, element size `h0` there, growing by
-/// `growth` per element away from it up to `h_max`.
-fn graded_nodes(length: f64, centre: f64, h0: f64, growth: f64, h_max: f64) -> Vec<f64> {
+/// Nodes from 0 to `length` with a node at `centre`, element size `h0` within `flat` of it,
+/// growing by `growth` per element beyond up to `h_max`.
+fn graded_nodes(
+    length: f64,
+    centre: f64,
+    (h0, flat): (f64, f64),
+    growth: f64,
+    h_max: f64,
+) -> Vec<f64> {
     let side = |span: f64| -> Vec<f64> {
         // Offsets from the centre, the last exactly at `span`.
         let mut out = Vec::new();
@@ -646,7 +667,9 @@ fn graded_nodes(length: f64, centre: f64, h0: f64, growth: f64, h_max: f64) -> V
         while span - at > 1.5 * h {
             at += h;
             out.push(at);
-            h = (h * growth).min(h_max);
+            if at >= flat {
+                h = (h * growth).min(h_max);
+            }
         }
         if span > 0.0 {
             out.push(span);

@@ -20,6 +20,9 @@ pub use fe::{
     FE_LADDER_START, FE_SAMPLES_PER_PULSE,
 };
 pub use modal::{ModalBasis, ModalPlan, MODAL_LADDER_END, MODE_CUTOFF};
+
+/// A beam scene's window without `solver.end_time` (s): the paper's 5 ms.
+pub(crate) const DEFAULT_END_TIME: f64 = 0.005;
 pub use structure::FeBasis;
 pub use theory::{MIN_SLENDERNESS, MIN_WAVELENGTH, NEGLIGIBLE_CORRECTION, NOTABLE_CORRECTION};
 
@@ -362,6 +365,52 @@ fn checked_tolerance(tolerance: f64) -> Result<f64, ImpactError> {
     }
 }
 
+/// A carried `[beam]`'s modal plan on its own modes: the `[structure]` it is
+/// ([`structure::lowered`]), its errors in the `[beam]`'s words.
+fn own_modes(
+    scene: &Scene,
+    beam: &BeamSpec,
+    position: f64,
+    pulse: &Pulse,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) -> Result<ModalPlan, ImpactError> {
+    let (mut lowered, spec) = structure::lowered(scene, beam, position, pulse);
+    // Planned as the modal method's, whichever method the scene names (`auto`: its checks
+    // refuse what the modes cannot carry, and the caller falls back to the fe method).
+    lowered.solver.method = MethodName::Modal;
+    // The lowered scene's impact.at is the [beam]'s impact.position: named as written.
+    structure::modal_plan(&lowered, &spec, pulse, (reasons, warnings))
+        .map_err(|e| match e {
+            ImpactError::InvalidField { field, value, allowed } if field == "impact.at" => {
+                ImpactError::InvalidField {
+                    field: "impact.position".into(),
+                    value,
+                    allowed,
+                }
+            }
+            // A mechanism in the [beam]'s words: its supports and springs (along z).
+            ImpactError::Inconsistent(m) if m.starts_with("the structure is a mechanism") => {
+                let free = m.split(" leave ").nth(1).and_then(|r| r.split(' ').next());
+                let name = SupportName::NAMES
+                    .iter()
+                    .find(|(_, s, _)| *s == beam.support)
+                    .map_or("", |(n, ..)| n);
+                ImpactError::Inconsistent(format!("beam.support = \"{name}\" with its springs (along z, about the width axis): on its own modes, those of its 3D finite-element beam, {} rigid-body motion(s) stay free, which the modal method would take linearised at rest; hold the beam by its supports, or strike it by solver.method = \"fe\"", free.unwrap_or("some")))
+            }
+            // Its springs are the [beam]'s, in order.
+            ImpactError::InvalidField { field, value, allowed }
+                if field.starts_with("structure.spring[") =>
+            {
+                ImpactError::InvalidField {
+                    field: field.replacen("structure.spring[", "beam.spring[", 1),
+                    value,
+                    allowed,
+                }
+            }
+            e => e,
+        })
+}
+
 /// Whether the scene sets a key of the fe method only (`tolerance` is both methods').
 fn fe_keys(s: &SolverSpec) -> bool {
     s.elements.is_some()
@@ -488,44 +537,39 @@ fn beam_method(
             } else {
                 "modes from the beam's finite elements (solver.modal_basis = \"fe\", the default here): it carries point masses or springs, which the uniform beam's analytic modes do not hold; the [structure] it is (one member, a node at each attachment and at the impact point)".into()
             });
-            let (lowered, spec) = structure::lowered(scene, beam, position, pulse);
-            // The lowered scene's impact.at is the [beam]'s impact.position: named as written.
-            let mut plan = structure::modal_plan(&lowered, &spec, pulse, (reasons, warnings))
-                .map_err(|e| match e {
-                    ImpactError::InvalidField { field, value, allowed } if field == "impact.at" => {
-                        ImpactError::InvalidField {
-                            field: "impact.position".into(),
-                            value,
-                            allowed,
-                        }
-                    }
-                    // A mechanism in the [beam]'s words: its supports and springs (along z).
-                    ImpactError::Inconsistent(m) if m.starts_with("the structure is a mechanism") => {
-                        let free = m.split(" leave ").nth(1).and_then(|r| r.split(' ').next());
-                        let name = SupportName::NAMES
-                            .iter()
-                            .find(|(_, s, _)| *s == beam.support)
-                            .map_or("", |(n, ..)| n);
-                        ImpactError::Inconsistent(format!("beam.support = \"{name}\" with its springs (along z, about the width axis): on its own modes, those of its 3D finite-element beam, {} rigid-body motion(s) stay free, which the modal method would take linearised at rest; hold the beam by its supports, or strike it by solver.method = \"fe\"", free.unwrap_or("some")))
-                    }
-                    // Its springs are the [beam]'s, in order.
-                    ImpactError::InvalidField { field, value, allowed }
-                        if field.starts_with("structure.spring[") =>
-                    {
-                        ImpactError::InvalidField {
-                            field: field.replacen("structure.spring[", "beam.spring[", 1),
-                            value,
-                            allowed,
-                        }
-                    }
-                    e => e,
-                })?;
+            let mut plan = own_modes(scene, beam, position, pulse, (reasons, warnings))?;
             plan.damping = damping;
             return Ok(Method::Modal(plan));
         }
-        MethodName::Auto if !attachments.is_empty() => {
-            reasons.push("method fe (auto): the beam carries point masses or springs; the fe method models them on its graded mesh (on the paper's beam with a sensor and a spring, centred: 0.024 s against 0.43 s for the modal method on the beam's own modes, most of it their eigen-solution; solver.method = \"modal\" takes those)".into());
-            true
+        MethodName::Auto if !attachments.is_empty() && !large && !fe_keys(s) => {
+            // As a uniform beam's: the modal method where small-deflection theory holds, on the
+            // beam's own modes; the fe method where those cannot carry it (say why).
+            let kept = (reasons.len(), warnings.len());
+            // The deflection bound again with the carried beam's own static flexibility (its
+            // springs may hold less than the uniform beam's supports: a free-free beam on
+            // springs has none of its own).
+            let own = own_modes(scene, beam, position, pulse, (reasons, warnings)).and_then(|plan| {
+                let f = plan.static_flexibility().unwrap_or(0.0);
+                let deflection = (pulse.ball_mass * pulse.speed * pulse.speed * f).sqrt();
+                if deflection > LARGE_DEFLECTION * length {
+                    Err(ImpactError::Inconsistent(format!("the ball's energy could bend it {deflection:.3e} m at the impact point, more than {:.0} % of its length (sqrt(m V^2 / k), k its own static stiffness there): small-deflection theory does not hold", 100.0 * LARGE_DEFLECTION)))
+                } else {
+                    Ok((plan, deflection))
+                }
+            });
+            match own {
+                Ok((mut plan, deflection)) => {
+                    reasons.insert(kept.0, format!("method modal (auto): Goldsmith's modal series, exact between steps, on the beam's own modes, which hold its point masses and springs (its 3D finite elements': the [structure] it is, a node at each attachment and at the impact point); the ball's energy bends it at most {deflection:.3e} m (sqrt(m V^2 / k), k its own static stiffness), small against its length (on the paper's beam with a 20 g sensor and a 2000 N/m spring, centred, over 1 ms: 0.067 s against 0.125 s by the fe method; validation/REFERENCES.md 1.13)"));
+                    plan.damping = damping;
+                    return Ok(Method::Modal(plan));
+                }
+                Err(why) => {
+                    reasons.truncate(kept.0);
+                    warnings.truncate(kept.1);
+                    reasons.push(format!("method fe (auto): the beam carries point masses or springs, and its own modes cannot carry the modal method here: {why}"));
+                    true
+                }
+            }
         }
         MethodName::Fe => {
             reasons
@@ -982,7 +1026,7 @@ impl Plan {
 
         let default_end = match method {
             Method::HalfSpace => 4.0 * estimated_duration,
-            Method::Modal(_) | Method::Fe(_) => 0.005,
+            Method::Modal(_) | Method::Fe(_) => DEFAULT_END_TIME,
         };
         let end_time = match s.end_time {
             Some(t) => bounded("solver.end_time", t, range::TIME, "s")?,

@@ -82,7 +82,7 @@ pub fn run_with_progress(plan: &Plan, progress: Progress<'_>) -> Result<Outcome,
             None => plan.law.with(fe::FeRun { plan, target, progress })?,
         },
     };
-    Ok(warn_unchecked(plan, unchecked))
+    Ok(warn_unchecked(unchecked))
 }
 
 /// What an Euler-Bernoulli run leaves out, measured: the same run with the Timoshenko beam
@@ -130,7 +130,7 @@ fn measure_theory(
 /// has checked the later ones (on the paper's tip 128 modes get the first contact to 1e-4 but
 /// start the second and third 3 % and 4 % early against 2048). Says so when there are later
 /// significant contacts.
-fn warn_unchecked(plan: &Plan, mut out: Outcome) -> Outcome {
+fn warn_unchecked(mut out: Outcome) -> Outcome {
     let report = &mut out.report;
     let first_peak = report.contacts.first().map_or(0.0, |c| c.peak_force);
     let later = report
@@ -147,25 +147,6 @@ fn warn_unchecked(plan: &Plan, mut out: Outcome) -> Outcome {
         report.warnings.push(format!(
             "{resolution}: nothing checks the {later} later significant contact(s) against a finer run (the default resolution is sized for the first contact), and they may be off by several per cent: set solver.tolerance (and no modes or elements) to have the resolution refined until they agree"
         ));
-    }
-    // The fe default mesh is graded from the impact point: long elements elsewhere resolve
-    // the waves that load a support poorly (the paper's tip: 7.2 MPa at the clamp against
-    // 27.4 converged, validation/REFERENCES.md 1.5).
-    let graded = match &plan.method {
-        Method::Fe(fe) => {
-            let lengths = fe.nodes.windows(2).map(|w| w[1] - w[0]);
-            let (short, long) =
-                lengths.fold((f64::INFINITY, 0.0_f64), |(a, b), l| (a.min(l), b.max(l)));
-            long > 1.5 * short
-        }
-        _ => false,
-    };
-    if let (Some(stress), None, true) = (&report.bending_stress, report.estimated_error, graded) {
-        if !stress.supports.is_empty() {
-            report.warnings.push(format!(
-                "{resolution}: the bending stress at the supports is not checked against a finer mesh, and a mesh graded from the impact point resolves it poorly there (several times too low on the paper's tip): set solver.tolerance, or solver.elements for a uniform mesh"
-            ));
-        }
     }
     out
 }
