@@ -243,7 +243,7 @@ fn heavy_ball_is_planned_fe_and_the_modal_report_warns() {
 #[test]
 fn heavy_ball_first_contact_converges_in_the_step() {
     // The first contact of the heavy ball (8 kN, 427 us) with the adaptive contact step from
-    // 100 and 400 steps per estimated pulse: measured 427.33 / 426.75 us and 8025.1 / 8019.7 N
+    // 100 and 400 steps per estimated pulse: measured 427.29 / 426.71 us and 8022.3 / 8019.6 N
     // on the default mesh (301 elements of 3.6 mm where the waves reach in the window). The
     // contact is 430.9 us on 1024 equal elements and by the modal method refined to 1e-3; the
     // mesh graded to L/16 that the default was before left the waves unresolved 10 cm from the
@@ -488,4 +488,36 @@ fn the_stress_under_the_ball_is_extrapolated_to_the_impact_point() {
     assert!(off(fe256) < 3e-4, "{fe256} against {modal}");
     let default = midspan_stress("method = \"fe\"\nend_time = 0.0001");
     assert!(off(default) < 1e-3, "{default} against {modal}");
+}
+
+#[test]
+fn a_clamped_end_read_on_long_elements_warns_and_the_default_mesh_states_its_size() {
+    // The paper's tip over 1 ms (its waves reach the clamp: the default mesh is uniform, 747
+    // elements of at most 1.54 mm, a sixteenth of the 24.65 mm wave the pulse excites): it states
+    // the clamp's extrapolation error, 20 (h/lambda)^2 = 7.8 %, without a warning; on 64
+    // elements (18 mm, 0.73 of the wave) it warns and names 747 elements.
+    let plan = |solver: &str| {
+        let text = std::fs::read_to_string(format!(
+            "{}/../../validation/scenes/paper-tip.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+        .replace("method = \"modal\"\nmodes = 128\nend_time = 0.005", solver);
+        Plan::new(&Scene::from_toml(&text).unwrap()).unwrap()
+    };
+    let default = plan("method = \"fe\"\nend_time = 0.001");
+    assert_eq!(default.summary().elements, 747);
+    let reasons = default.summary().reasons.join("\n");
+    assert!(
+        reasons.contains("the clamped end at x = 0 m") && reasons.contains("= 7.8 %"),
+        "{reasons}"
+    );
+    assert!(!default.warnings().iter().any(|w| w.contains("clamped end")));
+    let coarse = plan("method = \"fe\"\nelements = 64\nend_time = 0.001");
+    let w = coarse.warnings().join("\n");
+    assert!(
+        w.contains("the clamped end at x = 0 m: its stress is not resolved")
+            && w.contains("solver.elements = 747 or more"),
+        "{w}"
+    );
 }

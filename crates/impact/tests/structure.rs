@@ -294,6 +294,30 @@ fn a_struck_segment_too_coarse_for_the_pulse_warns_by_its_key() {
 }
 
 #[test]
+fn a_clamp_read_on_elements_too_long_for_the_pulse_warns_with_what_it_measured() {
+    // The frame's clamp at 40 elements a member: 12.5 mm against the 24.65 mm bending wave
+    // the pulse excites, 0.51 of it: its stress is extrapolated from two midpoints that do not
+    // resolve that wave (against 16.23 MPa at 640 elements a member: +0.9, +5.8, -7.7, -0.6 %
+    // at 40, 80, 160, 320; a strip's clamp +16 % at 0.2 of the wave): warned, naming the
+    // segment and 325 elements (a sixteenth of the wave). At 320 (0.064) the plan states the
+    // size, 20 (h/lambda)^2 = 8.0 %, and does not warn. Not with solver.tolerance.
+    let said = |plan: &Plan| plan.warnings().iter().any(|w| w.contains("support at s = 0 m"));
+    let plan = Plan::new(&frame(&[]).unwrap()).unwrap();
+    let w = plan.warnings().join("\n");
+    assert!(
+        w.contains("the clamped support at s = 0 m: its stress is not resolved")
+            && w.contains("structure.segment[0].elements = 325 or more"),
+        "{w}"
+    );
+    let fine = Plan::new(&frame(&[("elements = 40", "elements = 320")]).unwrap()).unwrap();
+    assert!(!said(&fine), "{:?}", fine.warnings());
+    let reasons = fine.summary().reasons.join("\n");
+    assert!(reasons.contains("= 8.0 %"), "{reasons}");
+    let tolerant = ("end_time = 0.002", "end_time = 0.002\ntolerance = 0.01");
+    assert!(!said(&Plan::new(&frame(&[tolerant]).unwrap()).unwrap()));
+}
+
+#[test]
 fn a_width_face_strike_is_the_thickness_face_strike_of_the_section_turned_a_quarter() {
     // The frame struck on the free member's width face (in its plane, along -x) and the same
     // frame with width and thickness swapped and each member's thickness direction in the

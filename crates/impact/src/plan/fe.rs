@@ -467,13 +467,10 @@ fn mesh(
     pulse: &Pulse,
     reasons: &mut Vec<String>,
 ) -> Result<Vec<f64>, ImpactError> {
-    let estimated_duration = pulse.duration;
     let length = beam.length();
-    // Flexural wavelength at the fastest frequency the pulse excites (omega t_c = MODE_CUTOFF,
-    // as for the modes): lambda = 2 pi (EI / rho A)^(1/4) / sqrt(omega).
-    let omega = MODE_CUTOFF / estimated_duration;
-    let wavelength =
-        2.0 * PI * (beam.flexural_rigidity() / beam.mass_per_length()).powf(0.25) / omega.sqrt();
+    // The shortest wave the pulse excites (omega t_c = MODE_CUTOFF, as for the modes).
+    let (wavelength, group_velocity) =
+        shortest_wave(beam.flexural_rigidity(), beam.mass_per_length(), pulse.duration);
     if s.elements.is_some() && s.element_size.is_some() {
         return Err(ImpactError::Inconsistent("solver: give elements (a uniform mesh) or element_size (a mesh graded from the impact point), not both".into()));
     }
@@ -508,15 +505,11 @@ fn mesh(
                 None => (wavelength / FE_ELEMENTS_PER_WAVELENGTH).min(length / 16.0),
             };
             // The waves the mesh is sized for (omega t_c <= MODE_CUTOFF) travel at most at their
-            // group velocity at the cutoff, 2 sqrt(omega) (EI / rho A)^(1/4) (Euler-Bernoulli's,
-            // above the Timoshenko beam's): within the window they reach no further from the
+            // group velocity at the cutoff: within the window they reach no further from the
             // ball, and no reflection of them either. Elements stay h0 long there; beyond they
             // grow, where nothing the pulse sends arrives before the window ends.
-            let window =
-                s.end_time.filter(|t| t.is_finite() && *t > 0.0).unwrap_or(super::DEFAULT_END_TIME);
-            let group_velocity =
-                2.0 * omega.sqrt() * (beam.flexural_rigidity() / beam.mass_per_length()).powf(0.25);
-            let reach = group_velocity * window;
+            let reach = reach(s, group_velocity);
+            let window = reach / group_velocity;
             // Elements needed: those within the reach, and about log(1 + L (r - 1) / h0) / log(r)
             // per side beyond.
             let estimate = (2.0 * reach).min(length) / h0
@@ -558,6 +551,70 @@ pub(super) const STRESS_MESH_ERROR: f64 = 0.6;
 
 /// A mesh whose largest stress would be this much low or more is warned about.
 pub(super) const STRESS_MESH_WARNING: f64 = 0.05;
+
+/// A clamped end's stress and an interior support's are extrapolated from the two nearest
+/// midpoints (`solve::fe_stress`), whose error on a wave of length lambda is (3/8) h^2 sigma''
+/// = (3/8) (2 pi h/lambda)^2 = 14.8 (h/lambda)^2 of its amplitude. Measured where the shortest
+/// waves the pulse excites (lambda at omega t_c = 20) carry the support's largest: a 1 m strip
+/// clamped at 0 and pinned at 1 m struck at 0.3 m over 2 ms, its clamp's largest against the
+/// analytic modes' 36.84 MPa, +16, +5.0, +2.2 and +1.2 % at h/lambda = 0.20, 0.051, 0.034 and
+/// 0.025: about this times (h/lambda)^2 on the fine meshes. Where longer waves carry it, less:
+/// the frame of validation/scenes/frame-impact.toml, its clamp against 16.23 MPa at 640
+/// elements a member, +0.9, +5.8, -7.7 and -0.6 % at 0.51, 0.25, 0.13 and 0.064
+/// (validation/REFERENCES.md 1.5).
+pub(super) const SUPPORT_MESH_ERROR: f64 = 20.0;
+
+/// A support read on elements longer than this share of the shortest wave is warned about
+/// (an eighth: twice the default meshes' sixteenth; the strip's clamp +16 % at 0.2).
+pub(super) const SUPPORT_MESH_WARNING: f64 = 0.125;
+
+/// The flexural wavelength (m) at the fastest frequency the pulse of `duration` (s) excites
+/// (omega t_c = MODE_CUTOFF), and the group velocity there (m/s), on a section of `rigidity`
+/// EI (N m^2) and `mass` rho A (kg/m): lambda = 2 pi (EI / rho A)^(1/4) / sqrt(omega),
+/// c_g = 2 sqrt(omega) (EI / rho A)^(1/4) (Euler-Bernoulli's, above the Timoshenko beam's).
+pub(super) fn shortest_wave(rigidity: f64, mass: f64, duration: f64) -> (f64, f64) {
+    let omega = MODE_CUTOFF / duration;
+    let scale = (rigidity / mass).powf(0.25);
+    (2.0 * PI * scale / omega.sqrt(), 2.0 * omega.sqrt() * scale)
+}
+
+/// How far (m) the waves the meshes are sized for reach from the ball within the window:
+/// their group velocity `speed` at the cutoff times `solver.end_time` (its default when
+/// absent or invalid, which the plan refuses later). No reflection of them reaches further.
+pub(super) fn reach(s: &SolverSpec, speed: f64) -> f64 {
+    let window =
+        s.end_time.filter(|t| t.is_finite() && *t > 0.0).unwrap_or(super::DEFAULT_END_TIME);
+    speed * window
+}
+
+/// The plan's word on a support's stress read on elements `h` long (m) against the shortest
+/// wave `wavelength` (m): its size into the reasons, and a warning naming `key` and how many
+/// elements would do where they are longer than [`SUPPORT_MESH_WARNING`] of the wave.
+pub(super) fn support_mesh(
+    (what, key, elements): (&str, &str, usize),
+    (h, wavelength): (f64, f64),
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) {
+    let ratio = h / wavelength;
+    let measured = "(measured, validation/REFERENCES.md 1.5: +16 % on a strip's clamp at h/lambda = 0.2, +1.2 % at 0.025; where longer waves carry it, less)";
+    let size = if ratio <= SUPPORT_MESH_WARNING {
+        format!(
+            "can be off by up to about {SUPPORT_MESH_ERROR} (h/lambda)^2 = {:.1} %",
+            100.0 * SUPPORT_MESH_ERROR * ratio * ratio
+        )
+    } else {
+        "does not resolve them".to_string()
+    };
+    reasons.push(format!(
+        "{what}: its stress is extrapolated from the two nearest elements' midpoints ({h:.3e} m, {ratio:.3} of the shortest wave the pulse excites, {wavelength:.3e} m at omega t_c = {MODE_CUTOFF}), which {size} {measured}"
+    ));
+    if ratio > SUPPORT_MESH_WARNING {
+        let enough = (elements as f64 * ratio * FE_ELEMENTS_PER_WAVELENGTH).ceil();
+        warnings.push(format!(
+            "{what}: its stress is not resolved: it is extrapolated from the two nearest elements' midpoints, {h:.3e} m long, {ratio:.2} of the shortest wave the pulse excites ({wavelength:.3e} m), where it can be off by several per cent to tens of per cent {measured}; {key} = {enough} or more (a sixteenth of the wave, as the default meshes), or set solver.tolerance"
+        ));
+    }
+}
 
 /// Elements at least per half-wave of the first mode, below which the first mode (the
 /// swing: the largest displacement, the equivalent static force, the stress at the supports)
@@ -614,9 +671,8 @@ fn resolution(
         // The refinement chooses the meshes and checks them against each other.
         return Ok(());
     }
-    let omega = MODE_CUTOFF / estimated_duration;
-    let wavelength =
-        2.0 * PI * (beam.flexural_rigidity() / beam.mass_per_length()).powf(0.25) / omega.sqrt();
+    let (wavelength, group_velocity) =
+        shortest_wave(beam.flexural_rigidity(), beam.mass_per_length(), estimated_duration);
     let at_impact = nodes[element + 1] - nodes[element];
     let stress_error = STRESS_MESH_ERROR * (at_impact / wavelength).powi(2);
     let longest = nodes.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
@@ -643,6 +699,14 @@ fn resolution(
             "{key}: {per_half_wave:.1} elements per half-wave of the first mode ({half_wave:.3e} m), below {FIRST_MODE_ELEMENTS}: the beam's swing is not resolved (the largest displacement, the equivalent static force and the stress at the supports)"
         ));
     }
+    // A clamped end's stress, where the pulse's waves reach it within the window.
+    let within = reach(s, group_velocity);
+    for (end, support, h) in [(0, first, nodes[1] - nodes[0]), (n, last, nodes[n] - nodes[n - 1])] {
+        if support == Support::Clamped && (nodes[end] - position).abs() <= within {
+            let what = format!("the clamped end at x = {} m", nodes[end]);
+            support_mesh((&what, "solver.elements", n), (h, wavelength), (reasons, warnings));
+        }
+    }
     Ok(())
 }
 
@@ -661,7 +725,16 @@ fn graded_nodes(
     h_max: f64,
 ) -> Vec<f64> {
     let side = |span: f64| -> Vec<f64> {
-        // Offsets from the centre, the last exactly at `span`.
+        // Offsets from the centre, the last exactly at `span`: equal elements of at most h0
+        // where the side lies within `flat` (a support at its end is read on them).
+        if span <= flat {
+            let k = (span / h0).ceil().max(1.0) as usize;
+            return if span > 0.0 {
+                (1..=k).map(|i| span * i as f64 / k as f64).collect()
+            } else {
+                Vec::new()
+            };
+        }
         let mut out = Vec::new();
         let (mut at, mut h) = (0.0, h0);
         while span - at > 1.5 * h {

@@ -329,6 +329,67 @@ fn mesh_at_impact(
     }
 }
 
+/// The supports whose stress is extrapolated from midpoints (a clamp, an interior support; a
+/// pin at an end holds no moment): its size on the shortest wave the pulse excites into the
+/// reasons, warned where large (`super::fe::support_mesh`), where the waves reach it within the
+/// window (its arc length from the ball within their reach); the wave's section is that of the
+/// support's longer neighbouring element, bent across its thinner side (the shorter wave); not
+/// with `solver.tolerance`, whose meshes come later.
+fn supports_mesh(
+    scene: &Scene,
+    (sections, stations, segment_of): (&[[f64; 4]], &[f64], &[usize]),
+    (at, duration): (f64, f64),
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) {
+    let Some(st) = scene.structure.as_ref().filter(|_| scene.solver.tolerance.is_none()) else {
+        return;
+    };
+    let total = stations.last().copied().unwrap_or(0.0);
+    for sp in &st.supports {
+        let Some(node) = stations.iter().position(|x| (x - sp.at).abs() <= 1e-9 * total.max(1.0))
+        else {
+            continue;
+        };
+        let end = node == 0 || node + 1 == stations.len();
+        if end && sp.kind != Support::Clamped {
+            continue;
+        }
+        // The longer of its neighbouring elements.
+        let Some(e) = [node.checked_sub(1), (node + 1 < stations.len()).then_some(node)]
+            .into_iter()
+            .flatten()
+            .max_by(|a, b| {
+                (stations[a + 1] - stations[*a]).total_cmp(&(stations[b + 1] - stations[*b]))
+            })
+        else {
+            continue;
+        };
+        let [young, _, w, t] = sections[e];
+        let segment = segment_of[e];
+        let density = st.segments[segment]
+            .section
+            .as_ref()
+            .and_then(|own| own.density)
+            .or(st.section.density)
+            .unwrap_or(0.0);
+        if density <= 0.0 {
+            continue;
+        }
+        let (across, depth) = (w.max(t), w.min(t));
+        let rigidity = young * across * depth.powi(3) / 12.0;
+        let (wavelength, speed) = super::fe::shortest_wave(rigidity, density * w * t, duration);
+        if (sp.at - at).abs() > super::fe::reach(&scene.solver, speed) {
+            continue;
+        }
+        let what =
+            format!("the {} support at s = {} m", format!("{:?}", sp.kind).to_lowercase(), sp.at);
+        let key = format!("structure.segment[{segment}].elements");
+        let elements = st.segments[segment].elements;
+        let h = stations[e + 1] - stations[e];
+        super::fe::support_mesh((&what, &key, elements), (h, wavelength), (reasons, warnings));
+    }
+}
+
 /// A `[beam]` that carries masses or springs, written as the `[structure]` it is (one straight
 /// member along x, struck on its thickness face from +z, a node at each attachment and at the
 /// impact point), for the modal method on its finite-element basis. The mesh: elements of at
@@ -894,6 +955,12 @@ fn build(
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
     mesh_at_impact(scene, (&sections, &stations, (e, k)), (face, pulse.duration), warnings);
+    supports_mesh(
+        scene,
+        (&sections, &stations, &segment_of),
+        (at, pulse.duration),
+        (reasons, warnings),
+    );
     // As a [beam]'s (`super::free_end`): the patch over a free end of the chain (said once:
     // a [beam] lowered onto a structure has said it).
     let said = warnings.iter().any(|w| w.contains("from a free end of the beam"));
