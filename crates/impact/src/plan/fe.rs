@@ -568,6 +568,53 @@ pub(super) const SUPPORT_MESH_ERROR: f64 = 20.0;
 /// (an eighth: twice the default meshes' sixteenth; the strip's clamp +16 % at 0.2).
 pub(super) const SUPPORT_MESH_WARNING: f64 = 0.125;
 
+/// A torsion front (Saint-Venant torsion does not disperse: the twist the pulse's torque puts
+/// into the beam travels as a step of rise c_t t_c) crosses the mesh's elements, whose lumped
+/// rotary inertia disperses it (omega = (2 c_t/h) sin(k h/2)): after a distance D it trails
+/// oscillations of width sigma = (h^2 D/8)^(1/3) that overshoot its step by about
+/// `a exp(-b / r)`, r = sigma / (c_t t_c), t_c the plan's estimated duration. Fitted on the
+/// paper's strip pinned at both ends, struck at 0.4 m 10 mm off its centre line (t_c 41.2 us
+/// estimated, 47.1 us in the run), the struck section's twist against the exact wave
+/// solution's plateau e m dv / (2 sqrt(G J rho Ip)) = 1.602e-3 rad: 15, 3.4, 0.5 % at
+/// r = 0.32, 0.20, 0.13 (a front that travelled 1.5 m, 256 to 1024 elements), 7.2 and 1.1 % of
+/// a double step at 0.23 and 0.15 (2.3 m): validation/REFERENCES.md 1.9.
+pub(super) const TORSION_OVERSHOOT: (f64, f64) = (1.39, 0.713);
+
+/// A twist whose front may overshoot by this much or more is warned about.
+pub(super) const TORSION_WARNING: f64 = 0.02;
+
+/// The plan's word on the twist and torsion shear of `what` (a 3D run that twists) on elements
+/// up to `h` long (m), of a section whose torsion waves travel at `speed` (m/s), struck by a
+/// pulse of `duration` (s), over the window of `s`: the size into the reasons, a warning with
+/// the element length that would bring it under [`TORSION_WARNING`] (`advice` says how).
+pub(super) fn torsion_mesh(
+    (what, advice): (&str, &dyn Fn(f64) -> String),
+    (h, speed, duration): (f64, f64, f64),
+    s: &SolverSpec,
+    (reasons, warnings): (&mut Vec<String>, &mut Vec<String>),
+) {
+    let (a, b) = TORSION_OVERSHOOT;
+    let travel = reach(s, speed);
+    let rise = speed * duration;
+    let spread = (h * h * travel / 8.0).cbrt();
+    let overshoot = a * (-b * rise / spread).exp();
+    reasons.push(format!(
+        "{what}: torsion fronts (rise {rise:.3e} m, c_t t_c) travel up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes them overshoot their step by about {:.1} % (the twist and the torsion shear; validation/REFERENCES.md 1.9)",
+        100.0 * overshoot
+    ));
+    if overshoot >= TORSION_WARNING {
+        // sigma = r* rise with a exp(-b / r*) = TORSION_WARNING.
+        let r = b / (a / TORSION_WARNING).ln();
+        let enough = (8.0 * (r * rise).powi(3) / travel).sqrt();
+        warnings.push(format!(
+            "{what}: the twist and the torsion shear may be high by about {:.0} % of a torsion front's step where fronts have travelled far: a front of rise {rise:.3e} m (c_t t_c) travels up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes it overshoot (validation/REFERENCES.md 1.9); {} would bring that under {:.0} % (a shorter window too; the modal method's analytic torsion modes of a uniform [beam] do not disperse)",
+            100.0 * overshoot,
+            advice(enough),
+            100.0 * TORSION_WARNING
+        ));
+    }
+}
+
 /// The flexural wavelength (m) at the fastest frequency the pulse of `duration` (s) excites
 /// (omega t_c = MODE_CUTOFF), and the group velocity there (m/s), on a section of `rigidity`
 /// EI (N m^2) and `mass` rho A (kg/m): lambda = 2 pi (EI / rho A)^(1/4) / sqrt(omega),

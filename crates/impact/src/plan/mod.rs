@@ -625,8 +625,26 @@ fn beam_method(
     if use_fe {
         let mut fe =
             fe::plan(beam, s, m, position, damping, attachments, pulse, (reasons, warnings))?;
+        let speed = torsion.as_ref().map(::modal::Torsion::wave_speed);
         if fe::model(&mut fe, s.fe_model, offset, torsion, reasons)? {
             fe.structure = Some(Box::new(structure::of_beam(&fe, scene, pulse)?));
+        }
+        if let Some(speed) = speed {
+            // The longest element the torsion fronts cross within the window.
+            let within = fe::reach(s, speed);
+            let h = fe
+                .nodes
+                .windows(2)
+                .filter(|w| (w[0] - position).abs().min((w[1] - position).abs()) <= within)
+                .map(|w| w[1] - w[0])
+                .fold(0.0, f64::max);
+            let advice = |h: f64| format!("solver.element_size = {h:.3e} m");
+            fe::torsion_mesh(
+                ("the 3D beam", &advice),
+                (h, speed, pulse.duration),
+                s,
+                (reasons, warnings),
+            );
         }
         Ok(Method::Fe(fe))
     } else {

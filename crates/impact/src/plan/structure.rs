@@ -961,6 +961,33 @@ fn build(
         (at, pulse.duration),
         (reasons, warnings),
     );
+    // What twists: a strike off the centre line, a corner (one member's bending is the next
+    // one's twist) or an arc.
+    let twists = offset != 0.0
+        || spec.segments.len() > 1
+        || spec.segments.iter().any(|sg| sg.centre.is_some());
+    if twists && s.tolerance.is_none() {
+        let [_, shear, w, t] = sections[e];
+        let density =
+            spec.segments[k].section.as_ref().and_then(|own| own.density).or(spec.section.density);
+        let (b, c) = (w.max(t), w.min(t));
+        let r = c / b;
+        // Roark's J, as the 3D beam's section (`simo_beam::Section::rectangle`).
+        let j = b * c.powi(3) * (1.0 / 3.0 - 0.21 * r * (1.0 - r.powi(4) / 12.0));
+        let polar = (w * t.powi(3) + t * w.powi(3)) / 12.0;
+        if let Some(rho) = density.filter(|d| *d > 0.0) {
+            let speed = (shear * j / (rho * polar)).sqrt();
+            let h = stations.windows(2).map(|x| x[1] - x[0]).fold(0.0, f64::max);
+            let advice =
+                |h: f64| format!("elements of at most {h:.3e} m ({} in all)", (total / h).ceil());
+            super::fe::torsion_mesh(
+                ("the structure", &advice),
+                (h, speed, pulse.duration),
+                s,
+                (reasons, warnings),
+            );
+        }
+    }
     // As a [beam]'s (`super::free_end`): the patch over a free end of the chain (said once:
     // a [beam] lowered onto a structure has said it).
     let said = warnings.iter().any(|w| w.contains("from a free end of the beam"));
