@@ -282,6 +282,30 @@ fn an_fe_run_of_more_than_ten_million_steps_is_said_before_it_starts() {
 }
 
 #[test]
+fn an_fe_run_long_by_its_elements_is_said_before_it_starts() {
+    // A 0.5 mm ball at 10 m/s on 20 m of the paper's strip over 5 ms: its 2.2 us pulse sends
+    // waves of 11 mm, the default mesh's elements are a sixteenth of that wherever they reach
+    // (the whole beam: 61 m in the window), 56456 of them, and 4.6e5 steps: fewer than ten
+    // million, but 13 minutes at 31 ns a step and element; said before it starts, with what
+    // shortens it.
+    let text = "name = \"long\"\n[beam]\nlength = 20.0\nwidth = 0.025\nthickness = 0.005\nsupport = \"clamped-free\"\n\
+                youngs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n\
+                [ball]\nradius = 0.0005\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n\
+                [impact]\nposition = 10.0\nspeed = 10.0\ngravity = false\n[solver]\nmethod = \"fe\"\nend_time = 0.005\n";
+    let plan = Plan::new(&Scene::from_toml(text).unwrap()).unwrap();
+    let warning = plan.long_run().expect("a long-run warning");
+    assert!(
+        warning.contains("on 56456 elements, about 13 min")
+            && warning.contains("or fewer elements"),
+        "{warning}"
+    );
+    // A millisecond of the same: 2.6 min.
+    let short = text.replace("end_time = 0.005", "end_time = 0.001");
+    let plan = Plan::new(&Scene::from_toml(&short).unwrap()).unwrap();
+    assert!(plan.long_run().is_some_and(|w| w.contains("about 3 min")), "{:?}", plan.long_run());
+}
+
+#[test]
 fn a_pulse_that_excites_more_modes_than_the_modal_method_takes_is_refused_or_goes_to_fe() {
     // A 10 um ball: its 60 ns pulse excites 65 thousand modes of the paper's beam below
     // omega t_c = 20 (the plan clamped the count to 20000 and ran for minutes).

@@ -78,21 +78,50 @@ pub const MAX_HISTORY_ROWS: f64 = 1e7;
 /// 3D on a 2-core machine, validation/REFERENCES.md 1.9), so minutes or more.
 pub const LONG_RUN_STEPS: f64 = 1e7;
 
+/// The estimated seconds of an fe run beyond which the plan warns of its length, from its
+/// steps and elements at [`STEP_SECONDS`] a step and element (a long beam meshed for a short
+/// pulse: many elements, each step all of them).
+pub const LONG_RUN_SECONDS: f64 = 60.0;
+
+/// Seconds a step takes per element on the 2-core machine, planar and 3D (the paper's tip at
+/// 256 elements: 8 and 37 us a step; validation/REFERENCES.md 1.9).
+const STEP_SECONDS: (f64, f64) = (8e-6 / 256.0, 37e-6 / 256.0);
+
 /// How the long run's warning starts (see [`Plan::long_run`]).
 const LONG_RUN: &str = "a long run: ";
 
-/// Warns where an fe run to `end_time` takes more than [`LONG_RUN_STEPS`] steps, with what
-/// sets the step and what shortens the run (a ball of a micrometre on a metre of beam: a
-/// contact of nanoseconds, a step of a fraction of it).
+/// Warns where an fe run to `end_time` takes more than [`LONG_RUN_STEPS`] steps or about
+/// [`LONG_RUN_SECONDS`], with what sets the steps and the elements and what shortens the run
+/// (a ball of a micrometre on a metre of beam: a contact of nanoseconds, a step of a fraction
+/// of it; a long beam under a short pulse: elements of a fraction of a millimetre).
 fn long_run(fe: &FePlan, end_time: f64, estimated_duration: f64, warnings: &mut Vec<String>) {
     let steps = end_time / fe.free_time_step;
-    if steps > LONG_RUN_STEPS {
+    let elements = fe
+        .nodes
+        .len()
+        .saturating_sub(1)
+        .max(fe.structure.as_ref().map_or(0, |st| st.model.mesh().elements.len()));
+    let per = if fe.three_d() { STEP_SECONDS.1 } else { STEP_SECONDS.0 };
+    let seconds = steps * elements as f64 * per;
+    if steps > LONG_RUN_STEPS || seconds > LONG_RUN_SECONDS {
         let samples = fe.samples_per_pulse;
         warnings.push(format!(
-            "{LONG_RUN}solver.end_time = {} s takes at least {steps:.1e} HHT steps of up to {:.3e} s (the contact step is 1/{samples} of the estimated contact duration {estimated_duration:.3e} s, which the ball, the face and the contact law set; each step solves the whole beam, about 8 us planar and 37 us in 3D at 256 elements on a 2-core machine); a shorter solver.end_time, fewer solver.samples_per_pulse, or a longer solver.time_step out of contact shortens it",
+            "{LONG_RUN}solver.end_time = {} s takes at least {steps:.1e} HHT steps of up to {:.3e} s on {elements} elements, about {} on a 2-core machine (the contact step is 1/{samples} of the estimated contact duration {estimated_duration:.3e} s, which the ball, the face and the contact law set; each step solves all the elements, about 8 us planar and 37 us in 3D at 256 of them); a shorter solver.end_time, fewer solver.samples_per_pulse, a longer solver.time_step out of contact, or fewer elements shortens it",
             show(end_time),
             fe.free_time_step,
+            duration_words(seconds),
         ));
+    }
+}
+
+/// A run's estimated duration in words: seconds, minutes or hours.
+fn duration_words(seconds: f64) -> String {
+    if seconds < 120.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 7200.0 {
+        format!("{:.0} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
     }
 }
 /// Bytes a history row takes (its eleven f64 columns).
