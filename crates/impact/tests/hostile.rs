@@ -285,9 +285,9 @@ fn an_fe_run_of_more_than_ten_million_steps_is_said_before_it_starts() {
 fn an_fe_run_long_by_its_elements_is_said_before_it_starts() {
     // A 0.5 mm ball at 10 m/s on 20 m of the paper's strip over 5 ms: its 2.2 us pulse sends
     // waves of 11 mm, the default mesh's elements are a sixteenth of that wherever they reach
-    // (the whole beam: 61 m in the window), 56456 of them, and 4.6e5 steps: fewer than ten
-    // million, but 13 minutes at 31 ns a step and element; said before it starts, with what
-    // shortens it.
+    // (the whole beam: its waves reach 26 m in the window), 56456 of them, and 4.6e5 steps:
+    // fewer than ten million, but some 24 minutes at 55 ns a step and element; said before it
+    // starts, with what shortens it.
     let text = "name = \"long\"\n[beam]\nlength = 20.0\nwidth = 0.025\nthickness = 0.005\nsupport = \"clamped-free\"\n\
                 youngs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n\
                 [ball]\nradius = 0.0005\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n\
@@ -295,14 +295,15 @@ fn an_fe_run_long_by_its_elements_is_said_before_it_starts() {
     let plan = Plan::new(&Scene::from_toml(text).unwrap()).unwrap();
     let warning = plan.long_run().expect("a long-run warning");
     assert!(
-        warning.contains("on 56456 elements, about 13 min")
+        warning.contains("on 56456 elements, about 24 min")
             && warning.contains("or fewer elements"),
         "{warning}"
     );
-    // A millisecond of the same: 2.6 min.
+    // A millisecond of the same: the waves reach 5.2 m each way, fewer elements and steps.
     let short = text.replace("end_time = 0.005", "end_time = 0.001");
     let plan = Plan::new(&Scene::from_toml(&short).unwrap()).unwrap();
-    assert!(plan.long_run().is_some_and(|w| w.contains("about 3 min")), "{:?}", plan.long_run());
+    let warning = plan.long_run().expect("a long-run warning");
+    assert!(warning.contains("on 29308 elements, about 2 min"), "{warning}");
 }
 
 #[test]
@@ -325,5 +326,48 @@ fn a_pulse_that_excites_more_modes_than_the_modal_method_takes_is_refused_or_goe
         auto.summary().reasons.iter().any(|r| r.contains("more of the beam's modes")),
         "{:?}",
         auto.summary().reasons
+    );
+}
+
+#[test]
+fn a_default_mesh_too_large_is_refused_naming_what_sets_it() {
+    // A 0.5 mm ball at 20 m/s on 40 m of the paper's strip: its waves are 5.3 mm long and
+    // travel at the bar velocity (the group velocity at the cutoff, 1.8e4 m/s by
+    // Euler-Bernoulli, is more than any wave in a Timoshenko beam), 40 m in the default 5 ms:
+    // the default mesh would need 121186 elements. Refused in the words of what sets it (the
+    // window, the pulse), not as a solver.element_size the scene does not give; carried, the
+    // [beam]'s own modes would need 114963 elements between two attachments, said in the
+    // [beam]'s words, not a lowering's structure.segment key.
+    let scene = |extra: &str, method: &str| {
+        format!(
+            "name = \"huge\"\n[beam]\nlength = 40.0\nwidth = 0.025\nthickness = 0.005\nsupport = \"pinned-pinned\"\n\
+             youngs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n{extra}\
+             [ball]\nradius = 0.0005\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n\
+             [impact]\nposition = 1.0\nspeed = 20.0\ngravity = false\n[solver]\nmethod = \"{method}\"\n"
+        )
+    };
+    let refused =
+        |text: String| Plan::new(&Scene::from_toml(&text).unwrap()).unwrap_err().to_string();
+    let e = refused(scene("", "fe"));
+    assert!(
+        e.contains("the default mesh would need about 121186 elements")
+            && e.contains("over the 4.000e1 m its waves reach")
+            && e.contains("a shorter solver.end_time")
+            && !e.contains("solver.element_size ="),
+        "{e}"
+    );
+    let e = refused(scene("[[beam.mass]]\nat = 2.0\nmass = 0.01\n", "modal"));
+    assert!(
+        e.contains("the [beam]'s own modes would be solved on 114963 elements")
+            && !e.contains("structure.segment"),
+        "{e}"
+    );
+    // A millisecond: the waves reach 5.2 m at the bar velocity, and the mesh is planned.
+    let short = scene("", "fe").replace("method = \"fe\"\n", "method = \"fe\"\nend_time = 0.001\n");
+    let plan = Plan::new(&Scene::from_toml(&short).unwrap()).unwrap();
+    let reasons = plan.summary().reasons.join("\n");
+    assert!(
+        reasons.contains("(5.1722e3 m/s, the group velocity at that frequency or the bar velocity"),
+        "{reasons}"
     );
 }

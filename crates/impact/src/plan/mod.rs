@@ -79,13 +79,15 @@ pub const MAX_HISTORY_ROWS: f64 = 1e7;
 pub const LONG_RUN_STEPS: f64 = 1e7;
 
 /// The estimated seconds of an fe run beyond which the plan warns of its length, from its
-/// steps and elements at [`STEP_SECONDS`] a step and element (a long beam meshed for a short
+/// steps and elements at 55 ns a step and element planar (a long beam meshed for a short
 /// pulse: many elements, each step all of them).
 pub const LONG_RUN_SECONDS: f64 = 60.0;
 
-/// Seconds a step takes per element on the 2-core machine, planar and 3D (the paper's tip at
-/// 256 elements: 8 and 37 us a step; validation/REFERENCES.md 1.9).
-const STEP_SECONDS: (f64, f64) = (8e-6 / 256.0, 37e-6 / 256.0);
+/// Seconds a step takes per element on the 2-core machine, planar and 3D, on the large meshes
+/// a long run has: planar, 31 ns on the paper's tip at 256 elements, 55 ns at 6199 (a 3 m
+/// strip struck by a 0.5 mm ball: 21076 steps in 7.2 s), as the state outgrows the caches;
+/// 3D 145 ns at 256 (validation/REFERENCES.md 1.9), taken in the same proportion.
+const STEP_SECONDS: (f64, f64) = (55e-9, 55e-9 * 145.0 / 31.0);
 
 /// How the long run's warning starts (see [`Plan::long_run`]).
 const LONG_RUN: &str = "a long run: ";
@@ -266,6 +268,27 @@ struct Pulse {
     max_approach: f64,
 }
 
+impl Pulse {
+    /// The fastest frequency (rad/s) the impact makes a section of bending stiffness
+    /// `rigidity` EI (N m^2) and mass `mass` rho A (kg/m) answer at: omega t_c = MODE_CUTOFF,
+    /// or [`modal::LOCAL_CUTOFF`] times the contact's local frequency where that is higher (a
+    /// ball heavy against the beam meets its local response faster than its own pulse). The
+    /// modes are kept to it, and the meshes are sized for it.
+    fn fastest(&self, rigidity: f64, mass: f64) -> f64 {
+        let local = modal::section_local_frequency(
+            (rigidity, mass),
+            (self.ball_mass, self.speed, self.max_approach),
+        );
+        (MODE_CUTOFF / self.duration).max(modal::LOCAL_CUTOFF * local)
+    }
+
+    /// The duration whose omega t_c = MODE_CUTOFF is [`Pulse::fastest`] (s): the pulse's own
+    /// but for a heavy ball, the time scale the meshes are sized for.
+    fn sized(&self, rigidity: f64, mass: f64) -> f64 {
+        MODE_CUTOFF / self.fastest(rigidity, mass)
+    }
+}
+
 /// A material from its fields under `prefix` (`ball`, `beam`, `half_space`).
 fn material(
     prefix: &str,
@@ -425,6 +448,12 @@ fn own_modes(
                     .find(|(_, s, _)| *s == beam.support)
                     .map_or("", |(n, ..)| n);
                 ImpactError::Inconsistent(format!("beam.support = \"{name}\" with its springs (along z, about the width axis): on its own modes, those of its 3D finite-element beam, {} rigid-body motion(s) stay free, which the modal method would take linearised at rest; hold the beam by its supports, or strike it by solver.method = \"fe\"", free.unwrap_or("some")))
+            }
+            // Its mesh is the lowering's, not a key of the [beam]'s.
+            ImpactError::InvalidField { field, value, .. }
+                if field.starts_with("structure.segment[") && field.ends_with(".elements") =>
+            {
+                ImpactError::Inconsistent(format!("the [beam]'s own modes would be solved on {value} elements between two of its attachments (a sixteenth of the shortest wave the impact excites), more than 100000: strike it by solver.method = \"fe\", whose mesh covers only where the waves reach within the window"))
             }
             // Its springs are the [beam]'s, in order.
             ImpactError::InvalidField { field, value, allowed }
@@ -654,6 +683,8 @@ fn beam_method(
     if use_fe {
         let mut fe =
             fe::plan(beam, s, m, position, damping, attachments, pulse, (reasons, warnings))?;
+        // A beam without attachments has the modal method's analytic torsion modes.
+        let uniform = fe.attachments.is_empty();
         let speed = torsion.as_ref().map(::modal::Torsion::wave_speed);
         if fe::model(&mut fe, s.fe_model, offset, torsion, reasons)? {
             fe.structure = Some(Box::new(structure::of_beam(&fe, scene, pulse)?));
@@ -667,7 +698,13 @@ fn beam_method(
                 .filter(|w| (w[0] - position).abs().min((w[1] - position).abs()) <= within)
                 .map(|w| w[1] - w[0])
                 .fold(0.0, f64::max);
-            let advice = |h: f64| format!("solver.element_size = {h:.3e} m");
+            let advice = |h: f64| {
+                if uniform {
+                    format!("solver.element_size = {h:.3e} m, or the modal method (the uniform beam's analytic torsion modes do not disperse)")
+                } else {
+                    format!("solver.element_size = {h:.3e} m")
+                }
+            };
             fe::torsion_mesh(
                 ("the 3D beam", &advice),
                 (h, speed, pulse.duration),

@@ -25,10 +25,18 @@ pub(super) const LOCAL_CUTOFF: f64 = 12.0;
 /// point stiffness of an infinite Euler-Bernoulli beam, |K| = 4 sqrt(2) EI beta^3 with
 /// beta^4 = rho A omega^2 / EI (Graff, Wave Motion in Elastic Solids, 3.4): the contact force
 /// varies on that time scale when the beam's local response, not the ball, sets it.
-pub(crate) fn local_frequency(beam: &modal::Beam, (mass, speed, approach): (f64, f64, f64)) -> f64 {
+pub(crate) fn local_frequency(beam: &modal::Beam, ball: (f64, f64, f64)) -> f64 {
+    section_local_frequency((beam.flexural_rigidity(), beam.mass_per_length()), ball)
+}
+
+/// [`local_frequency`] on a section of bending stiffness EI (N m^2) and mass rho A (kg/m).
+pub(crate) fn section_local_frequency(
+    (rigidity, mass_per_length): (f64, f64),
+    (mass, speed, approach): (f64, f64, f64),
+) -> f64 {
     let contact = 15.0 / 8.0 * mass * speed * speed / (approach * approach);
-    let beta = (contact / (4.0 * std::f64::consts::SQRT_2 * beam.flexural_rigidity())).cbrt();
-    beta * beta * (beam.flexural_rigidity() / beam.mass_per_length()).sqrt()
+    let beta = (contact / (4.0 * std::f64::consts::SQRT_2 * rigidity)).cbrt();
+    beta * beta * (rigidity / mass_per_length).sqrt()
 }
 
 /// Where a modal plan's modes come from.

@@ -32,6 +32,9 @@ pub(crate) struct StructurePlan {
     /// The rigid-body modes the supports leave free: 0 where they hold the structure,
     /// [`FREE_BODY`] for a free body, between for a mechanism (refused by the modal method).
     pub(crate) rigid_modes: usize,
+    /// The fastest frequency the impact makes the struck section answer at (rad/s,
+    /// `Pulse::fastest`): the modes' cutoff.
+    pub(crate) fastest: f64,
     /// The scene and pulse it was made from, and its elements: a refinement rebuilds it with
     /// every segment's elements multiplied ([`StructurePlan::refined`]).
     source: Box<(Scene, Pulse)>,
@@ -211,7 +214,8 @@ pub(super) fn modal_plan(
     if let Some(st) = &fe.structure {
         modes_keep_springs(spec, &st.sections, &fe.nodes)?;
     }
-    let basis = FeBasis::new(fe, MODE_CUTOFF / pulse.duration)?;
+    let cutoff = fe.structure.as_ref().map_or(MODE_CUTOFF / pulse.duration, |st| st.fastest);
+    let basis = FeBasis::new(fe, cutoff)?;
     reasons.extend(basis.reduction());
     let static_flexibility = basis.static_flexibility();
     let residual_flexibility = s.residual_flexibility.unwrap_or(true);
@@ -377,7 +381,9 @@ fn supports_mesh(
         }
         let (across, depth) = (w.max(t), w.min(t));
         let rigidity = young * across * depth.powi(3) / 12.0;
-        let (wavelength, speed) = super::fe::shortest_wave(rigidity, density * w * t, duration);
+        let bar = (young / density).sqrt();
+        let (wavelength, speed) =
+            super::fe::shortest_wave(rigidity, density * w * t, duration, bar);
         if (sp.at - at).abs() > super::fe::reach(&scene.solver, speed) {
             continue;
         }
@@ -408,7 +414,7 @@ pub(super) fn lowered(
     let length = beam.length;
     let area = beam.width * beam.thickness;
     let ei = beam.youngs_modulus * beam.width * beam.thickness.powi(3) / 12.0;
-    let cutoff = MODE_CUTOFF / pulse.duration;
+    let cutoff = pulse.fastest(ei, beam.density * area);
     let wavenumber = (beam.density * area * cutoff * cutoff / ei).powf(0.25);
     let size = (2.0 * std::f64::consts::PI / wavenumber / super::fe::FE_ELEMENTS_PER_WAVELENGTH)
         .min(length / 64.0);
@@ -519,6 +525,10 @@ pub(super) fn of_beam(
         half_depth,
         sections: vec![[m.youngs_modulus, m.shear_modulus, fe.width, fe.thickness]; elements],
         rigid_modes,
+        fastest: pulse.fastest(
+            m.youngs_modulus * fe.width * fe.thickness.powi(3) / 12.0,
+            m.density * fe.width * fe.thickness,
+        ),
         source: Box::new((source, *pulse)),
         base_elements: elements,
     })
@@ -954,18 +964,30 @@ fn build(
         if face == Face::Thickness { "thickness" } else { "width" },
         if offset != 0.0 { format!(", {offset} m across the width") } else { String::new() }
     ));
-    mesh_at_impact(scene, (&sections, &stations, (e, k)), (face, pulse.duration), warnings);
-    supports_mesh(
-        scene,
-        (&sections, &stations, &segment_of),
-        (at, pulse.duration),
-        (reasons, warnings),
-    );
-    // What twists: a strike off the centre line, a corner (one member's bending is the next
-    // one's twist) or an arc.
-    let twists = offset != 0.0
-        || spec.segments.len() > 1
-        || spec.segments.iter().any(|sg| sg.centre.is_some());
+    // The time scale the meshes are sized for: the pulse's, or the contact's local response
+    // on the struck section for a heavy ball (`Pulse::sized`).
+    let sized = {
+        let [young, _, w, t] = sections[e];
+        let density =
+            spec.segments[k].section.as_ref().and_then(|own| own.density).or(spec.section.density);
+        let (across, depth) = if face == Face::Thickness { (w, t) } else { (t, w) };
+        match density.filter(|d| *d > 0.0) {
+            Some(rho) => pulse.sized(young * across * depth.powi(3) / 12.0, rho * w * t),
+            None => pulse.duration,
+        }
+    };
+    mesh_at_impact(scene, (&sections, &stations, (e, k)), (face, sized), warnings);
+    supports_mesh(scene, (&sections, &stations, &segment_of), (at, sized), (reasons, warnings));
+    // What twists: a strike off the centre line, or a chain that is not one straight line (a
+    // corner: one member's bending is the next one's twist; an arc). Segments in a line (a
+    // [beam] cut at its attachments) do not.
+    let (first, last) = (mesh.positions[0], mesh.positions[mesh.positions.len() - 1]);
+    let line = last - first;
+    let straight = mesh
+        .positions
+        .iter()
+        .all(|p| (p - first).cross(&line).norm() <= 1e-9 * line.norm_squared());
+    let twists = offset != 0.0 || !straight;
     if twists && s.tolerance.is_none() {
         let [_, shear, w, t] = sections[e];
         let density =
@@ -978,11 +1000,15 @@ fn build(
         if let Some(rho) = density.filter(|d| *d > 0.0) {
             let speed = (shear * j / (rho * polar)).sqrt();
             let h = stations.windows(2).map(|x| x[1] - x[0]).fold(0.0, f64::max);
-            let advice =
-                |h: f64| format!("elements of at most {h:.3e} m ({} in all)", (total / h).ceil());
+            let advice = |h: f64| {
+                format!(
+                    "elements of at most {h:.3e} m ({} in all), or solver.tolerance",
+                    (total / h).ceil()
+                )
+            };
             super::fe::torsion_mesh(
                 ("the structure", &advice),
-                (h, speed, pulse.duration),
+                (h, speed, sized),
                 s,
                 (reasons, warnings),
             );
@@ -1048,6 +1074,7 @@ fn build(
             base_elements: sections.len(),
             sections,
             rigid_modes,
+            fastest: MODE_CUTOFF / sized,
             source: Box::new((scene.clone(), *pulse)),
         })),
     })
