@@ -74,6 +74,15 @@ fn the_fe_basis_gives_the_analytic_basis_first_contact_on_the_uniform_cantilever
     }
 }
 
+/// validation/scenes/frame-impact.toml's text.
+fn frame_text() -> String {
+    std::fs::read_to_string(format!(
+        "{}/../../validation/scenes/frame-impact.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+}
+
 /// validation/scenes/frame-impact.toml by `method`.
 fn frame(method: &str) -> Report {
     frame_of(method, 40)
@@ -81,13 +90,9 @@ fn frame(method: &str) -> Report {
 
 /// validation/scenes/frame-impact.toml by `method` on `elements` a member.
 fn frame_of(method: &str, elements: usize) -> Report {
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/frame-impact.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("method = \"fe\"", &format!("method = \"{method}\""))
-    .replace("elements = 40", &format!("elements = {elements}"));
+    let text = frame_text()
+        .replace("method = \"fe\"", &format!("method = \"{method}\""))
+        .replace("elements = 40", &format!("elements = {elements}"));
     simulate(&Scene::from_toml(&text).unwrap()).unwrap().report
 }
 
@@ -154,17 +159,13 @@ fn the_twist_at_a_corner_is_read_about_each_member_s_own_axis() {
     // on their own, both methods reported 1.717e-3 rad at s = 0.75 m. Measured: fe 2.88868e-3,
     // modal 2.88875e-3 rad at s = 0.5 m (2.3e-5 apart; 2e-3 as the frame's test above, the
     // twist read at instants).
-    let text = std::fs::read_to_string(format!(
-        "{}/../../validation/scenes/frame-impact.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("at = 0.9 ", "at = 0.25 ")
-    .replace("end = [0.5, 0.5, 0.0]\nelements = 40", "end = [0.5, 0.5, 0.0]\nelements = 2")
-    .replace(
-        "kind = \"clamped\"",
-        "kind = \"clamped\"\n[[structure.support]]\nat = 1.0\nkind = \"clamped\"",
-    );
+    let text = frame_text()
+        .replace("at = 0.9 ", "at = 0.25 ")
+        .replace("end = [0.5, 0.5, 0.0]\nelements = 40", "end = [0.5, 0.5, 0.0]\nelements = 2")
+        .replace(
+            "kind = \"clamped\"",
+            "kind = \"clamped\"\n[[structure.support]]\nat = 1.0\nkind = \"clamped\"",
+        );
     let run = |method: &str| {
         let text = text.replace("method = \"fe\"", &format!("method = \"{method}\""));
         simulate(&Scene::from_toml(&text).unwrap()).unwrap().report
@@ -205,16 +206,12 @@ fn an_interior_support_of_a_structure_lists_its_stress() {
     // held to 1e-2. The root holds no bending: the pin takes the member's shear, the corner's
     // moment is the first member's torsion (its stress below 1e-3 of the corner's).
     let pinned = |method: &str| {
-        let text = std::fs::read_to_string(format!(
-            "{}/../../validation/scenes/frame-impact.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap()
-        .replace(
-            "kind = \"clamped\"",
-            "kind = \"clamped\"\n[[structure.support]]\nat = 0.5\nkind = \"pinned\"",
-        )
-        .replace("method = \"fe\"", &format!("method = \"{method}\""));
+        let text = frame_text()
+            .replace(
+                "kind = \"clamped\"",
+                "kind = \"clamped\"\n[[structure.support]]\nat = 0.5\nkind = \"pinned\"",
+            )
+            .replace("method = \"fe\"", &format!("method = \"{method}\""));
         simulate(&Scene::from_toml(&text).unwrap()).unwrap().report.bending_stress.unwrap()
     };
     let (modal, fe) = (pinned("modal"), pinned("fe"));
@@ -238,18 +235,14 @@ fn a_frame_forked_at_both_ends_is_held_where_pinned_ends_leave_a_mechanism() {
     // displacement at the impact point 8.8287e-5 against 8.8291e-5 m; the two meshes are the
     // same 40-element members and the bases the same elements, bounds 1e-3.
     let frame = |kind: &str, method: &str| {
-        let text = std::fs::read_to_string(format!(
-            "{}/../../validation/scenes/frame-impact.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap()
-        .replace(
-            "kind = \"clamped\"",
-            &format!("kind = \"{kind}\"\n[[structure.support]]\nat = 1.0\nkind = \"{kind}\""),
-        )
-        .replace("at = 0.9 ", "at = 0.75 ")
-        .replace("end_time = 0.002", "end_time = 0.0005")
-        .replace("method = \"fe\"", &format!("method = \"{method}\""));
+        let text = frame_text()
+            .replace(
+                "kind = \"clamped\"",
+                &format!("kind = \"{kind}\"\n[[structure.support]]\nat = 1.0\nkind = \"{kind}\""),
+            )
+            .replace("at = 0.9 ", "at = 0.75 ")
+            .replace("end_time = 0.002", "end_time = 0.0005")
+            .replace("method = \"fe\"", &format!("method = \"{method}\""));
         Scene::from_toml(&text).unwrap()
     };
     let err = Plan::new(&frame("pinned", "modal")).unwrap_err().to_string();
@@ -333,14 +326,10 @@ fn a_rotational_spring_too_stiff_for_the_modes_is_refused_by_the_modal_method() 
         let tip = format!(
             "kind = \"clamped\"\n[[structure.spring]]\nat = 1.0\nstiffness = [0.0, 0.0, 0.0]\nrotational_stiffness = [{k}, {k}, {k}]"
         );
-        std::fs::read_to_string(format!(
-            "{}/../../validation/scenes/frame-impact.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap()
-        .replace("kind = \"clamped\"", &tip)
-        .replace("method = \"fe\"", "method = \"modal\"")
-        .replace("end_time = 0.002", "end_time = 0.0001")
+        frame_text()
+            .replace("kind = \"clamped\"", &tip)
+            .replace("method = \"fe\"", "method = \"modal\"")
+            .replace("end_time = 0.002", "end_time = 0.0001")
     };
     let err = Plan::new(&Scene::from_toml(&spring("1e16")).unwrap()).unwrap_err().to_string();
     assert!(
@@ -421,14 +410,10 @@ fn a_free_frame_by_its_modes_with_inertia_relief_is_the_free_frame_by_the_fe_met
     // singular K reported 7e-8 N/m). Here over the first contact: bounds 1e-3 as for the held
     // frame.
     let text = |method: &str, support: &str| {
-        std::fs::read_to_string(format!(
-            "{}/../../validation/scenes/frame-impact.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap()
-        .replace("method = \"fe\"", &format!("method = \"{method}\""))
-        .replace("end_time = 0.002", "end_time = 1e-4")
-        .replace("[[structure.support]]\nat = 0.0\nkind = \"clamped\"\n", support)
+        frame_text()
+            .replace("method = \"fe\"", &format!("method = \"{method}\""))
+            .replace("end_time = 0.002", "end_time = 1e-4")
+            .replace("[[structure.support]]\nat = 0.0\nkind = \"clamped\"\n", support)
     };
     let run =
         |method: &str| simulate(&Scene::from_toml(&text(method, "")).unwrap()).unwrap().report;

@@ -286,6 +286,17 @@ fn modes_keep_springs(
     Ok(())
 }
 
+/// Segment `k`'s density (kg/m^3): its own section's or the structure's; `None` where neither
+/// gives a positive one (the units check has said so).
+fn density_of(spec: &StructureSpec, k: usize) -> Option<f64> {
+    spec.segments[k]
+        .section
+        .as_ref()
+        .and_then(|own| own.density)
+        .or(spec.section.density)
+        .filter(|d| *d > 0.0)
+}
+
 /// Warns where the struck element is too long for the bending wave the pulse excites in the
 /// strike's plane, as a `[beam]`'s mesh check does (`super::fe`'s `resolution`: the largest
 /// stress near the ball low by about 0.6 (h/lambda)^2, the contact force too), naming the
@@ -302,12 +313,7 @@ fn mesh_at_impact(
     }
     let Some(st) = &scene.structure else { return };
     let [young, _, w, t] = sections[e];
-    let density = st.segments[segment]
-        .section
-        .as_ref()
-        .and_then(|own| own.density)
-        .or(st.section.density)
-        .unwrap_or(0.0);
+    let density = density_of(st, segment).unwrap_or(0.0);
     let (across, depth) = if face == Face::Thickness { (w, t) } else { (t, w) };
     let rigidity = young * across * depth.powi(3) / 12.0;
     let omega = MODE_CUTOFF / duration;
@@ -370,15 +376,7 @@ fn supports_mesh(
         };
         let [young, _, w, t] = sections[e];
         let segment = segment_of[e];
-        let density = st.segments[segment]
-            .section
-            .as_ref()
-            .and_then(|own| own.density)
-            .or(st.section.density)
-            .unwrap_or(0.0);
-        if density <= 0.0 {
-            continue;
-        }
+        let Some(density) = density_of(st, segment) else { continue };
         let (across, depth) = (w.max(t), w.min(t));
         let rigidity = young * across * depth.powi(3) / 12.0;
         let bar = (young / density).sqrt();
@@ -968,10 +966,8 @@ fn build(
     // on the struck section for a heavy ball (`Pulse::sized`).
     let sized = {
         let [young, _, w, t] = sections[e];
-        let density =
-            spec.segments[k].section.as_ref().and_then(|own| own.density).or(spec.section.density);
         let (across, depth) = if face == Face::Thickness { (w, t) } else { (t, w) };
-        match density.filter(|d| *d > 0.0) {
+        match density_of(spec, k) {
             Some(rho) => pulse.sized(young * across * depth.powi(3) / 12.0, rho * w * t),
             None => pulse.duration,
         }
@@ -990,14 +986,12 @@ fn build(
     let twists = offset != 0.0 || !straight;
     if twists && s.tolerance.is_none() {
         let [_, shear, w, t] = sections[e];
-        let density =
-            spec.segments[k].section.as_ref().and_then(|own| own.density).or(spec.section.density);
         let (b, c) = (w.max(t), w.min(t));
         let r = c / b;
         // Roark's J, as the 3D beam's section (`simo_beam::Section::rectangle`).
         let j = b * c.powi(3) * (1.0 / 3.0 - 0.21 * r * (1.0 - r.powi(4) / 12.0));
         let polar = (w * t.powi(3) + t * w.powi(3)) / 12.0;
-        if let Some(rho) = density.filter(|d| *d > 0.0) {
+        if let Some(rho) = density_of(spec, k) {
             let speed = (shear * j / (rho * polar)).sqrt();
             let h = stations.windows(2).map(|x| x[1] - x[0]).fold(0.0, f64::max);
             let advice = |h: f64| {
