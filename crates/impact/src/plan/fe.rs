@@ -666,7 +666,7 @@ pub(super) fn support_mesh(
         "does not resolve them".to_string()
     };
     reasons.push(format!(
-        "{what}: its stress is extrapolated from the two nearest elements' midpoints ({h:.3e} m, {ratio:.3} of the shortest wave the pulse excites, {wavelength:.3e} m at omega t_c = {MODE_CUTOFF}), which {size} {measured}"
+        "{what}: its stress is extrapolated from the two nearest elements' midpoints ({h:.3e} m, {ratio:.3} of the shortest wave the impact excites, {wavelength:.3e} m), which {size} {measured}"
     ));
     if ratio > SUPPORT_MESH_WARNING {
         let enough = (elements as f64 * ratio * FE_ELEMENTS_PER_WAVELENGTH).ceil();
