@@ -277,6 +277,11 @@ pub struct StructureSpec {
     /// Springs at nodes (`at` = arc length, m): translational, and rotational if given.
     #[serde(default, rename = "spring", skip_serializing_if = "Vec::is_empty")]
     pub springs: Vec<StructureSpringSpec>,
+    /// Written by the plan for a `[beam]` that carries masses or springs (never read from a
+    /// file): its messages then name what a `[beam]` can set.
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub(crate) lowered: bool,
 }
 
 /// An elastic support on a structure (`[[structure.spring]]`).

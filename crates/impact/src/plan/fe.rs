@@ -593,6 +593,10 @@ pub(super) const TORSION_OVERSHOOT: (f64, f64) = (1.39, 0.713);
 /// estimated 1.8 % (a review's, against four refinements and the modal method).
 pub(super) const TORSION_WARNING: f64 = 0.01;
 
+/// How far the fit may understate a section's overshoot (that 20 x 10 mm beam's 4.3 against
+/// 1.8 %): the mesh a warning advises is sized for TORSION_WARNING divided by it.
+const TORSION_SPREAD: f64 = 2.4;
+
 /// The plan's word on the twist and torsion shear of `what` (a 3D run that twists) on elements
 /// up to `h` long (m), of a section whose torsion waves travel at `speed` (m/s), struck by a
 /// pulse of `duration` (s), over the window of `s`: the size into the reasons, a warning with
@@ -613,11 +617,11 @@ pub(super) fn torsion_mesh(
         100.0 * overshoot
     ));
     if overshoot >= TORSION_WARNING {
-        // sigma = r* rise with a exp(-b / r*) = TORSION_WARNING.
-        let r = b / (a / TORSION_WARNING).ln();
+        // sigma = r* rise with a exp(-b / r*) = TORSION_WARNING / TORSION_SPREAD.
+        let r = b / (a * TORSION_SPREAD / TORSION_WARNING).ln();
         let enough = (8.0 * (r * rise).powi(3) / travel).sqrt();
         warnings.push(format!(
-            "{what}: the twist and the torsion shear may be high by about {:.0} % of a torsion front's step where fronts have travelled far: a front of rise {rise:.3e} m (c_t t_c) travels up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes it overshoot (validation/REFERENCES.md 1.9); {} would bring that under {:.0} % (a shorter window too)",
+            "{what}: the twist and the torsion shear may be high by about {:.0} % of a torsion front's step where fronts have travelled far: a front of rise {rise:.3e} m (c_t t_c) travels up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes it overshoot (validation/REFERENCES.md 1.9); {} would bring that under {:.0} % even where the fit understates it {TORSION_SPREAD} times (a shorter window too)",
             100.0 * overshoot,
             advice(enough),
             100.0 * TORSION_WARNING
@@ -739,7 +743,7 @@ fn resolution(
     let half_wave = PI * beam.length() / beam.support().eigenvalue(1).unwrap_or(PI);
     let per_half_wave = half_wave / longest;
     reasons.push(format!(
-        "mesh check: elements of {at_impact:.3e} m at the impact point against the flexural wavelength {wavelength:.3e} m at omega t_c = {MODE_CUTOFF} (the largest stress near the ball is low by about {STRESS_MESH_ERROR} (h/lambda)^2, measured on the paper's tip, validation/REFERENCES.md 1.5: {:.1e} here; warned above {STRESS_MESH_WARNING}); {per_half_wave:.1} of the longest elements per half-wave of the first mode (warned below {FIRST_MODE_ELEMENTS})",
+        "mesh check: elements of {at_impact:.3e} m at the impact point against the flexural wavelength {wavelength:.3e} m at the fastest frequency the impact excites (the largest stress near the ball is low by about {STRESS_MESH_ERROR} (h/lambda)^2, measured on the paper's tip, validation/REFERENCES.md 1.5: {:.1e} here; warned above {STRESS_MESH_WARNING}); {per_half_wave:.1} of the longest elements per half-wave of the first mode (warned below {FIRST_MODE_ELEMENTS})",
         stress_error
     ));
     if stress_error > STRESS_MESH_WARNING {

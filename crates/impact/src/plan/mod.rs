@@ -453,7 +453,7 @@ fn own_modes(
             ImpactError::InvalidField { field, value, .. }
                 if field.starts_with("structure.segment[") && field.ends_with(".elements") =>
             {
-                ImpactError::Inconsistent(format!("the [beam]'s own modes would be solved on {value} elements between two of its attachments (a sixteenth of the shortest wave the impact excites), more than 100000: strike it by solver.method = \"fe\", whose mesh covers only where the waves reach within the window"))
+                ImpactError::Inconsistent(format!("the [beam]'s own modes would be solved on {value} elements between two of its attachments (a sixteenth of the shortest wave the impact excites), more than 100000: strike it by solver.method = \"fe\", whose mesh covers only where the waves reach within the window (a window short enough for it: its default mesh is refused beyond 100000 elements too)"))
             }
             // Its springs are the [beam]'s, in order.
             ImpactError::InvalidField { field, value, allowed }

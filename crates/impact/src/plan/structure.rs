@@ -482,6 +482,7 @@ fn beam_as_structure(
                     .map(|r| [0.0, r, 0.0]),
             })
             .collect(),
+        lowered: true,
     }
 }
 
@@ -994,15 +995,21 @@ fn build(
         if let Some(rho) = density_of(spec, k) {
             let speed = (shear * j / (rho * polar)).sqrt();
             let h = stations.windows(2).map(|x| x[1] - x[0]).fold(0.0, f64::max);
+            // A [beam] lowered to its own modes has no elements of its own to set.
+            let lowered = spec.lowered;
             let advice = |h: f64| {
-                format!(
-                    "elements of at most {h:.3e} m ({} in all), or solver.tolerance",
-                    (total / h).ceil()
-                )
+                if lowered {
+                    "solver.tolerance (it refines the beam's own modes' mesh)".to_string()
+                } else {
+                    format!(
+                        "elements of at most {h:.3e} m ({} in all), or solver.tolerance",
+                        (total / h).ceil()
+                    )
+                }
             };
             super::fe::torsion_mesh(
                 ("the structure", &advice),
-                (h, speed, sized),
+                (h, speed, pulse.duration),
                 s,
                 (reasons, warnings),
             );
