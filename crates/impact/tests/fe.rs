@@ -114,20 +114,25 @@ fn paper_tip(solver: &str) -> Outcome {
     with_solver("paper-tip.toml", "method = \"modal\"\nmodes = 128\nend_time = 0.005", solver)
 }
 
-/// validation/scenes/`file` with its `[solver]` lines `own` replaced by `solver`, run.
-fn with_solver(file: &str, own: &str, solver: &str) -> Outcome {
+/// validation/scenes/`file` with its `[solver]` lines `own` replaced by `solver`.
+fn scene_with_solver(file: &str, own: &str, solver: &str) -> Scene {
     let text = std::fs::read_to_string(format!(
         "{}/../../validation/scenes/{file}",
         env!("CARGO_MANIFEST_DIR")
     ))
     .unwrap();
     assert!(text.contains(own), "{file} has no {own}");
-    simulate(&Scene::from_toml(&text.replace(own, solver)).unwrap()).unwrap()
+    Scene::from_toml(&text.replace(own, solver)).unwrap()
+}
+
+/// [`scene_with_solver`], run.
+fn with_solver(file: &str, own: &str, solver: &str) -> Outcome {
+    simulate(&scene_with_solver(file, own, solver)).unwrap()
 }
 
 #[test]
 fn paper_tip_first_contact_fe_matches_converged_modal() {
-    // The FE beam (Simo: shear and rotary inertia, default graded mesh, 200 steps per pulse)
+    // The FE beam (Simo: shear and rotary inertia, default mesh, 200 steps per pulse)
     // and Goldsmith's series of Timoshenko modes with residual flexibility (converged: the
     // duration moves 6e-9 of itself from 512 to 8192 modes, validation/REFERENCES.md 1.6)
     // agree on the first contact's duration and peak force within 1 %. Measured: 0.06 % and
@@ -496,15 +501,8 @@ fn a_clamped_end_read_on_long_elements_warns_and_the_default_mesh_states_its_siz
     // elements of at most 1.54 mm, a sixteenth of the 24.65 mm wave the pulse excites): it states
     // the clamp's extrapolation error, 20 (h/lambda)^2 = 7.8 %, without a warning; on 64
     // elements (18 mm, 0.73 of the wave) it warns and names 747 elements.
-    let plan = |solver: &str| {
-        let text = std::fs::read_to_string(format!(
-            "{}/../../validation/scenes/paper-tip.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .unwrap()
-        .replace("method = \"modal\"\nmodes = 128\nend_time = 0.005", solver);
-        Plan::new(&Scene::from_toml(&text).unwrap()).unwrap()
-    };
+    let own = "method = \"modal\"\nmodes = 128\nend_time = 0.005";
+    let plan = |solver: &str| Plan::new(&scene_with_solver("paper-tip.toml", own, solver)).unwrap();
     let default = plan("method = \"fe\"\nend_time = 0.001");
     assert_eq!(default.summary().elements, 747);
     let reasons = default.summary().reasons.join("\n");

@@ -20,11 +20,11 @@ pub use fe::{
     FE_LADDER_START, FE_SAMPLES_PER_PULSE,
 };
 pub use modal::{ModalBasis, ModalPlan, MODAL_LADDER_END, MODE_CUTOFF};
+pub use structure::FeBasis;
+pub use theory::{MIN_SLENDERNESS, MIN_WAVELENGTH, NEGLIGIBLE_CORRECTION, NOTABLE_CORRECTION};
 
 /// A beam scene's window without `solver.end_time` (s): the paper's 5 ms.
 pub(crate) const DEFAULT_END_TIME: f64 = 0.005;
-pub use structure::FeBasis;
-pub use theory::{MIN_SLENDERNESS, MIN_WAVELENGTH, NEGLIGIBLE_CORRECTION, NOTABLE_CORRECTION};
 
 use crate::error::{bounded, invalid, not_negative, positive, range, show, ImpactError};
 use crate::law::{Law, LawContext};

@@ -986,14 +986,10 @@ fn build(
         .all(|p| (p - first).cross(&line).norm() <= 1e-9 * line.norm_squared());
     let twists = offset != 0.0 || !straight;
     if twists && s.tolerance.is_none() {
-        let [_, shear, w, t] = sections[e];
-        let (b, c) = (w.max(t), w.min(t));
-        let r = c / b;
-        // Roark's J, as the 3D beam's section (`simo_beam::Section::rectangle`).
-        let j = b * c.powi(3) * (1.0 / 3.0 - 0.21 * r * (1.0 - r.powi(4) / 12.0));
-        let polar = (w * t.powi(3) + t * w.powi(3)) / 12.0;
-        if let Some(rho) = density_of(spec, k) {
-            let speed = (shear * j / (rho * polar)).sqrt();
+        // The struck element's own section: its G J and rho Ip.
+        let section = &mesh.elements[e].section;
+        if section.rho_i[0] > 0.0 {
+            let speed = (section.gj / section.rho_i[0]).sqrt();
             let h = stations.windows(2).map(|x| x[1] - x[0]).fold(0.0, f64::max);
             // A [beam] lowered to its own modes has no elements of its own to set.
             let lowered = spec.lowered;
