@@ -582,7 +582,8 @@ pub struct SolverSpec {
     pub fe_model: Option<FeModelName>,
     /// Largest time step (s) (fe method); default the contact step (every step of the same
     /// length: converged in time, validation/REFERENCES.md 1.7); a longer one lets the steps out
-    /// of contact, and in a long contact, grow up to it.
+    /// of contact, and in a long contact, grow up to it; a shorter one sets every step (in
+    /// contact too: as many per estimated contact duration as it takes).
     #[schemars(extend("exclusiveMinimum" = 0), extend("x-unit" = "s"))]
     pub time_step: Option<f64>,
     /// Relative error accepted on every significant contact (start, duration, peak force) and

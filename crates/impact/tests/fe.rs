@@ -547,3 +547,22 @@ fn a_heavy_balls_default_mesh_is_sized_for_the_beams_local_response() {
     let (f, m) = (clamp(&fe), clamp(&modal));
     assert!((f / m - 1.0).abs() < 0.02, "fe {f} against modal {m}");
 }
+
+#[test]
+fn a_time_step_shorter_than_the_contact_step_sets_every_step() {
+    // solver.time_step is the largest step. Below the contact step (the estimated contact
+    // duration 41.2 us over 200: 2.06e-7 s on the paper's tip) it had been raised to the
+    // contact step without a word, so a user halving it to check convergence in time saw the
+    // same run; now it sets every step, as many per estimated contact duration as it takes.
+    let own = "method = \"modal\"\nmodes = 128\nend_time = 0.005";
+    let plan = |solver: &str| {
+        impact::Plan::new(&scene_with_solver("paper-tip.toml", own, solver)).unwrap()
+    };
+    let default = plan("method = \"fe\"\nelements = 64\nend_time = 1e-4");
+    let short = plan("method = \"fe\"\nelements = 64\nend_time = 1e-4\ntime_step = 5e-8");
+    let long = plan("method = \"fe\"\nelements = 64\nend_time = 1e-4\ntime_step = 1e-6");
+    let step = |p: &impact::Plan| p.summary().time_step;
+    assert!((step(&default) / 2.0619e-7 - 1.0).abs() < 1e-3, "{}", step(&default));
+    assert!(step(&short) <= 5e-8 && step(&short) > 4.9e-8, "{}", step(&short));
+    assert_eq!(step(&long), step(&default));
+}

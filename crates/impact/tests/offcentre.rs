@@ -435,7 +435,7 @@ fn a_torsion_front_keeps_its_plateau_by_the_modes_and_overshoots_on_a_coarse_mes
         modal.max_twist.unwrap(),
         plateau(&modal)
     );
-    let warned = |r: &impact::Report| r.warnings.iter().any(|w| w.contains("torsion front's step"));
+    let warned = |r: &impact::Report| r.warnings.iter().any(|w| w.contains("of a front's step"));
     let coarse = pinned_strip("method = \"fe\"\nelements = 256");
     assert!((0.10..0.20).contains(&over(&coarse)), "{}", over(&coarse));
     assert!(warned(&coarse), "{:?}", coarse.warnings);
@@ -443,4 +443,39 @@ fn a_torsion_front_keeps_its_plateau_by_the_modes_and_overshoots_on_a_coarse_mes
     assert!(over(&fine).abs() < 0.025, "{}", over(&fine));
     let stated = fine.plan.reasons.iter().find(|r| r.contains("torsion fronts")).unwrap();
     assert!(stated.contains("by about 1.1 %"), "{stated}");
+}
+
+#[test]
+fn the_torsion_shear_at_the_clamp_meets_the_exact_wave_solution_and_the_mesh_states_its_overshoot()
+{
+    // validation/scenes/paper-tip-offset.toml (the paper's tip 10 mm off, 1 ms): the tip's
+    // torque e F(t) sends one twist wave (a free end reflects it upright, so it does not split)
+    // that doubles on reaching the clamp at 1.15 m / 1176 m/s = 0.978 ms. Saint-Venant's
+    // exact solution by images (validation/peers/twist_images.py --ends held-free --rate-at 0,
+    // with the modal run's own force history) puts the clamp's largest shear at 53.9954 MPa at
+    // 0.9900 ms (validation/REFERENCES.md 1.9). The modal method's analytic torsion modes:
+    // measured 53.9994 MPa at 0.9901 ms (7e-5; tolerance 1e-3, the modes' truncation at a
+    // front). The fe method on its default mesh (1.54 mm) measured 57.38 MPa, +6.3 % against the
+    // exact solution with its own force (53.82 MPa at its element's midpoint): the elements
+    // disperse the torque's sharp front. The plan's estimate (an upper one) must cover it; it
+    // had stated 1.0 % for "the twist and the torsion shear" alike (the twist: 2.607e-3 rad
+    // against the exact 2.610e-3, right).
+    let path =
+        format!("{}/../../validation/scenes/paper-tip-offset.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    let modal = simulate(&Scene::from_toml(&text).unwrap()).unwrap().report;
+    let shear = modal.torsion_shear.unwrap();
+    assert!((shear.max / 53.9954e6 - 1.0).abs() < 1e-3, "{} Pa", shear.max);
+    assert!(shear.position == 0.0 && (shear.time - 0.9900e-3).abs() < 2e-6, "{shear:?}");
+    let fe = text
+        .replace("method = \"modal\"", "method = \"fe\"")
+        .replace("modes = 256\n", "")
+        .replace("residual_flexibility = true\n", "")
+        .replace("beam_theory = \"euler-bernoulli\"", "");
+    let plan = Plan::new(&Scene::from_toml(&fe).unwrap()).unwrap();
+    let stated = plan.summary().reasons.iter().find(|r| r.contains("torsion fronts")).unwrap();
+    let size = stated.split("the torsion shear by up to about ").nth(1).unwrap();
+    let size: f64 = size.split(' ').next().unwrap().parse().unwrap();
+    assert!(size >= 6.3, "{stated}");
+    assert!(plan.warnings().iter().any(|w| w.contains("the torsion shear may be off")));
 }

@@ -322,7 +322,7 @@ pub(super) struct Steps {
 impl Steps {
     /// From `solver.samples_per_pulse`, `alpha` and `time_step`, for the pulse's duration.
     pub(super) fn new(s: &SolverSpec, pulse: &Pulse) -> Result<Self, ImpactError> {
-        let samples = s.samples_per_pulse.unwrap_or(FE_SAMPLES_PER_PULSE);
+        let mut samples = s.samples_per_pulse.unwrap_or(FE_SAMPLES_PER_PULSE);
         if samples < 10 {
             return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
         }
@@ -335,9 +335,18 @@ impl Steps {
             ));
         }
         let estimated_duration = pulse.duration;
+        let time_step = s.time_step.map(|h| positive("solver.time_step", h, "s")).transpose()?;
+        if let Some(h) = time_step {
+            // The largest step, in contact too: a time_step shorter than the contact step sets
+            // the steps (it had been raised to the contact step without a word).
+            let needed = (estimated_duration / h).ceil();
+            if needed > samples as f64 {
+                samples = if needed < 1e12 { needed as usize } else { usize::MAX };
+            }
+        }
         let contact_step = estimated_duration / samples as f64;
-        let free_time_step = match s.time_step {
-            Some(h) => positive("solver.time_step", h, "s")?.max(contact_step),
+        let free_time_step = match time_step {
+            Some(h) => h.max(contact_step),
             None => FE_FREE_STEP_RATIO * contact_step,
         };
         Ok(Self { alpha, samples, contact_step, free_time_step })
@@ -597,10 +606,29 @@ pub(super) const TORSION_WARNING: f64 = 0.01;
 /// 1.8 %): the mesh a warning advises is sized for TORSION_WARNING divided by it.
 const TORSION_SPREAD: f64 = 2.4;
 
+/// The torsion shear's front is sharper than the twist's: the twist rate travels with the
+/// torque e F(t) itself, which rises from zero to its peak in about half the contact (a Hertz
+/// pulse) or less (struck off the centre line, the strip's twist softens the contact after
+/// its peak: the paper's tip 10 mm off peaks at 12 us of an 0.97 ms contact, 0.3 of the
+/// estimated t_c), where the twist integrates it over the whole contact. So the shear's rise is
+/// taken as c_t t_c / 4 in the same fit, an upper estimate. Measured against the exact
+/// Saint-Venant solution by images (validation/peers/twist_images.py --rate-at), each with the
+/// run's own force: that tip's clamp, +6.3, +9.6 and +4.4 % at elements of 1.54, 0.77 and
+/// 0.385 mm, where this estimates 41, 20 and 6.3 % (before the cap); the pinned strip of
+/// [`TORSION_OVERSHOOT`] over 2 ms, its largest, -3.0 and +7.2 % at 4.49 and 1.12 mm (a front
+/// narrower than the spread is smeared low), estimated 86 and 42 %: validation/REFERENCES.md
+/// 1.9.
+const TORSION_SHEAR_RISE: f64 = 0.25;
+
+/// A front sharper than the elements' spread overshoots by at most about this share of its
+/// step (the semi-discrete chain's Airy front: the integral of Ai peaks at 1.27), and a pulse
+/// narrower than the spread is smeared rather than raised: the estimate is capped here.
+const SHARP_FRONT_OVERSHOOT: f64 = 0.3;
+
 /// The plan's word on the twist and torsion shear of `what` (a 3D run that twists) on elements
 /// up to `h` long (m), of a section whose torsion waves travel at `speed` (m/s), struck by a
-/// pulse of `duration` (s), over the window of `s`: the size into the reasons, a warning with
-/// the element length that would bring it under [`TORSION_WARNING`] (`advice` says how).
+/// pulse of `duration` (s), over the window of `s`: the sizes into the reasons, a warning with
+/// the element length that would bring them under [`TORSION_WARNING`] (`advice` says how).
 pub(super) fn torsion_mesh(
     (what, advice): (&str, &dyn Fn(f64) -> String),
     (h, speed, duration): (f64, f64, f64),
@@ -611,18 +639,22 @@ pub(super) fn torsion_mesh(
     let travel = reach(s, speed);
     let rise = speed * duration;
     let spread = (h * h * travel / 8.0).cbrt();
-    let overshoot = a * (-b * rise / spread).exp();
+    let overshoot = |rise: f64| (a * (-b * rise / spread).exp()).min(SHARP_FRONT_OVERSHOOT);
+    let (twist, shear) = (overshoot(rise), overshoot(TORSION_SHEAR_RISE * rise));
     reasons.push(format!(
-        "{what}: torsion fronts (rise {rise:.3e} m, c_t t_c) travel up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes them overshoot their step by about {:.1} % (the twist and the torsion shear; fitted on a strip, up to 2.4 times that measured on a thicker section: validation/REFERENCES.md 1.9)",
-        100.0 * overshoot
+        "{what}: torsion fronts (rise {rise:.3e} m, c_t t_c) travel up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes them overshoot their step by about {:.1} % (the twist; fitted on a strip, up to 2.4 times that measured on a thicker section) and the torsion shear by up to about {:.1} % (its front is the torque's own rise, about a quarter of that: an upper estimate, measured 1.4 to 6.5 times below it, and a front narrower than the elements' spread is smeared low instead: validation/REFERENCES.md 1.9)",
+        100.0 * twist,
+        100.0 * shear
     ));
-    if overshoot >= TORSION_WARNING {
-        // sigma = r* rise with a exp(-b / r*) = TORSION_WARNING / TORSION_SPREAD.
+    if shear >= TORSION_WARNING {
+        // sigma = r* rise' with a exp(-b / r*) = TORSION_WARNING / TORSION_SPREAD, rise' the
+        // shear's (the twist's is four times longer: that mesh holds both).
         let r = b / (a * TORSION_SPREAD / TORSION_WARNING).ln();
-        let enough = (8.0 * (r * rise).powi(3) / travel).sqrt();
+        let enough = (8.0 * (r * TORSION_SHEAR_RISE * rise).powi(3) / travel).sqrt();
         warnings.push(format!(
-            "{what}: the twist and the torsion shear may be high by about {:.0} % of a torsion front's step where fronts have travelled far: a front of rise {rise:.3e} m (c_t t_c) travels up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes it overshoot (validation/REFERENCES.md 1.9); {} would bring that under {:.0} % even where the fit understates it {TORSION_SPREAD} times (a shorter window too)",
-            100.0 * overshoot,
+            "{what}: where torsion fronts have travelled far, the torsion shear may be off by up to about {:.0} % (an upper estimate: measured 1.4 to 6.5 times below it, mostly high) and the twist high by about {:.0} % of a front's step: a front of rise {rise:.3e} m (c_t t_c; the shear's a quarter of it) travels up to {travel:.3e} m in the window over elements of up to {h:.3e} m, whose dispersion makes it overshoot (validation/REFERENCES.md 1.9); {} would bring both under {:.0} % even where the fit understates the twist's {TORSION_SPREAD} times (a shorter window too)",
+            100.0 * shear,
+            100.0 * twist,
             advice(enough),
             100.0 * TORSION_WARNING
         ));
