@@ -134,6 +134,34 @@ impl Thornton {
         }
     }
 
+    /// The central pressure p0 (Pa) and contact radius a (m) at a contact's peak force `force`
+    /// (N) and largest approach `approach` (m), after a history whose largest approach is
+    /// `history_max` (m, this contact's included). A contact that reached the history's
+    /// largest approach past yield loaded plastically: p0 = p_y over the print's rim a_p. One
+    /// that stayed below it reloaded the print elastically (Thornton 1997): Hertz on the
+    /// print's enlarged radius R_p, a = (3 F R_p / 4 E*)^(1/3), p0 = 3 F / (2 pi a^2) (the
+    /// loading relations there gave p_y over a_p for a tap of a few newtons: 88 times the
+    /// force). Below yield, Hertz's.
+    pub fn pressure_and_radius(&self, history_max: f64, approach: f64, force: f64) -> (f64, f64) {
+        let force = force.max(0.0);
+        if history_max <= self.yield_approach {
+            let delta = self.hertz.approach_for_force(force);
+            return (self.hertz.max_pressure(delta), self.hertz.contact_radius(delta));
+        }
+        let u = self.unloading(history_max);
+        if approach >= history_max * (1.0 - 1e-9) {
+            return (self.limiting_pressure, u.print_radius);
+        }
+        if force == 0.0 {
+            return (0.0, 0.0);
+        }
+        let e_star = self.hertz.effective_modulus();
+        // (4/3) E* sqrt(R_p) = the unloading curve's constant.
+        let plastic_radius = (0.75 * u.stiffness_constant / e_star).powi(2);
+        let radius = (0.75 * force * plastic_radius / e_star).cbrt();
+        (1.5 * force / (std::f64::consts::PI * radius * radius), radius)
+    }
+
     /// Depth of the permanent print delta_p (m) after the history `state` (0 if elastic).
     pub fn residual_approach(&self, state: &ThorntonState) -> f64 {
         if state.max_approach > self.yield_approach {

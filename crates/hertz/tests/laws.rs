@@ -296,3 +296,46 @@ fn bad_parameters_are_rejected_with_their_name() {
     assert_eq!(softer_yield_stress(&soft, &steel()), Some(3.4e8));
     assert_eq!(softer_yield_stress(&steel(), &steel()), None);
 }
+
+#[test]
+fn a_reload_into_the_print_is_hertz_on_the_prints_radius() {
+    // Thornton (1997): after a plastic maximum delta_max (force F*, print rim a_p), the
+    // surfaces unload and reload elastically as Hertz with the enlarged radius
+    // R_p = 4 E* a_p^3 / (3 F*) about the residual approach delta_p. A later contact that
+    // stays below delta_max has a = sqrt(R_p (delta - delta_p)) and the Hertz pressure
+    // p0 = 3 F / (2 pi a^2), which carries its force; at delta_max it is p_y over a_p.
+    let (c, _) = reference_contact();
+    let th = Thornton::from_yield_stress(c, 3.4e8).unwrap();
+    let max = 40.0 * th.yield_approach();
+    let s = ThorntonState { max_approach: max };
+    let peak = th.force(&ThorntonState::default(), max, 0.0).force;
+    let print = th.print_radius(&s);
+    let (p0, a) = th.pressure_and_radius(max, max, peak);
+    assert_eq!((p0, a), (th.limiting_pressure(), print));
+    let e_star = c.effective_modulus();
+    let plastic_radius = 4.0 * e_star * print.powi(3) / (3.0 * peak);
+    let dp = th.release_approach(&s);
+    for share in [1e-3, 0.01, 0.3] {
+        // The approach on the reloading curve at which the force is share F*.
+        let (mut lo, mut hi) = (dp, max);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if th.force(&s, mid, 0.0).force < share * peak {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        let delta = 0.5 * (lo + hi);
+        let force = th.force(&s, delta, 0.0).force;
+        let (p0, a) = th.pressure_and_radius(max, delta, force);
+        assert!(rel(a, (plastic_radius * (delta - dp)).sqrt()) < 1e-9, "{share}: a {a}");
+        assert!(rel(2.0 / 3.0 * PI * p0 * a * a, force) < 1e-12, "{share}: p0 {p0}");
+        assert!(p0 < th.limiting_pressure());
+    }
+    // Below yield: Hertz's.
+    let small = 0.5 * th.yield_approach();
+    let f = c.force(&(), small, 0.0).force;
+    let (p0, a) = th.pressure_and_radius(small, small, f);
+    assert!(rel(p0, c.max_pressure(small)) < 1e-12 && rel(a, c.contact_radius(small)) < 1e-12);
+}

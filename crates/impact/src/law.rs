@@ -50,13 +50,25 @@ impl Law {
     /// `peak_force` (N) and `max_approach` (m). Elastic laws: Hertz at the peak force,
     /// a = (3 F R / (4 E*))^(1/3), p0 = 3 F / (2 pi a^2) (Johnson, *Contact Mechanics*, eqs.
     /// 4.22-4.24; Hunt-Crossley's damping adds force but not the elastic pressure's shape, so
-    /// this is its elastic part's bound at the peak force). Thornton past first yield: the
-    /// pressure its law caps, p_y, over the radius of its plastic contact a = sqrt(R delta_max)
-    /// (the print's rim).
-    pub(crate) fn peak_pressure(&self, peak_force: f64, max_approach: f64) -> (f64, f64) {
+    /// this is its elastic part's bound at the peak force). Thornton: a contact that loaded
+    /// past first yield, the pressure its law caps, p_y, over the radius of its plastic contact
+    /// a = sqrt(R delta_max) (the print's rim); a later contact that reloaded the print
+    /// elastically (below the history's largest approach, from the print after it,
+    /// `print_radius`), Hertz on the print's enlarged radius
+    /// ([`hertz::Thornton::pressure_and_radius`]).
+    pub(crate) fn peak_pressure(
+        &self,
+        peak_force: f64,
+        max_approach: f64,
+        print_radius: f64,
+    ) -> (f64, f64) {
         match self {
-            Law::Thornton(t) if max_approach > t.yield_approach() => {
-                (t.limiting_pressure(), (t.hertz().effective_radius() * max_approach).sqrt())
+            Law::Thornton(t) => {
+                // The history's largest approach from the print after this contact,
+                // a_p^2 = R delta_max (none: elastic so far).
+                let history = (print_radius * print_radius / t.hertz().effective_radius())
+                    .max(max_approach.min(t.yield_approach()));
+                t.pressure_and_radius(history, max_approach, peak_force)
             }
             _ => {
                 let delta = self.hertz().approach_for_force(peak_force.max(0.0));

@@ -592,3 +592,28 @@ fn the_plain_series_is_kept_where_asked_and_is_further_off_under_the_ball() {
     };
     assert!(Plan::new(&fe).unwrap_err().to_string().contains("plain_stress_series"));
 }
+
+#[test]
+fn a_thornton_reload_into_the_print_reports_its_own_pressure() {
+    // The paper's tip with the Thornton law over 2 ms: the first contact dents the beam
+    // (360.0 N, print rim a_p = 0.4594 mm), the later taps of a few newtons reload the print
+    // elastically. They had reported p0 = p_y = 544 MPa over a = 0.432 mm, a pressure that
+    // carries (2/3) pi p0 a^2 = 212 N against 2.4 N. Thornton (1997): Hertz on the print's
+    // radius R_p = 4 E* a_p^3 / (3 F*) = 41.45 mm; a review's independent script gave contact
+    // 2 (2.404 N) a = 0.0865 mm, p0 = 153.3 MPa.
+    let mut s = scene("paper-tip.toml");
+    s.contact.law = LawName::Thornton;
+    s.solver.end_time = Some(0.002);
+    let out = simulate(&s).unwrap();
+    let c = &out.report.contacts;
+    assert!(c[0].max_pressure == 5.44e8 && c[0].contact_radius == c[0].print_radius);
+    assert!((c[0].print_radius / 0.4594e-3 - 1.0).abs() < 1e-3, "{}", c[0].print_radius);
+    assert!(c.len() > 5);
+    for later in &c[1..] {
+        let carried =
+            2.0 / 3.0 * std::f64::consts::PI * later.max_pressure * later.contact_radius.powi(2);
+        assert!(rel(carried, later.peak_force) < 1e-9, "{later:?}");
+        assert!(later.max_pressure < 5.44e8 && later.contact_radius < 0.3 * later.print_radius);
+    }
+    assert!(rel(c[1].contact_radius, 0.0865e-3) < 2e-3 && rel(c[1].max_pressure, 153.3e6) < 2e-3);
+}

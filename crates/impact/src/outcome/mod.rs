@@ -62,14 +62,15 @@ pub struct Contact {
     /// Rim radius of the permanent print after this contact (m); 0 if elastic so far.
     pub print_radius: f64,
     /// Central contact pressure p0 at the peak force (Pa): Hertz's, or for a Thornton contact
-    /// past first yield the pressure its law caps.
+    /// that loaded past first yield the pressure its law caps (a later one reloading the print
+    /// elastically: Hertz's on the print's enlarged radius R_p, Thornton 1997).
     pub max_pressure: f64,
     /// Contact radius a at the peak force (Pa's circle, m).
     pub contact_radius: f64,
     /// The largest shear stress below the surface in the ball (Pa), on the contact's axis
     /// (Johnson eq. 3.45 with the ball's Poisson ratio; about 0.31 p0 for nu = 0.3), and
-    /// its depth below the surface (m, about 0.48 a). For a Thornton contact past yield it
-    /// is Hertz's at p0 = p_y: the plastic zone beneath is not modelled.
+    /// its depth below the surface (m, about 0.48 a). For a Thornton contact loading past
+    /// yield it is Hertz's at p0 = p_y: the plastic zone beneath is not modelled.
     pub ball_max_shear: f64,
     /// Its depth (m).
     pub ball_max_shear_depth: f64,
@@ -464,7 +465,7 @@ fn ledger_warning(energy: &Energy, warnings: &mut Vec<String>) {
 
 /// Fills in the contact's pressure, radius and subsurface shear at its peak force.
 fn contact_stresses(plan: &Plan, c: &mut Contact) {
-    let (p0, a) = plan.law.peak_pressure(c.peak_force, c.max_approach);
+    let (p0, a) = plan.law.peak_pressure(c.peak_force, c.max_approach, c.print_radius);
     c.max_pressure = p0;
     c.contact_radius = a;
     let [ball, body] = plan.poisson_ratios.map(hertz::max_subsurface_shear);
