@@ -119,9 +119,12 @@ fn the_frame_by_its_modes_is_the_frame_by_the_fe_method() {
         off(tm.max, tf.max) < 2e-3 && (tm.position - tf.position).abs() < 1e-12,
         "{tm:?} vs {tf:?}"
     );
+    // The stress is the section's worst corner, so the fe method's geometrically exact axial
+    // stress (membrane strain the linear modes do not have) adds in full: 45.810 against
+    // 45.715 MPa at the impact point (45.787 on the struck face alone): 2.5e-3 on it.
     let (sm, sf) = (modal.bending_stress.unwrap(), fe.bending_stress.unwrap());
     assert!(
-        off(sm.max, sf.max) < 2e-3 && (sm.position - sf.position).abs() < 1e-12,
+        off(sm.max, sf.max) < 2.5e-3 && (sm.position - sf.position).abs() < 1e-12,
         "{sm:?} vs {sf:?}"
     );
     // The clamp's stress, each method's (it had listed no support: 1.63835e7 and 1.63797e7 Pa
@@ -446,4 +449,41 @@ fn a_mesh_too_coarse_for_the_cutoff_says_which_key_refines_it() {
     assert!(warning.starts_with("9 modes reach only omega_N t_c = 8.1"), "{warning}");
     assert!(warning.contains("structure.segment[k].elements"), "{warning}");
     assert!(!warning.contains("solver.modes"), "{warning}");
+}
+
+/// A portal (two 0.5 m columns clamped at their feet, a 0.6 m beam; the paper's strip) struck
+/// at mid-beam, down, over 1 ms by its modes; `flip` turns the last column's thickness
+/// direction around (the same structure).
+fn portal(flip: bool) -> Report {
+    let turn = if flip { "thickness_direction = [-1.0, 0.0, 0.0]\n" } else { "" };
+    let text = format!(
+        "name = \"portal\"\n[structure.section]\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\nwidth = 0.025\nthickness = 0.005\n\
+         [[structure.segment]]\nstart = [0.0, 0.0, 0.0]\nend = [0.0, 0.0, 0.5]\nelements = 25\n\
+         [[structure.segment]]\nend = [0.6, 0.0, 0.5]\nelements = 30\n\
+         [[structure.segment]]\nend = [0.6, 0.0, 0.0]\nelements = 25\n{turn}\
+         [[structure.support]]\nat = 0.0\nkind = \"clamped\"\n[[structure.support]]\nat = 1.6\nkind = \"clamped\"\n\
+         [ball]\nradius = 0.005\nyoungs_modulus = 2.1e11\npoisson_ratio = 0.3\ndensity = 7850.0\n\
+         [impact]\nat = 0.8\ndirection = [0.0, 0.0, -1.0]\nspeed = 1.0\ngravity = false\n\
+         [solver]\nmethod = \"modal\"\nend_time = 0.001\n"
+    );
+    simulate(&Scene::from_toml(&text).unwrap()).unwrap().report
+}
+
+#[test]
+fn a_symmetric_portal_reads_the_same_stress_at_both_feet_whichever_way_its_faces_point() {
+    // By symmetry the feet carry equal moments and axial forces, so their sections' worst
+    // corners are equal. Each member's stress had been its struck face's (the face its
+    // thickness direction names), and the supports' extrapolated from signed corner values
+    // whose sign flips where the axial share outweighs the bending: 4.857 and 4.422 MPa at
+    // this mesh (a review's finer mesh: 4.98 and 5.62, the same foot 5.62 or 4.98 with that
+    // direction reversed). Now each part of the stress is extrapolated, then the worst corner
+    // taken: 4.857 MPa at both feet, either way.
+    let feet = |r: &Report| {
+        let s = &r.bending_stress.as_ref().unwrap().supports;
+        (s[0].max, s[1].max)
+    };
+    let (a, b) = feet(&portal(false));
+    let (c, d) = feet(&portal(true));
+    assert!(off(a, b) < 1e-9 && off(c, d) < 1e-9 && off(a, c) < 1e-9, "{a} {b} {c} {d}");
+    assert!((a / 4.857e6 - 1.0).abs() < 1e-3, "{a}");
 }

@@ -460,7 +460,7 @@ pub(super) fn model(
             Some(_) => "3D geometrically exact beam (Simo's rod, 6 unknowns a node: extension, both shears and bendings, twist), as asked (solver.fe_model)".into(),
             None => format!("3D geometrically exact beam (Simo's rod, 6 unknowns a node): struck {offset} m off the centreline, the contact force twists the beam, which a planar beam cannot"),
         });
-        reasons.push("3D: the bending stress is the struck face's worst corner's (the extension and the bending about both axes) and torsion_shear the Saint-Venant shear stress k G t theta', each at the elements' midpoints and every accepted step; the twist (the struck section's and the largest anywhere) at every accepted step".into());
+        reasons.push("3D: the bending stress is the section's worst corner's (the extension and the bending about both axes, in magnitude) and torsion_shear the Saint-Venant shear stress k G t theta', each at the elements' midpoints and every accepted step; the twist (the struck section's and the largest anywhere) at every accepted step".into());
     }
     fe.offset = offset;
     fe.torsion = torsion;

@@ -230,7 +230,7 @@ pub(super) fn modal_plan(
     if let Some(tolerance) = tolerance {
         reasons.push(format!("every segment's elements doubled (the modes' cutoff kept: the residual flexibility holds those above it) until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force, the largest displacement and the largest stress (the finer's error a third of their difference: Richardson at second order)"));
     }
-    reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side), from the modes' section strains plus the static solve's for the truncated ones, at every recorded instant (about 200 a contact, one an output interval in free flight): not searched between them; the twist likewise at every node".into());
+    reasons.push("structure: the bending stress is the section's worst corner's (extension and both bendings, in magnitude) and torsion_shear the Saint-Venant shear stress at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side), from the modes' section strains plus the static solve's for the truncated ones, at every recorded instant (about 200 a contact, one an output interval in free flight): not searched between them; the twist likewise at every node".into());
     Ok(ModalPlan {
         basis: ModalBasis::Fe(Box::new(basis)),
         position: scene.impact.at.unwrap_or(0.0),
@@ -1025,7 +1025,7 @@ fn build(
         ));
     }
     if s.method != MethodName::Modal {
-        reasons.push("structure: the bending stress is the struck face's worst corner's (extension and both bendings) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side) and every accepted step; the twist is read at every node".into());
+        reasons.push("structure: the bending stress is the section's worst corner's (extension and both bendings, in magnitude) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side) and every accepted step; the twist is read at every node".into());
     }
     // What the supports leave free: 0 rigid-body modes where they hold the structure, 6 for a
     // free body; between, a mechanism. Counted once: no static stiffness without a hold (a

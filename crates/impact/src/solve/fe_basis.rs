@@ -15,7 +15,7 @@
 //! rest (`simo_beam::Element::strain_jacobian`), so each mode has its strains, and the
 //! mode-acceleration form adds the static solve's strains under the force for the truncated
 //! modes ([`modal::Recovery`]). The stress and the Saint-Venant shear are then the fe method's
-//! (`FeStress`, the struck face's worst corner), the twist each node's rotation about its
+//! (`FeStress`, the section's worst corner), the twist each node's rotation about its
 //! axis. They are evaluated at every recorded instant (about 200 a contact, one an output
 //! interval in free flight), not searched between them: the maxima are the fe method's kind
 //! (values the field takes at those instants), not the analytic basis' certified ones.
