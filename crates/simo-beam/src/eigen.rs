@@ -210,6 +210,19 @@ fn banded(n: usize, t: &Triplets, tm: &Triplets) -> Result<(Band, Band, f64), Be
     Ok((stiffness, mass, ratio))
 }
 
+/// How many directions `model`'s equilibrium `q` is unstable in: the eigenvalues of its
+/// tangent stiffness below minus the round-off threshold [`RIGID`] x max `K_ii / M_ii` (in the
+/// mass's metric), counted by Sylvester's inertia of `K + threshold M` (banded L D L^T). For
+/// conservative loads the tangent is symmetric at equilibrium and a negative eigenvalue is a
+/// direction of falling energy: the beam past a buckling load on the branch it started on.
+/// `None` where the count cannot be made (a mass that is not positive definite, a pivot that
+/// is exactly zero: the threshold itself an eigenvalue).
+pub(crate) fn unstable_directions<M: Model>(model: &M, q: &M::Config) -> Option<usize> {
+    let (t, tm) = linearised(model, q);
+    let (stiffness, mass, ratio) = banded(model.ndof(), &t, &tm).ok()?;
+    Some(Ldlt::factor(&stiffness.shifted(&mass, -RIGID * ratio)).ok()?.negatives())
+}
+
 /// How many rigid-body modes the model of stiffness `t` and mass `tm` (over `n` unknowns)
 /// has: its eigenvalues below the round-off threshold [`RIGID`] x max `K_ii / M_ii` (those
 /// [`modes_below`] sets to omega = 0), counted by Sylvester's inertia. 0 for a held

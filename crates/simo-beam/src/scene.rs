@@ -1111,6 +1111,7 @@ impl BeamScene {
         };
         let clock = std::time::Instant::now();
         let mut history = vec![sample(0.0, &reference, 0.0)];
+        let mut unstable = None;
         let (last, newton_iterations, cuts) = match self.analysis {
             AnalysisName::Static => {
                 if self.dynamic.is_some() {
@@ -1148,6 +1149,7 @@ impl BeamScene {
                 for (lambda, q) in &solution.path {
                     history.push(sample(*lambda, q, 0.0));
                 }
+                unstable = solution.unstable_from;
                 progress(1.0);
                 (solution.state, solution.iterations.iter().sum(), solution.cuts)
             }
@@ -1229,6 +1231,11 @@ impl BeamScene {
                     )
                 }),
         );
+        if let Some((lambda, k)) = unstable {
+            warnings.push(format!(
+                "the equilibrium is unstable from load factor {lambda:.4e} on: its tangent stiffness has {k} negative eigenvalue(s) (Sylvester's inertia), so the beam is past a buckling load and the shape found is one it would not keep (the load path from the unloaded beam stays on the branch it started on); the stable shape lies on another branch, which a small load across the unstable direction (an imperfection) leads to"
+            ));
+        }
         Ok(BeamRun {
             warnings,
             name: self.name.clone(),

@@ -39,6 +39,12 @@ pub struct StaticSolution {
     /// The load path: (load factor, equilibrium configuration) after each accepted increment,
     /// ending with the full load.
     pub path: Vec<(f64, BeamState)>,
+    /// The first accepted load factor whose equilibrium is unstable, and in how many
+    /// directions (negative eigenvalues of the tangent stiffness, Sylvester's inertia): past
+    /// a buckling load the path from the straight beam stays on the unstable branch it started
+    /// on (a cantilever under 12 times Euler's axial load stays straight). `None`: stable
+    /// throughout (or not countable).
+    pub unstable_from: Option<(f64, usize)>,
 }
 
 /// Solves `f_int(q) = lambda f_ext(q)` for lambda from 0 to 1, starting from the reference
@@ -73,6 +79,7 @@ pub fn solve_static(
     let mut first_residuals = Vec::new();
     let mut cuts = 0;
     let mut path = Vec::new();
+    let mut unstable_from = None;
     while lambda < 1.0 - 1e-14 {
         // Land exactly on the full load, not on a sum of rounded increments.
         let target = if lambda + step >= 1.0 - 1e-12 { 1.0 } else { lambda + step };
@@ -124,6 +131,11 @@ pub fn solve_static(
                 }
                 iterations.push(k);
                 lambda = target;
+                if unstable_from.is_none() {
+                    unstable_from = crate::eigen::unstable_directions(&model, &trial)
+                        .filter(|k| *k > 0)
+                        .map(|k| (lambda, k));
+                }
                 path.push((lambda, trial.clone()));
                 state = trial;
                 step = (2.0 * step).min(nominal);
@@ -137,5 +149,5 @@ pub fn solve_static(
             }
         }
     }
-    Ok(StaticSolution { state, iterations, first_residuals, cuts, path })
+    Ok(StaticSolution { state, iterations, first_residuals, cuts, path, unstable_from })
 }

@@ -442,3 +442,25 @@ fn a_segment_lowered_with_its_nodes_is_meshed_on_them() {
     let err = structure(&section, &[arc], &[]).unwrap_err().to_string();
     assert!(err.contains("segment[0]") && err.contains("equally spaced"), "{err}");
 }
+
+#[test]
+fn a_static_equilibrium_past_buckling_is_said_to_be_unstable() {
+    // A cantilever (EI = 1 N m^2, L = 1 m, the Mattiasson section) under a dead axial tip
+    // load: Euler's P_cr = pi^2 EI / (4 L^2) = 2.4674 N. Past it the straight beam is still an
+    // equilibrium, and the load path from the unloaded beam stays on it: at 30 N (12 P_cr) the
+    // tip stayed at x = 0.999997 m where the stable elastica turns it through 178 degrees to
+    // x = -0.635 m (Timoshenko & Gere, Theory of Elastic Stability, sec. 2.7; a review's), with
+    // no word. The tangent stiffness there has negative eigenvalues (two: both bending planes);
+    // the run now says from which load factor on. At 3 N in 10 steps: 2.4 N (0.8) is stable,
+    // 2.7 N (0.9) is not; at 2.4 N throughout, nothing is said.
+    let run = |force: f64| {
+        let text = scene_text("beam-mattiasson-k10.toml")
+            .replace("force = [0.0, 0.0, -10.0]", &format!("force = [-{force}, 0.0, 0.0]"));
+        assert!(text.contains(&format!("force = [-{force}, 0.0, 0.0]")), "the load was not set");
+        BeamScene::from_toml(&text).unwrap().run(|_| {}).unwrap()
+    };
+    let said = |r: &simo_beam::scene::BeamRun| r.warnings.iter().find(|w| w.contains("unstable")).cloned();
+    let past = said(&run(3.0)).expect("a warning past buckling");
+    assert!(past.contains("from load factor 9.0000e-1") && past.contains("2 negative"), "{past}");
+    assert_eq!(said(&run(2.4)), None);
+}
