@@ -1233,7 +1233,7 @@ impl BeamScene {
         );
         if let Some((lambda, k)) = unstable {
             warnings.push(format!(
-                "the equilibrium is unstable from load factor {lambda:.4e} on: its tangent stiffness has {k} negative eigenvalue(s) (Sylvester's inertia), so the beam is past a buckling load and the shape found is one it would not keep (the load path from the unloaded beam stays on the branch it started on); the stable shape lies on another branch, which a small load across the unstable direction (an imperfection) leads to"
+                "the equilibrium is unstable from load factor {lambda:.4e} on: its tangent stiffness has {k} negative eigenvalue(s) (Sylvester's inertia), so the beam is past a buckling load and the shape found is one it would not keep (the load path from the unloaded beam stays on the branch it started on); the stable shape lies on another branch, which load control from the unloaded beam does not follow (with a small load across as an imperfection it may still stop on an unstable branch, as this warning would then say again)"
             ));
         }
         Ok(BeamRun {
