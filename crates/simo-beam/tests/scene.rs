@@ -459,7 +459,8 @@ fn a_static_equilibrium_past_buckling_is_said_to_be_unstable() {
         assert!(text.contains(&format!("force = [-{force}, 0.0, 0.0]")), "the load was not set");
         BeamScene::from_toml(&text).unwrap().run(|_| {}).unwrap()
     };
-    let said = |r: &simo_beam::scene::BeamRun| r.warnings.iter().find(|w| w.contains("unstable")).cloned();
+    let said =
+        |r: &simo_beam::scene::BeamRun| r.warnings.iter().find(|w| w.contains("unstable")).cloned();
     let past = said(&run(3.0)).expect("a warning past buckling");
     assert!(past.contains("from load factor 9.0000e-1") && past.contains("2 negative"), "{past}");
     assert_eq!(said(&run(2.4)), None);
