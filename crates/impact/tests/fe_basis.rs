@@ -249,7 +249,12 @@ fn a_frame_forked_at_both_ends_is_held_where_pinned_ends_leave_a_mechanism() {
         Scene::from_toml(&text).unwrap()
     };
     let err = Plan::new(&frame("pinned", "modal")).unwrap_err().to_string();
-    assert!(err.contains("mechanism") && err.contains("1 rigid-body motion(s)"), "{err}");
+    assert!(
+        err.contains("mechanism")
+            && err.contains("1 rigid-body motion(s)")
+            && err.contains("a forked support"),
+        "{err}"
+    );
     let (modal, fe) = (frame("forked", "modal"), frame("forked", "fe"));
     let (modal, fe) = (simulate(&modal).unwrap().report, simulate(&fe).unwrap().report);
     assert!(!fe.warnings.iter().any(|w| w.contains("mechanism")), "{:?}", fe.warnings);

@@ -77,7 +77,7 @@ pub enum SceneError {
     },
     /// The stiffness matrix is singular: the supports leave the beam free to move as a rigid
     /// body (one pinned support, or none) or the loaded shape is a mechanism.
-    #[error("the beam is a mechanism at load factor {load_factor}: its stiffness matrix is singular; the supports must hold it (clamp a node, or pin two)")]
+    #[error("the beam is a mechanism at load factor {load_factor}: its stiffness matrix is singular; the supports must hold it (clamp a node, or pin points not all on one line; pins on one straight line leave the turn about that line free, which a forked support (a pin that holds the twist) holds)")]
     Mechanism {
         /// Fraction of the load reached (-).
         load_factor: f64,

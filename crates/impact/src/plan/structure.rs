@@ -1085,7 +1085,7 @@ fn build(
         reasons.push(format!("the structure is a free body ({held}): its six rigid-body motions are free; it has no static stiffness"));
     } else if rigid_modes > 0 {
         if s.method == MethodName::Modal {
-            return Err(ImpactError::Inconsistent(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free, which the modal method would take linearised at rest; clamp a node, or pin it at more points (or strike it by solver.method = \"fe\", which follows large rotations)")));
+            return Err(ImpactError::Inconsistent(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free, which the modal method would take linearised at rest; clamp a node, or pin it at points not all on one line (pins on one straight line leave the turn about that line free: a forked support, a pin that holds the twist, holds it), or strike it by solver.method = \"fe\", which follows large rotations")));
         }
         warnings.push(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free; it has no static stiffness (no equivalent static force is reported)"));
     }
