@@ -453,6 +453,17 @@ end_time = 0.0001
     assert!(first.start.abs() < 1e-12 && first.peak_force > 0.0, "{first:?}");
     let en = &report.energy;
     assert!((en.balance_error / en.initial).abs() < 1e-4, "{en:?}");
+    // Struck on the step itself (0.6 m: 8 mm meets 4 mm, a 2 mm edge on the struck face) the
+    // ball lands on the step's edge, which a half-space contact does not describe: warned (it
+    // said nothing where a free end is warned); 5 mm from it not.
+    let plan_at = |at: &str| {
+        let text = text.replace("at = 1.1\ndirection", &format!("at = {at}\ndirection"));
+        assert!(text.contains(&format!("at = {at}\ndirection")));
+        Plan::new(&Scene::from_toml(&text).unwrap()).unwrap()
+    };
+    let on_step = |p: &Plan| p.warnings().iter().any(|w| w.contains("a step of the section"));
+    assert!(on_step(&plan_at("0.6")));
+    assert!(!on_step(&plan_at("0.6125")));
 }
 
 #[test]

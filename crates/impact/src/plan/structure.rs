@@ -1068,6 +1068,17 @@ fn build(
             "impact.at is {distance:.3e} m from a free end of the structure, within the contact radius (about {patch:.3e} m): the contact patch runs over the member's end, where the contact law (a half-space) does not hold, and the beam models load one point where the response changes fast with it (validation/REFERENCES.md 1.6); strike at least the contact radius inside the end for a result the models vouch for"
         ));
     }
+    // A step of the section (a stepped member's segments meet with another width or
+    // thickness): the ball within the contact radius of it lands on the step's edge.
+    let step = (1..sections.len())
+        .filter(|i| sections[i - 1][2..] != sections[*i][2..])
+        .map(|i| (stations[i], (stations[i] - at).abs()))
+        .find(|(_, d)| *d < patch);
+    if let Some((x, distance)) = step {
+        warnings.push(format!(
+            "impact.at is {distance:.3e} m from a step of the section at s = {x} m, within the contact radius (about {patch:.3e} m): the contact patch runs over the step's edge, where the contact law (a half-space, one face) does not hold; strike at least the contact radius from the step for a result the models vouch for"
+        ));
+    }
     if s.method != MethodName::Modal {
         reasons.push("structure: the bending stress is the section's worst corner's (extension and both bendings, in magnitude) and torsion_shear the Saint-Venant shear stress, at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side) and every accepted step; the twist is read at every node".into());
     }
