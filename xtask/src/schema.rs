@@ -222,7 +222,11 @@ fn kind(root: &Value, field: &Value) -> String {
         Some("number") => "number".into(),
         Some(other) => other.into(),
         None if constants(node).is_some() => "string".into(),
-        None => "value".into(),
+        // Either of two shapes (an untagged enum): each in words.
+        None => match node.get("anyOf").and_then(Value::as_array) {
+            Some(shapes) => shapes.iter().map(|s| kind(root, s)).collect::<Vec<_>>().join(" or "),
+            None => "value".into(),
+        },
     }
 }
 
@@ -243,6 +247,11 @@ fn allowed(node: &Value) -> String {
         .or_else(|| bound("exclusiveMaximum").map(|v| format!(" < {v}")));
     // An unsigned integer's minimum 0 says nothing a reader needs beside a larger one.
     match (lower, upper) {
+        (None, None) if node.get("anyOf").is_some() => {
+            let shapes = node.get("anyOf").and_then(Value::as_array).into_iter().flatten();
+            let each: Vec<String> = shapes.map(allowed).filter(|a| !a.is_empty()).collect();
+            each.join("; ")
+        }
         (None, None) => node.get("items").map(allowed).unwrap_or_default(),
         (l, u) => format!("{}x{}", l.unwrap_or_default(), u.unwrap_or_default()),
     }

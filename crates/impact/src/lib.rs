@@ -68,8 +68,8 @@ pub use outcome::{
 pub use plan::{FePlan, Method, MethodKind, ModalPlan, Plan, PlanSummary};
 pub use scene::{
     BallSpec, BeamSpec, ContactSpec, FeModelName, HalfSpaceSpec, ImpactSpec, LawName, MassSpec,
-    MethodName, ModalBasisName, Scene, SolverSpec, SpringSpec, StructureSpec, StructureSpringSpec,
-    SupportName, TheoryName,
+    MethodName, ModalBasisName, RotaryInertia, Scene, SolverSpec, SpringSpec, StructureSpec,
+    StructureSpringSpec, SupportName, TheoryName,
 };
 pub use solve::{
     run, run_with_progress, BallOnBeam, BallOnBeam3d, BallOnBeam3dConfig, BallOnBeamConfig, Face,

@@ -317,10 +317,69 @@ pub struct MassSpec {
     /// Mass (kg).
     #[schemars(range(min = 0), extend("x-unit" = "kg"))]
     pub mass: f64,
-    /// Rotary inertia about the beam's axis (kg m^2), default 0: it resists twist only.
+    /// Rotary inertia (kg m^2), default 0: a number, about the member's axis (it resists the
+    /// twist only); or `[J1, J2, J3]` about the section's axes E1 (the member's axis), E2 (the
+    /// width axis: the bending a strike on the thickness face turns the section by) and E3
+    /// (the thickness axis). A compact block's J2 lowers a cantilever's second bending
+    /// frequency by several per cent (validation/REFERENCES.md 1.10).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schemars(range(min = 0), extend("x-unit" = "kg m^2"), extend("default" = 0))]
-    pub rotary_inertia: Option<f64>,
+    #[schemars(extend("x-unit" = "kg m^2"), extend("default" = 0))]
+    pub rotary_inertia: Option<RotaryInertia>,
+}
+
+/// A point mass's rotary inertia (`rotary_inertia` of `[[beam.mass]]`, `[[structure.mass]]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
+pub enum RotaryInertia {
+    /// About the member's axis only (kg m^2): a number.
+    Axis(#[schemars(range(min = 0))] f64),
+    /// About the section's axes E1, E2, E3 (kg m^2): three numbers.
+    Axes(#[schemars(length(equal = 3))] [f64; 3]),
+}
+
+impl RotaryInertia {
+    /// About E1, E2 and E3 (kg m^2).
+    pub fn axes(self) -> [f64; 3] {
+        match self {
+            Self::Axis(j) => [j, 0.0, 0.0],
+            Self::Axes(j) => j,
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RotaryInertia {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Either;
+        impl<'de> serde::de::Visitor<'de> for Either {
+            type Value = RotaryInertia;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number (kg m^2, about the member's axis) or an array of three [about E1 (the axis), E2 (the width axis), E3 (the thickness axis)]")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<RotaryInertia, E> {
+                Ok(RotaryInertia::Axis(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<RotaryInertia, E> {
+                Ok(RotaryInertia::Axis(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<RotaryInertia, E> {
+                Ok(RotaryInertia::Axis(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<RotaryInertia, A::Error> {
+                let mut values = Vec::new();
+                while let Some(v) = seq.next_element::<f64>()? {
+                    values.push(v);
+                }
+                let n = values.len();
+                <[f64; 3]>::try_from(values).map(RotaryInertia::Axes).map_err(|_| {
+                    serde::de::Error::invalid_length(n, &"an array of three [J1, J2, J3]")
+                })
+            }
+        }
+        d.deserialize_any(Either)
+    }
 }
 
 /// An elastic support on a beam (`[[beam.spring]]`).

@@ -143,7 +143,7 @@ fn a_mass_on_a_held_node_changes_nothing_and_a_sensor_closes_the_ledger() {
     for (a, b) in bare.contacts.iter().zip(&held.contacts) {
         assert!((a.peak_force - b.peak_force).abs() <= 1e-12 * a.peak_force, "{a:?} vs {b:?}");
     }
-    assert!(held.plan.reasons.iter().any(|r| r.contains("resists twist only")));
+    assert!(held.plan.reasons.iter().any(|r| r.contains("not on a planar one")));
     // The paper's accelerometer: 20 g at the tip. It slows the beam's swing (larger inertia at
     // the tip), so the largest displacement over the window changes; the ledger still closes.
     let sensor = "[[beam.mass]]\nat = 1.15\nmass = 0.02";
@@ -185,6 +185,10 @@ fn masses_and_springs_off_the_beam_or_negative_are_refused_by_name() {
         ("[[beam.mass]]\nat = 1.2\nmass = 0.1", "beam.mass[0].at"),
         ("[[beam.mass]]\nat = 0.5\nmass = -0.1", "beam.mass[0].mass"),
         ("[[beam.mass]]\nat = 0.5\nmass = 0.1\nrotary_inertia = nan", "beam.mass[0].rotary_inertia"),
+        (
+            "[[beam.mass]]\nat = 0.5\nmass = 0.1\nrotary_inertia = [0.0, -1.0, 0.0]",
+            "beam.mass[0].rotary_inertia[1] = -1",
+        ),
         ("[[beam.spring]]\nat = 0.5\nstiffness = 1.0\n[[beam.spring]]\nat = -0.1\nstiffness = 1.0", "beam.spring[1].at"),
         ("[[beam.spring]]\nat = 0.5\nstiffness = -3.0", "beam.spring[0].stiffness"),
     ] {
@@ -195,6 +199,12 @@ fn masses_and_springs_off_the_beam_or_negative_are_refused_by_name() {
     let err =
         scene("clamped-free", "[[beam.mass]]\nat = 0.5\nmas = 0.1", "").unwrap_err().to_string();
     assert!(err.contains("mas"), "{err}");
+    // A rotary inertia of the wrong shape says what it may be.
+    for bad in ["[1.0, 2.0]", "\"big\""] {
+        let extra = format!("[[beam.mass]]\nat = 0.5\nmass = 0.1\nrotary_inertia = {bad}");
+        let err = scene("clamped-free", &extra, "").unwrap_err().to_string();
+        assert!(err.contains("rotary_inertia") && err.contains("three"), "{bad}: {err}");
+    }
     let mut both = scene("clamped-free", "[[beam.mass]]\nat = 0.5\nmass = 0.1", "").unwrap();
     both.impact.offset = Some(0.005);
     let plan = Plan::new(&both).unwrap();

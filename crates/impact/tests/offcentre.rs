@@ -365,7 +365,7 @@ fn a_twist_held_by_a_rotary_inertia_gives_the_centred_force() {
     held.beam.as_mut().unwrap().masses.push(impact::MassSpec {
         at: 1.15,
         mass: 0.0,
-        rotary_inertia: Some(1e3),
+        rotary_inertia: Some(impact::RotaryInertia::Axis(1e3)),
     });
     let held = simulate(&held).unwrap().report;
     let centred = simulate(&struck(1.15, "0.0", solver).unwrap()).unwrap().report;

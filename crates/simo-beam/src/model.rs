@@ -278,7 +278,9 @@ impl BeamModel {
     }
 
     /// Adds a point mass of `mass` (kg) at `node`, with `rotary_inertia` (kg m^2) about the
-    /// section's axis E1 (a sensor's, a tip mass's resistance to twist).
+    /// node's section axes E1 (the member's axis: a sensor's, a tip mass's resistance to
+    /// twist), E2 and E3 (to the bending rotations). At a corner the node's section is the
+    /// member's that reaches it.
     ///
     /// # Errors
     /// [`BeamError::Mesh`] for a node out of range; [`BeamError::InvalidParameter`] for a
@@ -287,14 +289,17 @@ impl BeamModel {
         mut self,
         node: usize,
         mass: f64,
-        rotary_inertia: f64,
+        rotary_inertia: [f64; 3],
     ) -> Result<Self, BeamError> {
         self.check_node(node)?;
-        for (name, value) in [("mass", mass), ("rotary_inertia", rotary_inertia)] {
-            not_negative(name, value, "a finite number >= 0 (kg, kg m^2)")?;
+        not_negative("mass", mass, "a finite number >= 0 (kg)")?;
+        for value in rotary_inertia {
+            not_negative("rotary_inertia", value, "finite components >= 0 (kg m^2)")?;
         }
         self.point_masses.push((node, mass));
-        self.node_inertia[node][(0, 0)] += rotary_inertia;
+        for (axis, value) in rotary_inertia.into_iter().enumerate() {
+            self.node_inertia[node][(axis, axis)] += value;
+        }
         self.inertia_plan = InertiaPlan::new(&self);
         Ok(self)
     }

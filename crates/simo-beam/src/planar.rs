@@ -155,8 +155,9 @@ pub struct PlanarBeam {
     /// max(EA, GA, EI / shortest element) (N): the size of the terms that cancel in the
     /// internal force, hence its round-off floor.
     force_scale: f64,
-    /// Point masses (node, kg) on x and z: sensors, tip masses.
-    point_masses: Vec<(usize, f64)>,
+    /// Point masses (node, kg on x and z, kg m^2 on the rotation about the width axis):
+    /// sensors, tip masses.
+    point_masses: Vec<(usize, f64, f64)>,
     /// Elastic supports (node, N/m along z, N m/rad about the width axis).
     springs: Vec<(usize, f64, f64)>,
 }
@@ -257,9 +258,11 @@ impl PlanarBeam {
                 }
             }
         }
-        for &(node, m) in &self.point_masses {
-            for i in self.dofs[node][..2].iter().flatten() {
-                self.mass_diagonal[*i] += m;
+        for &(node, m, j) in &self.point_masses {
+            for (i, value) in self.dofs[node].iter().zip([m, m, j]) {
+                if let Some(i) = i {
+                    self.mass_diagonal[*i] += value;
+                }
             }
         }
         self.mass_next = self.mass_couplings.iter().all(|&(i, j, _)| j == i + 3).then(|| {
@@ -297,16 +300,24 @@ impl PlanarBeam {
         Ok(self)
     }
 
-    /// Adds a point mass of `mass` (kg) at `node`: it moves with the node in x and z (its
-    /// rotary inertia about the beam's axis does not act in the plane).
+    /// Adds a point mass of `mass` (kg) at `node`, with `rotary_inertia` (kg m^2) about the
+    /// width axis: it moves with the node in x and z and turns with its section in the plane (a
+    /// tip mass's resistance to the bending rotation; its inertia about the beam's axis does not
+    /// act in the plane).
     ///
     /// # Errors
     /// [`BeamError::Mesh`] for a node out of range; [`BeamError::InvalidParameter`] for a
-    /// mass that is negative or not finite.
-    pub fn attach_mass(mut self, node: usize, mass: f64) -> Result<Self, BeamError> {
+    /// value that is negative or not finite.
+    pub fn attach_mass(
+        mut self,
+        node: usize,
+        mass: f64,
+        rotary_inertia: f64,
+    ) -> Result<Self, BeamError> {
         self.check_node(node)?;
         not_negative("mass", mass, "a finite number >= 0 (kg)")?;
-        self.point_masses.push((node, mass));
+        not_negative("rotary_inertia", rotary_inertia, "a finite number >= 0 (kg m^2)")?;
+        self.point_masses.push((node, mass, rotary_inertia));
         let supports = self.supports();
         self.number(&supports);
         Ok(self)
@@ -921,9 +932,11 @@ impl Model for PlanarBeam {
                 }
             }
         }
-        for &(node, m) in &self.point_masses {
-            for i in self.dofs[node][..2].iter().flatten() {
-                out.push(*i, *i, inertia * m);
+        for &(node, m, j) in &self.point_masses {
+            for (i, value) in self.dofs[node].iter().zip([m, m, j]) {
+                if let Some(i) = i {
+                    out.push(*i, *i, inertia * value);
+                }
             }
         }
         for &(node, k, kt) in &self.springs {

@@ -45,7 +45,7 @@ fn a_tip_mass_and_a_tip_spring_give_their_characteristic_roots() {
     // about fourfold from 128 to 256 elements and be within 1e-4 at 256.
     let mass: [f64; 3] = [1.5572979, 16.2500852, 50.8958428];
     let spring: [f64; 3] = [13.2535440, 31.5394120, 65.3524617];
-    let tip_mass = |n: usize| cantilever(n).attach_mass(n, RHO * WIDTH * THICKNESS).unwrap();
+    let tip_mass = |n: usize| cantilever(n).attach_mass(n, RHO * WIDTH * THICKNESS, 0.0).unwrap();
     let tip_spring = |n: usize| cantilever(n).attach_spring(n, 100.0 * ei(), 0.0).unwrap();
     for (name, exact, coarse, fine) in [
         ("mass", mass, lambda2(&tip_mass(128)), lambda2(&tip_mass(256))),
@@ -67,7 +67,7 @@ fn the_springs_force_is_the_derivative_of_their_energy_and_the_tangent_its_own()
     // tip: the net force's z and theta entries at the spring are the energy's derivatives
     // (central differences of strain_energy), and the tangent's stiffness part is the force's
     // derivative there.
-    let beam = cantilever(8).attach_spring(4, 3e3, 40.0).unwrap().attach_mass(8, 0.1).unwrap();
+    let beam = cantilever(8).attach_spring(4, 3e3, 40.0).unwrap().attach_mass(8, 0.1, 0.0).unwrap();
     let mut q = beam.reference_state();
     for k in 0..=8 {
         q.z[k] = 1e-3 * (k as f64).powi(2);
@@ -111,7 +111,7 @@ fn the_springs_force_is_the_derivative_of_their_energy_and_the_tangent_its_own()
         (beam.kinetic_energy(v.as_ref()) - bare.kinetic_energy(v.as_ref()) - 0.05).abs() < 1e-15
     );
     // Bad values are refused by name.
-    let err = cantilever(4).attach_mass(2, -1.0).unwrap_err().to_string();
+    let err = cantilever(4).attach_mass(2, -1.0, 0.0).unwrap_err().to_string();
     assert!(err.contains("mass = -1"), "{err}");
     let err = cantilever(4).attach_spring(9, 1.0, 0.0).unwrap_err().to_string();
     assert!(err.contains("node 9"), "{err}");
@@ -139,7 +139,7 @@ fn the_3d_beam_takes_a_tip_mass_in_bending_and_its_rotary_inertia_in_twist() {
         .unwrap()
         .support(0, Support::Clamped)
         .unwrap()
-        .attach_mass(64, rho_a * l, rho_ip * l)
+        .attach_mass(64, rho_a * l, [rho_ip * l, 0.0, 0.0])
         .unwrap();
     let ei = E * b * t.powi(3) / 12.0;
     let scale = l * l * (rho_a / ei).sqrt();
@@ -218,7 +218,7 @@ fn the_planar_beam_s_banded_modes_are_its_dense_ones() {
     // both solutions' first frequency carries that round-off: 3e-8 apart here, 7e-7 at 128
     // elements, where the mesh's own second-order differences say the banded one is within
     // 1e-7 and the dense one 4e-7 off.)
-    let beam = cantilever(32).attach_mass(32, RHO * WIDTH * THICKNESS).unwrap();
+    let beam = cantilever(32).attach_mass(32, RHO * WIDTH * THICKNESS, 0.0).unwrap();
     let banded = simo_beam::planar_modes_below(&beam, 2e4).unwrap();
     let dense: Vec<f64> = planar_modes(&beam, beam.ndof())
         .unwrap()
@@ -230,5 +230,42 @@ fn the_planar_beam_s_banded_modes_are_its_dense_ones() {
     assert!(dense.len() > 10, "{} modes test little", dense.len());
     for (k, (a, b)) in banded.iter().zip(&dense).enumerate() {
         assert!((a.omega / b - 1.0).abs() < 1e-7, "mode {k}: {} vs {b}", a.omega);
+    }
+}
+
+#[test]
+fn a_tip_mass_s_rotary_inertia_in_bending_gives_its_characteristic_roots() {
+    // A cantilever with a tip mass M = alpha rho A L and a rotary inertia J = beta rho A L^3
+    // about the bending axis (a compact block, not a point): the tip's shear and moment take
+    // -M omega^2 w and +J omega^2 w', so
+    // 1 + c C + alpha l (c S - s C) - beta l^3 (C s + S c) + alpha beta l^4 (1 - c C) = 0
+    // (c, s = cos, sin l; C, S = cosh, sinh l); at alpha = 1, beta = 0.1 its roots are
+    // lambda^2 = 1.4296263, 6.2753257, 24.7516045 (derived here, roots by brentq, and an
+    // independent Hermite beam of 60 elements with the tip's M and J: within 2e-7;
+    // validation/REFERENCES.md 1.10). Without J (beta = 0) they are Blevins' 1.557298,
+    // 16.25009, 50.89584: the block's J lowers the second by 61 %. The planar beam (its
+    // rotary inertia about the width axis) and the 3D beam (about E2) on 128 elements.
+    use nalgebra::Vector3;
+    use simo_beam::{bending_frequencies, BeamModel, Mesh};
+    let exact: [f64; 3] = [1.4296263, 6.2753257, 24.7516045];
+    let rho_a = RHO * WIDTH * THICKNESS;
+    let (mass, rotary) = (rho_a, 0.1 * rho_a);
+    let planar = lambda2(&cantilever(128).attach_mass(128, mass, rotary).unwrap());
+    let mesh =
+        Mesh::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0), 128, section(), Vector3::z())
+            .unwrap();
+    let model = BeamModel::new(mesh)
+        .unwrap()
+        .support(0, Support::Clamped)
+        .unwrap()
+        .attach_mass(128, mass, [0.0, rotary, 0.0])
+        .unwrap();
+    let scale = (rho_a / ei()).sqrt();
+    let solid: Vec<f64> =
+        bending_frequencies(&model, 3).unwrap().iter().map(|w| w * scale).collect();
+    for k in 0..3 {
+        for (name, got) in [("planar", planar[k]), ("3d", solid[k])] {
+            assert!((got / exact[k] - 1.0).abs() < 2e-4, "{name} mode {k}: {got} vs {}", exact[k]);
+        }
     }
 }

@@ -141,7 +141,7 @@ fn a_tip_mass_gives_its_characteristic_roots_at_the_element_s_order() {
         let model = strip(n, (b, t, l))
             .support(0, Support::Clamped)
             .unwrap()
-            .attach_mass(n, RHO * b * t * l, 0.0)
+            .attach_mass(n, RHO * b * t * l, [0.0; 3])
             .unwrap();
         let modes = modes_below(&model, 55.0 / scale).unwrap();
         modes.iter().filter(|m| bends_across(&model, &m.shape)).map(|m| m.omega * scale).collect()

@@ -85,9 +85,10 @@ pub struct FePlan {
 pub(crate) struct Attachment {
     /// Where (m from x = 0): a node of every mesh.
     pub(crate) at: f64,
-    /// Mass (kg) and its rotary inertia about the beam's axis (kg m^2; the 3D beam's only).
+    /// Mass (kg) and its rotary inertia about the section's axes E1 (the beam's), E2 (the
+    /// width's: the planar beam's too) and E3 (kg m^2).
     pub(crate) mass: f64,
-    pub(crate) rotary_inertia: f64,
+    pub(crate) rotary_inertia: [f64; 3],
     /// Stiffness along the impact direction (N/m) and against the bending rotation (N m/rad).
     pub(crate) stiffness: f64,
     pub(crate) rotational_stiffness: f64,
@@ -162,8 +163,8 @@ impl FePlan {
             .support(last, end)?;
         for a in &self.attachments {
             let node = node_at(&self.nodes, a.at);
-            if a.mass > 0.0 {
-                beam = beam.attach_mass(node, a.mass)?;
+            if a.mass > 0.0 || a.rotary_inertia[1] > 0.0 {
+                beam = beam.attach_mass(node, a.mass, a.rotary_inertia[1])?;
             }
             if a.stiffness > 0.0 || a.rotational_stiffness > 0.0 {
                 beam = beam.attach_spring(node, a.stiffness, a.rotational_stiffness)?;

@@ -768,9 +768,29 @@ fn free_end(
     }
 }
 
+/// A point mass's `rotary_inertia` (`key` the mass's, e.g. `beam.mass[0]`) about its
+/// section's axes E1, E2, E3 (kg m^2), each checked.
+///
+/// # Errors
+/// `InvalidField` naming the component that is negative or not finite.
+pub(crate) fn rotary_inertia(
+    key: &str,
+    given: Option<crate::scene::RotaryInertia>,
+) -> Result<[f64; 3], ImpactError> {
+    let axes = given.map_or([0.0; 3], crate::scene::RotaryInertia::axes);
+    for (i, value) in axes.iter().enumerate() {
+        let name = match given {
+            Some(crate::scene::RotaryInertia::Axes(_)) => format!("{key}.rotary_inertia[{i}]"),
+            _ => format!("{key}.rotary_inertia"),
+        };
+        not_negative(&name, *value, "kg m^2")?;
+    }
+    Ok(axes)
+}
+
 /// The beam's `[[beam.mass]]` and `[[beam.spring]]`, checked (on the beam, not negative),
 /// in order along it. Warns of a mass where the ball strikes (it has no face in the model) and
-/// says that a mass's rotary inertia (about the axis) acts on twist only.
+/// says which of a mass's rotary inertias act on the planar beam (about the width axis only).
 fn attachments(
     beam: &BeamSpec,
     position: f64,
@@ -795,13 +815,9 @@ fn attachments(
     for (k, m) in beam.masses.iter().enumerate() {
         let at = place(format!("beam.mass[{k}].at"), m.at)?;
         let mass = not_negative(&format!("beam.mass[{k}].mass"), m.mass, "kg")?;
-        let rotary = not_negative(
-            &format!("beam.mass[{k}].rotary_inertia"),
-            m.rotary_inertia.unwrap_or(0.0),
-            "kg m^2",
-        )?;
-        if rotary > 0.0 {
-            reasons.push(format!("beam.mass[{k}].rotary_inertia = {rotary} kg m^2 resists twist only: it acts on the 3D beam (an off-centre strike), not on a planar one"));
+        let rotary = rotary_inertia(&format!("beam.mass[{k}]"), m.rotary_inertia)?;
+        if rotary[0] > 0.0 || rotary[2] > 0.0 {
+            reasons.push(format!("beam.mass[{k}].rotary_inertia: about the beam's axis ({} kg m^2, the twist) and the thickness axis ({} kg m^2, bending in the width's plane) it acts on the 3D beam (an off-centre strike), not on a planar one; about the width axis ({} kg m^2) on both", rotary[0], rotary[2], rotary[1]));
         }
         if (at - position).abs() <= patch {
             warnings.push(format!("beam.mass[{k}] at x = {at} m sits where the ball strikes (within the contact radius {patch:.3e} m): the mass has no face in the model, the ball meets the beam's face and the mass only adds its inertia at that node"));
@@ -825,7 +841,7 @@ fn attachments(
         out.push(Attachment {
             at,
             mass: 0.0,
-            rotary_inertia: 0.0,
+            rotary_inertia: [0.0; 3],
             stiffness,
             rotational_stiffness,
         });

@@ -816,11 +816,7 @@ fn model_of(spec: &StructureSpec) -> Result<(BeamModel, Vec<f64>), ImpactError> 
     for (k, m) in spec.masses.iter().enumerate() {
         let n = node(format!("mass[{k}].at"), m.at)?;
         let mass = not_negative(&format!("structure.mass[{k}].mass"), m.mass, "kg")?;
-        let rotary = not_negative(
-            &format!("structure.mass[{k}].rotary_inertia"),
-            m.rotary_inertia.unwrap_or(0.0),
-            "kg m^2",
-        )?;
+        let rotary = super::rotary_inertia(&format!("structure.mass[{k}]"), m.rotary_inertia)?;
         model = model.attach_mass(n, mass, rotary)?;
     }
     for (k, sp) in spec.springs.iter().enumerate() {
