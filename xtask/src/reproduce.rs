@@ -643,7 +643,7 @@ fn fig5_6(out: &Path, quick: bool) -> anyhow::Result<Vec<Figure>> {
             title: "Fig. 5: largest displacement at the impact point vs drop height".into(),
             caption: format!(
                 "Largest displacement of the tip within {} ms after the first impact ({modes} modes, adaptive contact step, gravity on, elastic Hertz; the ball may strike again), drop heights {} to {} m: \
-                 {:.3} to {:.3} mm. The window is the first contact's end plus half the first mode's period (0.317 s): it holds the first swing, which the ball's later strikes drive further (over 0.1 s the largest displacement was 3 to 16 % lower). The paper measured the maximum displacement with a displacement sensor and \
+                 {:.3} to {:.3} mm. The window, 160 ms, is the first contact's end plus half the first mode's period (T1 = 0.317 s): it holds the first swing, which the ball's later strikes drive further (over 0.1 s the largest displacement was 3 to 16 % lower). The paper measured the maximum displacement with a displacement sensor and \
                  reports a 4.3 % average difference between theory and measurement; its numbers are not tabulated in the text, so the comparison here is of the trend: the displacement grows with height. \
                  Error: the plotted values move by up to {error:.1e} from {modes} to {} modes, and more modes do not settle them (256 to 512: up to 1.0e-1 over the heights): within {} ms the ball \
                  strikes again and again, each strike starting from the ringing the earlier ones left, so the largest displacement inherits the sensitivity of the whole sequence.",

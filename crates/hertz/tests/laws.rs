@@ -315,7 +315,7 @@ fn a_reload_into_the_print_is_hertz_on_the_prints_radius() {
     let e_star = c.effective_modulus();
     let plastic_radius = 4.0 * e_star * print.powi(3) / (3.0 * peak);
     let dp = th.release_approach(&s);
-    for share in [1e-3, 0.01, 0.3] {
+    for share in [1e-3, 0.01, 0.1, 0.97] {
         // The approach on the reloading curve at which the force is share F*.
         let (mut lo, mut hi) = (dp, max);
         for _ in 0..200 {
@@ -330,8 +330,13 @@ fn a_reload_into_the_print_is_hertz_on_the_prints_radius() {
         let force = th.force(&s, delta, 0.0).force;
         let (p0, a) = th.pressure_and_radius(max, delta, force);
         assert!(rel(a, (plastic_radius * (delta - dp)).sqrt()) < 1e-9, "{share}: a {a}");
-        assert!(rel(2.0 / 3.0 * PI * p0 * a * a, force) < 1e-12, "{share}: p0 {p0}");
-        assert!(p0 < th.limiting_pressure());
+        let hertz = 1.5 * force / (PI * a * a);
+        if hertz < th.limiting_pressure() {
+            assert!(rel(2.0 / 3.0 * PI * p0 * a * a, force) < 1e-12, "{share}: p0 {p0}");
+        } else {
+            // Near F* Hertz's pressure on R_p passes p_y, which the material does not carry.
+            assert!(share > 0.5 && p0 == th.limiting_pressure(), "{share}: p0 {p0}");
+        }
     }
     // Below yield: Hertz's.
     let small = 0.5 * th.yield_approach();

@@ -320,7 +320,8 @@ pub struct MassSpec {
     /// Rotary inertia (kg m^2), default 0: a number, about the member's axis (it resists the
     /// twist only); or `[J1, J2, J3]` about the section's axes E1 (the member's axis), E2 (the
     /// width axis: the bending a strike on the thickness face turns the section by) and E3
-    /// (the thickness axis). A compact block's J2 lowers a cantilever's second bending
+    /// (the thickness axis); at a structure's corner node, the axes of the member that reaches
+    /// it (the first of the two). A compact block's J2 lowers a cantilever's second bending
     /// frequency by several per cent (validation/REFERENCES.md 1.10).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("x-unit" = "kg m^2"), extend("default" = 0))]

@@ -199,6 +199,18 @@ fn masses_and_springs_off_the_beam_or_negative_are_refused_by_name() {
     let err =
         scene("clamped-free", "[[beam.mass]]\nat = 0.5\nmas = 0.1", "").unwrap_err().to_string();
     assert!(err.contains("mas"), "{err}");
+    // An absurd tip block (J2 = 1e20 kg m^2, some 1e27 times its node's share of the strip's)
+    // broke the modes silently (a review: 0.034 N against the fe method's 24.78 N): refused
+    // for the modal method, naming it and what to do; a real block's runs.
+    let block =
+        |j: &str| format!("[[beam.mass]]\nat = 1.15\nmass = 0.1\nrotary_inertia = [0.0, {j}, 0.0]");
+    let err = Plan::new(&scene("clamped-free", &block("1e20"), "method = \"modal\"").unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("beam.mass[0].rotary_inertia = 1e20") && err.contains("\"fe\""), "{err}");
+    assert!(
+        Plan::new(&scene("clamped-free", &block("1e-4"), "method = \"modal\"").unwrap()).is_ok()
+    );
     // A rotary inertia of the wrong shape says what it may be.
     for bad in ["[1.0, 2.0]", "\"big\""] {
         let extra = format!("[[beam.mass]]\nat = 0.5\nmass = 0.1\nrotary_inertia = {bad}");

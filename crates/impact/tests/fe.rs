@@ -564,5 +564,10 @@ fn a_time_step_shorter_than_the_contact_step_sets_every_step() {
     let step = |p: &impact::Plan| p.summary().time_step;
     assert!((step(&default) / 2.0619e-7 - 1.0).abs() < 1e-3, "{}", step(&default));
     assert!(step(&short) <= 5e-8 && step(&short) > 4.9e-8, "{}", step(&short));
+    // ... and the plan says every step is that long (it had described longer steps out of
+    // contact, "not converged in time").
+    let said = &short.summary().reasons;
+    assert!(said.iter().any(|r| r.contains("; every step 4.")), "{said:?}");
+    assert!(!said.iter().any(|r| r.contains("up to") && r.contains("out of contact (solver.time_step)")));
     assert_eq!(step(&long), step(&default));
 }

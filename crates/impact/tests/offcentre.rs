@@ -474,8 +474,7 @@ fn the_torsion_shear_at_the_clamp_meets_the_exact_wave_solution_and_the_mesh_sta
         .replace("beam_theory = \"euler-bernoulli\"", "");
     let plan = Plan::new(&Scene::from_toml(&fe).unwrap()).unwrap();
     let stated = plan.summary().reasons.iter().find(|r| r.contains("torsion fronts")).unwrap();
-    let size = stated.split("the torsion shear by up to about ").nth(1).unwrap();
-    let size: f64 = size.split(' ').next().unwrap().parse().unwrap();
-    assert!(size >= 6.3, "{stated}");
+    // The estimate there is at its cap (41 % before it): said as "30 % or more".
+    assert!(stated.contains("moves the torsion shear by 30 % or more"), "{stated}");
     assert!(plan.warnings().iter().any(|w| w.contains("the torsion shear may be off")));
 }
