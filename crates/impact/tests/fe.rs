@@ -568,6 +568,8 @@ fn a_time_step_shorter_than_the_contact_step_sets_every_step() {
     // contact, "not converged in time").
     let said = &short.summary().reasons;
     assert!(said.iter().any(|r| r.contains("; every step 4.")), "{said:?}");
-    assert!(!said.iter().any(|r| r.contains("up to") && r.contains("out of contact (solver.time_step)")));
+    assert!(!said
+        .iter()
+        .any(|r| r.contains("up to") && r.contains("out of contact (solver.time_step)")));
     assert_eq!(step(&long), step(&default));
 }

@@ -41,6 +41,10 @@ pub const FIELD_POINTS: usize = 64;
 /// The most values a field may hold (8 bytes each): 400 MB.
 pub const MAX_FIELD_VALUES: f64 = 5e7;
 
+/// The default output's instants over the window (`solver.output_interval` = end_time over
+/// this); a structure's modal maxima are read no sparser whatever the output asks.
+pub(crate) const DEFAULT_OUTPUTS: f64 = 2000.0;
+
 /// Standard gravity (m/s^2).
 pub const GRAVITY: f64 = 9.81;
 /// Default time steps per estimated contact duration: the modal method's largest contact
@@ -1140,7 +1144,7 @@ impl Plan {
         }
         let output_interval = match s.output_interval {
             Some(dt) => positive("solver.output_interval", dt, "s")?,
-            None => end_time / 2000.0,
+            None => end_time / DEFAULT_OUTPUTS,
         };
         let rows = end_time / output_interval;
         if rows > MAX_HISTORY_ROWS {

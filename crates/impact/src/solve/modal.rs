@@ -358,7 +358,10 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             Method::Modal(m) => match &m.basis {
                 ModalBasis::Analytic(beam) => analytic(plan, m, beam)?,
                 ModalBasis::Fe(basis) => {
-                    let fe = super::fe_basis::site(m, basis, plan.field)?;
+                    let mut fe = super::fe_basis::site(m, basis, plan.field)?;
+                    // The maxima's instants in free flight no sparser than the default
+                    // output's, whatever the output asked (it only thins the history).
+                    fe.recorder.look_every(plan.end_time / crate::plan::DEFAULT_OUTPUTS);
                     let residual = residual_taken(m, &fe.site);
                     let recorder = Box::new(fe.recorder) as Box<dyn BeamRecorder + 'a>;
                     modes_below = Some(fe.below);
