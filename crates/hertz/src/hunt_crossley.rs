@@ -75,6 +75,42 @@ impl HuntCrossley {
     pub fn damping_factor(&self) -> f64 {
         self.damping_factor
     }
+
+    /// The time (s) from first touch to the peak force of a sphere of `mass` (kg) striking a
+    /// rigid half-space at `speed` (m/s): m x'' = -K x^(3/2) (1 + chi x'), integrated by RK4
+    /// in steps of a 4000th of the elastic contact's duration until the force stops rising.
+    /// The damping raises the force while the approach is still small, so the pulse peaks
+    /// sooner than Hertz's half duration (the paper's ball at 1.98 m/s: 20.6 us elastic, 11.6
+    /// us at e = 0.5, 5.6 us at e = 0.1), and its fastest content is that much faster.
+    ///
+    /// # Errors
+    /// `InvalidParameter` if the mass or the speed is not finite and positive.
+    pub fn half_space_peak_time(&self, mass: f64, speed: f64) -> Result<f64, HertzError> {
+        let elastic = crate::closed_form::HalfSpaceImpact::elastic(&self.hertz, mass, speed)?;
+        let h = elastic.duration / 4000.0;
+        let k = self.hertz.stiffness_constant();
+        let accel = |x: f64, v: f64| {
+            -k * x.max(0.0).powf(1.5) * (1.0 + self.damping_factor * v).max(0.0) / mass
+        };
+        let force = |x: f64, v: f64| -mass * accel(x, v);
+        let (mut x, mut v, mut t) = (0.0, speed, 0.0);
+        let mut last = 0.0;
+        // At most the elastic duration: the damped pulse peaks before the elastic one ends.
+        for _ in 0..4000 {
+            let (k1x, k1v) = (v, accel(x, v));
+            let (k2x, k2v) = (v + 0.5 * h * k1v, accel(x + 0.5 * h * k1x, v + 0.5 * h * k1v));
+            let (k3x, k3v) = (v + 0.5 * h * k2v, accel(x + 0.5 * h * k2x, v + 0.5 * h * k2v));
+            let (k4x, k4v) = (v + h * k3v, accel(x + h * k3x, v + h * k3v));
+            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+            let f = force(x, v);
+            if f < last {
+                return Ok(t);
+            }
+            (last, t) = (f, t + h);
+        }
+        Ok(0.5 * elastic.duration)
+    }
 }
 
 /// The half-space relation between a = chi V and the restitution e of the Hunt-Crossley law:
