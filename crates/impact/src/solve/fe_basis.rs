@@ -17,7 +17,8 @@
 //! modes ([`modal::Recovery`]). The stress and the Saint-Venant shear are then the fe method's
 //! (`FeStress`, the section's worst corner), the twist each node's rotation about its
 //! axis. They are evaluated at every recorded instant (about 200 a contact, in free flight one
-//! an output interval or end_time / 2000, the shorter), not searched between them: the maxima are the fe method's kind
+//! an output interval or end_time / 2000, the shorter, and at least every [`LOOK_PHASE`] of
+//! the fastest mode kept), not searched between them: the maxima are the fe method's kind
 //! (values the field takes at those instants), not the analytic basis' certified ones.
 
 use super::ball_on_beam3d::{struck_side, struck_strains, Face};
@@ -39,6 +40,13 @@ pub(super) struct FeSite {
     /// struck face).
     pub(super) below: usize,
 }
+
+/// The phase (rad) of the fastest mode kept between two instants a structure's maxima are
+/// read at in free flight: a sinusoid sampled every omega dt = 0.5 shows its peak to within
+/// 1 - cos(0.25) = 3.1 %, the slower modes that carry most of a stress far closer. Over 50 ms
+/// on a 1 m strip the clamp's largest read every 25 us (the default output's) was 1.216 MPa,
+/// every 2 us 1.438 MPa.
+pub(crate) const LOOK_PHASE: f64 = 0.5;
 
 /// A mode whose gain is at most this fraction of the largest does not move the struck face:
 /// its gain is round-off (a symmetric mode's is ~1e-13 of the largest). What one at the bound

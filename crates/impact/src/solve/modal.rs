@@ -360,8 +360,12 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 ModalBasis::Fe(basis) => {
                     let mut fe = super::fe_basis::site(m, basis, plan.field)?;
                     // The maxima's instants in free flight no sparser than the default
-                    // output's, whatever the output asked (it only thins the history).
-                    fe.recorder.look_every(plan.end_time / crate::plan::DEFAULT_OUTPUTS);
+                    // output's, whatever the output asked (it only thins the history), nor
+                    // than LOOK_PHASE of the fastest mode kept (a long window's default had
+                    // read a strip's clamp 15 % low over 50 ms, at 25 us).
+                    let spacing = (plan.end_time / crate::plan::DEFAULT_OUTPUTS)
+                        .min(super::fe_basis::LOOK_PHASE / basis.cutoff);
+                    fe.recorder.look_every(spacing);
                     let residual = residual_taken(m, &fe.site);
                     let recorder = Box::new(fe.recorder) as Box<dyn BeamRecorder + 'a>;
                     modes_below = Some(fe.below);
