@@ -86,6 +86,24 @@ impl HuntCrossley {
     /// # Errors
     /// `InvalidParameter` if the mass or the speed is not finite and positive.
     pub fn half_space_peak_time(&self, mass: f64, speed: f64) -> Result<f64, HertzError> {
+        Ok(self.half_space_times(mass, speed)?.0)
+    }
+
+    /// The time (s) from first touch to the approach's return to zero on a rigid half-space
+    /// (as [`HuntCrossley::half_space_peak_time`]): at a low restitution the force reaches
+    /// zero while the surfaces still overlap and the ball creeps out at about 1/chi, so the
+    /// contact lasts far longer than Hertz's (the paper's ball at 1.98 m/s: 41.2 us elastic,
+    /// 82.8 us at e = 0.1).
+    ///
+    /// # Errors
+    /// `InvalidParameter` if the mass or the speed is not finite and positive.
+    pub fn half_space_duration(&self, mass: f64, speed: f64) -> Result<f64, HertzError> {
+        Ok(self.half_space_times(mass, speed)?.1)
+    }
+
+    /// (peak time, duration) of the rigid half-space impact: RK4 in steps of a 4000th of the
+    /// elastic duration, for at most a thousand elastic durations.
+    fn half_space_times(&self, mass: f64, speed: f64) -> Result<(f64, f64), HertzError> {
         let elastic = crate::closed_form::HalfSpaceImpact::elastic(&self.hertz, mass, speed)?;
         let h = elastic.duration / 4000.0;
         let k = self.hertz.stiffness_constant();
@@ -94,22 +112,25 @@ impl HuntCrossley {
         };
         let force = |x: f64, v: f64| -mass * accel(x, v);
         let (mut x, mut v, mut t) = (0.0, speed, 0.0);
-        let mut last = 0.0;
-        // At most the elastic duration: the damped pulse peaks before the elastic one ends.
-        for _ in 0..4000 {
+        let (mut last, mut peak) = (0.0, None);
+        for _ in 0..4_000_000 {
             let (k1x, k1v) = (v, accel(x, v));
             let (k2x, k2v) = (v + 0.5 * h * k1v, accel(x + 0.5 * h * k1x, v + 0.5 * h * k1v));
             let (k3x, k3v) = (v + 0.5 * h * k2v, accel(x + 0.5 * h * k2x, v + 0.5 * h * k2v));
             let (k4x, k4v) = (v + h * k3v, accel(x + h * k3x, v + h * k3v));
-            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+            let x1 = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
             v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-            let f = force(x, v);
-            if f < last {
-                return Ok(t);
+            let f = force(x1, v);
+            if peak.is_none() && f < last {
+                peak = Some(t);
             }
-            (last, t) = (f, t + h);
+            if x1 <= 0.0 && t > 0.0 {
+                // The return within the step, linearly.
+                return Ok((peak.unwrap_or(t), t + h * x / (x - x1)));
+            }
+            (x, last, t) = (x1, f, t + h);
         }
-        Ok(0.5 * elastic.duration)
+        Ok((peak.unwrap_or(0.5 * elastic.duration), t))
     }
 }
 

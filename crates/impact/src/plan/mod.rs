@@ -1088,7 +1088,12 @@ impl Plan {
         // rising that fast (at e = 0.02 on the paper's tip the modes sized for Hertz's 41 us
         // gave a first peak 29 % high, a review's).
         let mut duration = estimated_duration;
+        // The contact's own length on a rigid support, for the half-space's default window: a
+        // damped one creeps out long after Hertz's duration (at e = 0.02 a review's default
+        // window ended before it, and the restitution went unreported).
+        let mut lasts = estimated_duration;
         if let Law::HuntCrossley(hc) = &law {
+            lasts = hc.half_space_duration(ball_mass, speed)?.max(estimated_duration);
             let rise = hc.half_space_peak_time(ball_mass, speed)?;
             if 2.0 * rise < 0.9 * estimated_duration {
                 duration = 2.0 * rise;
@@ -1136,7 +1141,7 @@ impl Plan {
         unit_slips(scene, &mut warnings);
 
         let default_end = match method {
-            Method::HalfSpace => 4.0 * estimated_duration,
+            Method::HalfSpace => 4.0 * lasts,
             Method::Modal(_) | Method::Fe(_) => DEFAULT_END_TIME,
         };
         let end_time = match s.end_time {
