@@ -262,10 +262,7 @@ fn modes_keep_springs(
 ) -> Result<(), ImpactError> {
     for (k, sp) in spec.springs.iter().enumerate() {
         let Some(rotational) = sp.rotational_stiffness else { continue };
-        let Some(node) = nodes.iter().position(|x| (x - sp.at).abs() <= 1e-9 * (1.0 + x.abs()))
-        else {
-            continue;
-        };
+        let Some(node) = node_at(nodes, sp.at) else { continue };
         let stiffness = |e: usize| {
             let [young, shear, w, t] = sections[e];
             let (j, _) = modal::rectangle_torsion(w, t);
@@ -304,10 +301,7 @@ fn modes_keep_masses(
 ) -> Result<(), ImpactError> {
     let mesh = model.mesh();
     for (k, m) in spec.masses.iter().enumerate() {
-        let Some(node) = nodes.iter().position(|x| (x - m.at).abs() <= 1e-9 * (1.0 + x.abs()))
-        else {
-            continue;
-        };
+        let Some(node) = node_at(nodes, m.at) else { continue };
         let (mut own, mut own_rotary) = (0.0, 0.0);
         for e in mesh.elements.iter().filter(|e| e.nodes.contains(&node)) {
             own += 0.5 * e.length * e.section.rho_a;
@@ -625,6 +619,24 @@ struct Uncoupled {
     why: &'static str,
 }
 
+/// Whether every node of `mesh` lies in the plane through its first node normal to `normal`
+/// (a unit vector), within [`ALIGNED`] of the mesh's extent.
+fn in_plane(mesh: &simo_beam::Mesh, normal: &Vector3<f64>) -> bool {
+    let origin = mesh.positions[0];
+    let extent = mesh.positions.iter().map(|p| (p - origin).norm()).fold(0.0, f64::max);
+    mesh.positions.iter().all(|p| (p - origin).dot(normal).abs() <= ALIGNED * extent)
+}
+
+/// The material axis (1: E2, 2: E3) of the section `frame` along `normal`, if one is.
+fn normal_axis(frame: &nalgebra::UnitQuaternion<f64>, normal: &Vector3<f64>) -> Option<usize> {
+    (1..3).find(|c| (frame * Vector3::ith(*c, 1.0)).dot(normal).abs() >= 1.0 - ALIGNED)
+}
+
+/// The node of `nodes` (arc lengths, m) at `at`, if one is.
+fn node_at(nodes: &[f64], at: f64) -> Option<usize> {
+    nodes.iter().position(|x| (x - at).abs() <= 1e-9 * (1.0 + x.abs()))
+}
+
 /// Whether a chain that is not a straight line lies in one plane and is struck in that plane
 /// (centred: the caller checks the offset), every section with a principal axis (E2 or E3)
 /// normal to it and every spring's stiffness mapping that normal onto itself: then the motions
@@ -650,12 +662,7 @@ fn struck_in_its_plane(mesh: &simo_beam::Mesh, spec: &StructureSpec, d: Vector3<
     else {
         return false;
     };
-    let extent = far.norm();
-    let planar = mesh.positions.iter().all(|p| (p - origin).dot(&normal).abs() <= ALIGNED * extent);
-    let principal = |frame: &nalgebra::UnitQuaternion<f64>| {
-        let c = (frame * Vector3::z()).dot(&normal).abs();
-        c <= ALIGNED || c >= 1.0 - ALIGNED
-    };
+    let principal = |frame: &nalgebra::UnitQuaternion<f64>| normal_axis(frame, &normal).is_some();
     let sections = mesh.frames.iter().all(principal)
         && mesh
             .elements
@@ -665,7 +672,7 @@ fn struck_in_its_plane(mesh: &simo_beam::Mesh, spec: &StructureSpec, d: Vector3<
         let k = Vector3::from(sp.stiffness).component_mul(&normal);
         k.cross(&normal).norm() <= ALIGNED * k.norm()
     });
-    planar && sections && springs && d.dot(&normal).abs() <= ALIGNED
+    in_plane(mesh, &normal) && sections && springs && d.dot(&normal).abs() <= ALIGNED
 }
 
 /// The unknowns of `st`'s beam that a strike along `-st.up` at `offset` cannot move when
@@ -685,11 +692,7 @@ fn uncoupled(st: &StructurePlan, offset: f64) -> Option<Uncoupled> {
     let axis = (0..3).find(|a| n[*a].abs() >= 1.0 - ALIGNED)?;
     let origin = mesh.positions[0];
     let extent = mesh.positions.iter().map(|p| (p - origin).norm()).fold(0.0, f64::max);
-    let planar = mesh.positions.iter().all(|p| (p - origin).dot(&n).abs() <= ALIGNED * extent);
-    // The material axis (1: E2, 2: E3) along the normal, at a frame.
-    let normal_axis = |frame: &nalgebra::UnitQuaternion<f64>| {
-        (1..3).find(|c| (frame * Vector3::ith(*c, 1.0)).dot(&n).abs() >= 1.0 - ALIGNED)
-    };
+    let normal_axis = |frame: &nalgebra::UnitQuaternion<f64>| normal_axis(frame, &n);
     let normals = mesh.frames.iter().map(normal_axis).collect::<Option<Vec<usize>>>()?;
     let element_normals = mesh
         .elements
@@ -700,7 +703,7 @@ fn uncoupled(st: &StructurePlan, offset: f64) -> Option<Uncoupled> {
             a.filter(|c| Some(*c) == b)
         })
         .collect::<Option<Vec<usize>>>()?;
-    if !planar {
+    if !in_plane(mesh, &n) {
         return None;
     }
     let last = mesh.positions[mesh.positions.len() - 1];

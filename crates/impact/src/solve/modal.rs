@@ -648,32 +648,21 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             let f1 = self.solve_force(d_free, compliance, a, b, guess);
             self.check_finite(f1, "the contact force")?;
             let release = self.law.release_approach(&self.law_state);
-            if f1 == 0.0 && d_free > release && contact.steps() > 0 {
-                // No force with the surfaces still overlapping: Hunt-Crossley's factor
-                // 1 + chi delta' reaches zero before the approach does when the ball leaves at
-                // about 1/chi (a low restitution), and the ball creeps out at that rate with
-                // the force hovering at zero. The contact goes on until the approach returns
-                // (a review counted 165 contacts of no force after a half-space's one at
-                // e = 0.02, each ended at a zero and begun again at the next round-off).
-                predicted = self.advance_by(h, Some(&tr), f0, 0.0)?.map(|w| (Rc::clone(&tr), w));
-                let delta = self.approach();
-                self.law.commit(&mut self.law_state, delta, a * delta + b);
-                previous = Some((h, delta0));
-                ledger = self.energy().held();
-                contact.step(self.t, h, 0.0, delta);
-                if self.t - last_record >= (1.0 - 1e-9) * self.record_spacing {
-                    self.record();
-                    last_record = self.t;
-                }
-                continue;
-            }
-            if f1 == 0.0 {
+            // No force with the surfaces still overlapping is no separation: Hunt-Crossley's
+            // factor 1 + chi delta' reaches zero before the approach does when the ball leaves
+            // at about 1/chi (a low restitution), and the ball creeps out at that rate with the
+            // force at zero; such steps are the contact's own, until the approach returns (a
+            // review counted 165 contacts of no force after a half-space's one at e = 0.02,
+            // each ended at a zero and begun again at the next round-off).
+            let overlapping = d_free > release && contact.steps() > 0;
+            if f1 == 0.0 && !overlapping {
                 // Separation within this step: find when the approach returns to the release
                 // approach with the force falling linearly to zero.
                 // A touch that carries no force on its first step is stepped over whole, so that
                 // time always advances by at least one contact step.
-                let tau = if d_free <= release && contact.steps() > 0 {
-                    // d_free is the approach at the step's end with the force falling to zero.
+                let tau = if contact.steps() > 0 {
+                    // d_free (<= release here) is the approach at the step's end with the force
+                    // falling to zero.
                     self.locate(h, f0, release, delta0, d_free)?
                 } else {
                     h
