@@ -270,9 +270,20 @@ struct Pulse {
     duration: f64,
     /// Largest approach on a rigid support (m).
     max_approach: f64,
+    /// Whether `duration` is a damped contact's (twice its rise to the peak), not Hertz's.
+    damped: bool,
 }
 
 impl Pulse {
+    /// Where `duration` comes from, for the plan's reasons.
+    fn source(&self) -> &'static str {
+        if self.damped {
+            "twice Hunt-Crossley's rise to its peak, rigid support"
+        } else {
+            "Hertz, rigid support"
+        }
+    }
+
     /// The fastest frequency (rad/s) the impact makes a section of bending stiffness
     /// `rigidity` EI (N m^2) and mass `mass` rho A (kg/m) answer at: omega t_c = MODE_CUTOFF,
     /// or [`modal::LOCAL_CUTOFF`] times the contact's local frequency where that is higher (a
@@ -888,9 +899,10 @@ fn offset(
 fn contact_step(
     method: &Method,
     s: &SolverSpec,
-    estimated_duration: f64,
+    pulse: &Pulse,
     reasons: &mut Vec<String>,
 ) -> Result<(f64, Option<f64>), ImpactError> {
+    let estimated_duration = pulse.duration;
     let samples = match method {
         Method::Fe(fe) => fe.samples_per_pulse,
         _ => s.samples_per_pulse.unwrap_or(match s.adaptive_step {
@@ -934,14 +946,15 @@ fn contact_step(
     };
     reasons.push(match (is_fe, energy_tolerance) {
         (true, _) => format!(
-            "time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s (Hertz, rigid support)"
+            "time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s ({})", pulse.source()
         ),
         (_, Some(tol)) => format!(
-            "adaptive step in contact, at most {time_step:.4e} s ({samples} per estimated contact duration {estimated_duration:.4e} s, Hertz, rigid support), halved down to 1/{} of it to keep the energy mismatch within {tol:.1e} of the impact energy per contact duration",
+            "adaptive step in contact, at most {time_step:.4e} s ({samples} per estimated contact duration {estimated_duration:.4e} s, {}), halved down to 1/{} of it to keep the energy mismatch within {tol:.1e} of the impact energy per contact duration",
+            pulse.source(),
             1usize << FINEST_LEVEL
         ),
         (_, None) => format!(
-            "uniform time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s (Hertz, rigid support)"
+            "uniform time step {time_step:.4e} s in contact: {samples} steps per estimated contact duration {estimated_duration:.4e} s ({})", pulse.source()
         ),
     });
     Ok((time_step, energy_tolerance))
@@ -1100,7 +1113,8 @@ impl Plan {
                 reasons.push(format!("Hunt-Crossley damping (chi V = {:.3}) brings the peak force forward to {:.4e} s on a rigid support (Hertz's half duration {:.4e} s): the modes and meshes are sized for a pulse of {duration:.4e} s", hc.damping_factor() * speed, rise, 0.5 * estimated_duration));
             }
         }
-        let pulse = Pulse { ball_mass, speed, duration, max_approach: rigid.max_approach };
+        let damped = duration < estimated_duration;
+        let pulse = Pulse { ball_mass, speed, duration, max_approach: rigid.max_approach, damped };
         let method = match struck {
             Struck::HalfSpace
                 if scene.impact.offset.is_some()
@@ -1136,8 +1150,10 @@ impl Plan {
                 Method::Fe(structure::plan(scene, st, &pulse, (&mut reasons, &mut warnings))?)
             }
         };
-        let (time_step, energy_tolerance) =
-            contact_step(&method, s, estimated_duration, &mut reasons)?;
+        // The contact step from the pulse the modes and meshes are sized for (a damped
+        // contact's shorter one: from Hertz's the fe method's contact step had come out longer
+        // than its free-flight step, a review's crash).
+        let (time_step, energy_tolerance) = contact_step(&method, s, &pulse, &mut reasons)?;
         unit_slips(scene, &mut warnings);
 
         let default_end = match method {
