@@ -268,11 +268,14 @@ impl FePlan {
         }
     }
 
-    /// The first elastic mode's period (s): the analytic beam's, or where masses and springs
-    /// change it, the planar beam's on 32 elements (a dense eigen-solution of 99 unknowns; the
-    /// swing's period to about 1e-3, all a window's warning needs).
+    /// The first elastic mode's period (s): a structure's, of its 3D beam at the plan's mesh
+    /// ([`super::structure::StructurePlan::first_frequency`]); the analytic beam's; or where
+    /// masses and springs change it, the planar beam's on 32 elements (a dense eigen-solution
+    /// of 99 unknowns; the swing's period to about 1e-3, all a window's warning needs).
     pub(crate) fn first_period(&self) -> Option<f64> {
-        let omega = if self.attachments.is_empty() {
+        let omega = if let Some(st) = self.scene_structure() {
+            st.first_frequency()?
+        } else if self.attachments.is_empty() {
             let beam = self.analytic.as_ref()?;
             beam.modes(3).ok()?.into_iter().map(|m| m.omega).find(|w| *w > 0.0)?
         } else {
