@@ -213,6 +213,19 @@ fn checked_mesh_keys(s: &crate::scene::SolverSpec) -> Result<(), ImpactError> {
     Ok(())
 }
 
+/// Why a structure's modes stop at `cutoff` (rad/s) for a pulse of `duration` (s): omega t_c
+/// = [`MODE_CUTOFF`], or `LOCAL_CUTOFF` (12) times the contact's local frequency where
+/// that is higher ([`Pulse::fastest`]; the reason had said omega t_c <= 20 of a cutoff at 38.6,
+/// a review's).
+fn cutoff_reason(cutoff: f64, duration: f64) -> String {
+    let product = cutoff * duration;
+    if product > MODE_CUTOFF * (1.0 + 1e-9) {
+        format!("omega t_c = {product:.1} for the estimated contact duration: {} times the contact's local frequency (the contact's stiffness against the struck section's point stiffness), above omega t_c = {MODE_CUTOFF}", super::modal::LOCAL_CUTOFF)
+    } else {
+        format!("omega t_c <= {MODE_CUTOFF} for the estimated contact duration")
+    }
+}
+
 /// The modal method's plan on a structure (Goldsmith's method on a finite-element basis):
 /// the 3D beam of [`plan`], its modes kept up to [`MODE_CUTOFF`] over the estimated contact
 /// duration (computed when the plan runs), and the site's static flexibility by a static
@@ -226,7 +239,7 @@ pub(super) fn modal_plan(
 ) -> Result<ModalPlan, ImpactError> {
     let s = &scene.solver;
     if s.modes.is_some() || s.beam_theory.is_some() {
-        return Err(ImpactError::Inconsistent("solver.modes and beam_theory belong to the modal method's analytic modes of a uniform [beam] without masses or springs: the modes of a [structure], or of a [beam] that carries masses or springs (solver.modal_basis = \"fe\"), are its 3D finite-element beam's (shear and rotary inertia), all below omega t_c = 20 for the estimated contact duration; leave them out, and give solver.tolerance to refine them".into()));
+        return Err(ImpactError::Inconsistent("solver.modes and beam_theory belong to the modal method's analytic modes of a uniform [beam] without masses or springs: the modes of a [structure], or of a [beam] that carries masses or springs (solver.modal_basis = \"fe\"), are its 3D finite-element beam's (shear and rotary inertia), all below the plan's cutoff (omega t_c = 20 for the estimated contact duration, or 12 times the contact's local frequency where that is higher); leave them out, and give solver.tolerance to refine them".into()));
     }
     checked_mesh_keys(s)?;
     let tolerance = s.tolerance.map(super::checked_tolerance).transpose()?;
@@ -242,8 +255,9 @@ pub(super) fn modal_plan(
     let residual_flexibility = s.residual_flexibility.unwrap_or(true);
     let plain_stress_series = s.plain_stress_series.unwrap_or(false);
     reasons.push(format!(
-        "Goldsmith's method on the structure's own modes (solver.modal_basis = \"fe\"): every mode of its 3D beam linearised at rest (its masses, springs and supports; consistent mass) with omega <= {:.4e} rad/s (omega t_c <= {MODE_CUTOFF}), by shift-invert Lanczos on a banded factorisation (counted by Sylvester's inertia), mass-normalised; the site's gain is the struck face's motion along the strike (bending plus offset x twist)",
-        basis.cutoff
+        "Goldsmith's method on the structure's own modes (solver.modal_basis = \"fe\"): every mode of its 3D beam linearised at rest (its masses, springs and supports; consistent mass) with omega <= {:.4e} rad/s ({}), by shift-invert Lanczos on a banded factorisation (counted by Sylvester's inertia), mass-normalised; the site's gain is the struck face's motion along the strike (bending plus offset x twist)",
+        basis.cutoff,
+        cutoff_reason(basis.cutoff, pulse.duration)
     ));
     if residual_flexibility {
         reasons.push(format!("residual flexibility{}: the truncated modes' static compliance at the site, solved from the load with the kept modes taken out (r' K^-1 r', r' = r - M Phi Phi^T r: a difference of the static flexibility and the modes' share would be round-off), in series with the contact; the strains' quasi-static share from the same solve (mode-acceleration method){}", if s.residual_flexibility.is_some() { ", as asked" } else { " (default on a structure: the mesh's highest modes are its least accurate, the static solve is exact to the mesh)" }, if static_flexibility.is_none() { "; the structure is free, so by inertia relief: r' is balanced by the rigid-body modes' inertia (they are among the kept ones) and solved with one node clamped, where a balanced load has no reaction (validation/REFERENCES.md 1.13)" } else { "" }));
@@ -1215,4 +1229,20 @@ fn build(
             source: Box::new((scene.clone(), *pulse)),
         })),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cutoff_s_reason_names_the_rule_that_set_it() {
+        // A review's stepped cantilever kept modes to omega t_c = 39.3 (the local rule) while
+        // the reason said omega t_c <= 20.
+        let t_c = 6.9e-5;
+        let by_pulse = cutoff_reason(MODE_CUTOFF / t_c, t_c);
+        assert!(by_pulse.contains("omega t_c <= 20"), "{by_pulse}");
+        let local = cutoff_reason(39.3 / t_c, t_c);
+        assert!(local.contains("omega t_c = 39.3") && local.contains("local frequency"), "{local}");
+    }
 }
