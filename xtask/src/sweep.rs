@@ -87,6 +87,23 @@ pub(crate) fn run(request: &Request<'_>) -> anyhow::Result<bool> {
     run_with(request, &|s| Ok(impact::simulate(s)?.report))
 }
 
+/// `runner`'s report of one point; a panic (which the library should never raise) is that
+/// point's error, not the sweep's end: a point that panicked had killed the whole sweep, and
+/// its `--resume` again, so that the sweep could never finish (a review's, at one element).
+fn guarded(runner: Runner<'_>, s: &Scene) -> anyhow::Result<Report> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| runner(s))) {
+        Ok(report) => report,
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_string()))
+                .unwrap_or_default();
+            anyhow::bail!("internal error (please report it): {what}")
+        }
+    }
+}
+
 fn run_with(request: &Request<'_>, runner: Runner<'_>) -> anyhow::Result<bool> {
     let path = request.scene;
     let text = read_input(path, "scene file")?;
@@ -126,7 +143,7 @@ fn run_with(request: &Request<'_>, runner: Runner<'_>) -> anyhow::Result<bool> {
             .with_context(|| format!("cannot append to {}", dir.join(PARTIAL).display()))?,
     );
     let written: Vec<anyhow::Result<()>> = par_run("sweep", &todo, |(i, scene)| {
-        let result = runner(scene);
+        let result = guarded(runner, scene);
         let error = result.as_ref().err().map(|e| format!("{e:#}"));
         let cells = grid.row(*i, result.as_ref().map_err(|_| error.as_deref().unwrap_or("")));
         let line = csv_line(&cells)?;
@@ -610,6 +627,17 @@ mod tests {
         assert_eq!(rows.len(), 3);
         assert_eq!(rows[&1].last().unwrap(), "the solver failed\\u{a}here, \"quoted\"");
         assert!(rows[&0].last().unwrap().is_empty() && rows[&2].last().unwrap().is_empty());
+        // A point whose run panics is that point's error: the sweep finishes (it had died,
+        // and its --resume again, a review's).
+        let dir = root.join("panicking");
+        let panicking = |s: &Scene| {
+            assert!(s.impact.speed != Some(2.0), "index out of bounds");
+            timeless(s)
+        };
+        run_with(&request(&sets, &dir), &panicking).unwrap();
+        let rows = read_rows(&dir.join(TABLE), &read_manifest(&dir).unwrap()).unwrap();
+        assert!(rows[&2].last().unwrap().starts_with("internal error"), "{:?}", rows[&2]);
+        assert!(rows[&0].last().unwrap().is_empty());
         std::fs::remove_dir_all(&root).ok();
     }
 }

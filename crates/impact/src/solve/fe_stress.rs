@@ -124,8 +124,13 @@ impl FeStress {
             } else if end {
                 // Linear through the two midpoints, at the end: sigma_0 + w (sigma_0 - sigma_1)
                 // (one element: its own).
-                let near =
-                    if node == 0 { [0, 1] } else { [elements - 1, elements.saturating_sub(2)] };
+                // (Its own twice: a single element's [0, 1] had read past the elements, a
+                // review's panic.)
+                let near = if node == 0 {
+                    [0, 1.min(elements - 1)]
+                } else {
+                    [elements - 1, elements.saturating_sub(2)]
+                };
                 let weight = if elements > 1 {
                     (at - mid[near[0]]) / (mid[near[0]] - mid[near[1]])
                 } else {
