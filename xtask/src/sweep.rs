@@ -221,10 +221,24 @@ fn start(
         !partial.exists(),
         "{shown} holds an unfinished sweep ({PARTIAL}): add --resume to finish it, or remove the folder"
     );
+    // A new sweep replaces the folder's earlier one: its table and figures go first (an
+    // earlier sweep's figures had stayed beside a new table that drew none, a review's).
+    clear(dir)?;
     write_atomic(&dir.join(MANIFEST), serde_json::to_string_pretty(manifest)?.as_bytes())?;
-    crate::files::remove_output(&dir.join(TABLE))?;
     write_atomic(&partial, &csv_line(&manifest.header)?)?;
     Ok(BTreeMap::new())
+}
+
+/// Removes a sweep's table and figures from `dir` (its manifest and journal stay).
+fn clear(dir: &OutDir) -> anyhow::Result<()> {
+    crate::files::remove_output(&dir.join(TABLE))?;
+    crate::files::remove_output(&dir.join("sweep.svg"))?;
+    for (name, ..) in DRAWN {
+        for ext in ["svg", "csv"] {
+            crate::files::remove_output(&dir.join(&format!("sweep_{name}.{ext}")))?;
+        }
+    }
+    Ok(())
 }
 
 /// One CSV record with its line end, fields quoted where needed.
@@ -297,7 +311,7 @@ fn finish(
     manifest: &Manifest,
     rows: &BTreeMap<usize, Vec<String>>,
 ) -> anyhow::Result<bool> {
-    // The chart writes its points as sweep.csv; the table replaces them.
+    // The table last: a folder with it is finished (a merge stopped before it leaves none).
     let figure = chart(dir.path(), &manifest.header, rows)?;
     let mut text = csv_line(&manifest.header)?;
     for row in rows.values() {
@@ -372,9 +386,16 @@ fn chart(
             markers: true,
             reference_first: false,
         };
-        chart.write(dir, &format!("sweep_{name}"))?;
+        let stem = format!("sweep_{name}");
+        chart.write(dir, &stem)?;
         if first.is_none() {
-            chart.write(dir, "sweep")?;
+            // sweep.svg, the first figure again: not through the chart, which would write its
+            // points as sweep.csv, the table's name (a stopped merge had left them there, a
+            // review's).
+            let svg = dir.join(format!("{stem}.svg"));
+            let bytes =
+                std::fs::read(&svg).with_context(|| format!("cannot read {}", svg.display()))?;
+            write_atomic(&dir.join("sweep.svg"), &bytes)?;
             first = Some(name);
         }
     }
@@ -459,6 +480,10 @@ pub(crate) fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<bool> {
     }
     let whole = Manifest { shard: Shard::WHOLE, ..manifest };
     let dir = OutDir::create(out)?;
+    // The earlier table and figures first, then the manifest, the table last: a stopped merge
+    // into a folder that held a sweep had left the new manifest over the old rows (and a later
+    // merge took them as the new sweep's), or a figure's points as sweep.csv (a review's).
+    clear(&dir)?;
     write_atomic(&dir.join(MANIFEST), serde_json::to_string_pretty(&whole)?.as_bytes())?;
     finish(&dir, &whole, &rows)?;
     say!("{} rows from {} shard(s) into {}/{TABLE}", rows.len(), dirs.len(), out.display())?;
@@ -627,6 +652,20 @@ mod tests {
         assert_eq!(rows.len(), 3);
         assert_eq!(rows[&1].last().unwrap(), "the solver failed\\u{a}here, \"quoted\"");
         assert!(rows[&0].last().unwrap().is_empty() && rows[&2].last().unwrap().is_empty());
+        // A new sweep in a folder that held another: none of the earlier figures stay (one
+        // with a displacement, then the half-space's, which has none to draw).
+        let dir = root.join("reused");
+        let moving = |s: &Scene| {
+            let mut r = timeless(s)?;
+            r.max_displacement = 1e-3 * s.impact.speed.unwrap_or(1.0);
+            Ok(r)
+        };
+        run_with(&request(&sets, &dir), &moving).unwrap();
+        let drawn = dir.join("sweep_max_displacement_m.svg");
+        assert!(drawn.exists());
+        run_with(&request(&["impact.speed=1,3".to_string()], &dir), &timeless).unwrap();
+        assert!(!drawn.exists() && !dir.join("sweep_max_displacement_m.csv").exists());
+        assert_eq!(read(&dir).lines().count(), 3);
         // A point whose run panics is that point's error: the sweep finishes (it had died,
         // and its --resume again, a review's).
         let dir = root.join("panicking");
