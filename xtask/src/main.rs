@@ -163,6 +163,7 @@ enum Command {
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
+    files::remove_unfinished_on_interrupt();
     let result = match cli.command {
         Command::Reproduce { out, quick } => reproduce::run(&out, quick),
         Command::Simulate { scene, json, history, field, plots } => simulate::run(

@@ -16,6 +16,15 @@ use std::path::Path;
 
 /// Writes the figures of `outcome` into `dir`.
 pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
+    // An earlier run's page and figures go first, the page is written last: the page shows
+    // only this run's figures, and a run stopped on its way leaves no page (a half-space's page
+    // had shown a beam run's stress figures left in the folder, a review's).
+    crate::files::remove_output(&dir.join("index.html"))?;
+    for (stem, _) in FIGURES {
+        for ext in ["svg", "csv"] {
+            crate::files::remove_output(&dir.join(format!("{stem}.{ext}")))?;
+        }
+    }
     let h = &outcome.history;
     let ms = |v: &[f64], scale: f64| -> Vec<(f64, f64)> {
         h.time.iter().zip(v).map(|(t, y)| (t * 1e3, y * scale)).collect()

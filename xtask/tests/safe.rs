@@ -279,3 +279,59 @@ fn a_link_in_an_output_folder_is_replaced_not_followed() {
     }
     std::fs::remove_dir_all(&root).ok();
 }
+
+#[test]
+#[cfg(unix)]
+fn a_stopped_run_removes_its_unfinished_files_and_leaves_the_old_ones() {
+    // Ctrl-C or a kill's SIGTERM during `simulate --history` had left the hidden temporary
+    // files (created before the run, up to 18 MB when stopped while writing) that nothing
+    // removed (a review's). A long fe run is stopped once its temporaries exist.
+    let root = scratch("stopped");
+    let work = root.join("work");
+    let slow = validation("paper-tip.toml")
+        .replace("modes = 128", "elements = 64")
+        .replace("method = \"modal\"", "method = \"fe\"")
+        .replace("end_time = 0.005", "end_time = 1.0");
+    std::fs::write(work.join("slow.toml"), slow).unwrap();
+    std::fs::write(work.join("h.csv"), "the earlier history\n").unwrap();
+    for signal in ["-INT", "-TERM"] {
+        let child = Command::new(XTASK)
+            .args(["simulate", "slow.toml", "--history", "h.csv"])
+            .current_dir(&work)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let hidden = || tree(&work).iter().any(|p| p.to_string_lossy().starts_with(".h.csv.tmp"));
+        let start = std::time::Instant::now();
+        while !hidden() {
+            assert!(start.elapsed().as_secs() < 60, "no temporary file appeared");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let pid = child.id().to_string();
+        assert!(Command::new("kill").args([signal, &pid]).status().unwrap().success());
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(130), "{signal}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("unfinished output(s) removed"));
+        assert!(!hidden(), "{signal}: {:?}", tree(&work));
+        assert_eq!(std::fs::read_to_string(work.join("h.csv")).unwrap(), "the earlier history\n");
+    }
+    std::fs::remove_dir_all(&root).ok();
+}
+
+#[test]
+fn a_page_shows_only_its_own_run_s_figures() {
+    // A beam run's plots, then a half-space's into the same folder: the half-space has no
+    // stress, and its page had shown the beam run's stress figures left there (a review's).
+    let root = scratch("page");
+    let work = root.join("work");
+    std::fs::write(work.join("tip.toml"), quick_tip()).unwrap();
+    std::fs::write(work.join("block.toml"), validation("half-space-r10.toml")).unwrap();
+    assert!(xtask(&work, &["simulate", "tip.toml", "--plots", "p"]).status.success());
+    assert!(work.join("p/stress_map.svg").exists());
+    assert!(xtask(&work, &["simulate", "block.toml", "--plots", "p"]).status.success());
+    let page = std::fs::read_to_string(work.join("p/index.html")).unwrap();
+    assert!(!page.contains("stress_map") && !work.join("p/stress_map.svg").exists(), "{page}");
+    assert!(!work.join("p/stress_map.csv").exists() && page.contains("contact_force.svg"));
+    std::fs::remove_dir_all(&root).ok();
+}
