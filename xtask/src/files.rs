@@ -169,7 +169,8 @@ pub(crate) fn remove_unfinished_on_interrupt() {
         for tmp in &files {
             std::fs::remove_file(tmp).ok();
         }
-        eprintln!(
+        let _ = writeln!(
+            std::io::stderr(),
             "stopped{}",
             if files.is_empty() {
                 String::new()
