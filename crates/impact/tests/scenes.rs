@@ -658,8 +658,14 @@ fn a_hunt_crossley_contact_that_creeps_out_is_one_contact() {
     assert_eq!(r.contact_count, 1, "{:?}", r.contacts);
     assert!(r.contacts[0].complete);
     assert!((r.restitution.unwrap() - 0.02).abs() < 1e-9, "{:?}", r.restitution);
+    // The ledger within the adaptive step's tolerance, 1e-6 of the impact energy per
+    // estimated contact duration (the damped pulse's 9.95 us, 33 of them in the 332 us
+    // contact): measured 4.4e-8 (1.0e-8 when the steps were sized for Hertz's 69 us pulse,
+    // 7 times longer, and the tolerance per unit time as much tighter).
     assert!(
-        r.energy.contact_stored == 0.0 && r.energy.balance_error.abs() < 1e-8 * r.energy.initial
+        r.energy.contact_stored == 0.0 && r.energy.balance_error.abs() < 1e-7 * r.energy.initial,
+        "{:?}",
+        r.energy
     );
 }
 

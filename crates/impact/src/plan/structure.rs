@@ -263,7 +263,7 @@ pub(super) fn modal_plan(
         reasons.push(format!("residual flexibility{}: the truncated modes' static compliance at the site, solved from the load with the kept modes taken out (r' K^-1 r', r' = r - M Phi Phi^T r: a difference of the static flexibility and the modes' share would be round-off), in series with the contact; the strains' quasi-static share from the same solve (mode-acceleration method){}", if s.residual_flexibility.is_some() { ", as asked" } else { " (default on a structure: the mesh's highest modes are its least accurate, the static solve is exact to the mesh)" }, if static_flexibility.is_none() { "; the structure is free, so by inertia relief: r' is balanced by the rigid-body modes' inertia (they are among the kept ones) and solved with one node clamped, where a balanced load has no reaction (validation/REFERENCES.md 1.13)" } else { "" }));
     }
     if let Some(tolerance) = tolerance {
-        reasons.push(format!("every segment's elements doubled (the modes' cutoff kept: the residual flexibility holds those above it) until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force, the largest displacement and the largest stress (the finer's error a third of their difference: Richardson at second order)"));
+        reasons.push(format!("every segment's elements doubled (the modes' cutoff kept: the residual flexibility holds those above it) until two successive runs agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force, the largest displacement and the largest stress (the finer's error a third of their difference, Richardson at second order; the largest displacement's their whole difference, its mesh error swinging in sign with the waves' dispersion)"));
     }
     reasons.push("structure: the bending stress is the section's worst corner's (extension and both bendings, in magnitude) and torsion_shear the Saint-Venant shear stress at each element's midpoint (positions are arc lengths; the bending stress at the impact point too, extrapolated from the midpoints on each side), from the modes' section strains plus the static solve's for the truncated ones, at every recorded instant (about 200 a contact, in free flight one every output interval or every end_time / 2000, whichever is shorter, and at most half a radian of the fastest mode kept apart (a peak within 3 % for that mode, closer for the slower ones that carry most of a stress): a coarse output thins the history, not the maxima): not searched between them; the twist likewise at every node".into());
     Ok(ModalPlan {
@@ -1212,6 +1212,7 @@ fn build(
         free_time_step,
         samples_per_pulse: samples,
         approach_scale: pulse.max_approach,
+        sized_duration: sized,
         tolerance: None,
         attachments: Vec::new(),
         offset,
