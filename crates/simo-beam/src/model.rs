@@ -343,6 +343,21 @@ impl BeamModel {
         Ok(self)
     }
 
+    /// The nodes that carry a point mass or a spring of either kind (each once, ascending):
+    /// where a bending moment may kink or jump (a mass's inertia, a spring's force or moment).
+    pub fn attachment_nodes(&self) -> Vec<usize> {
+        let mut nodes: Vec<usize> = self
+            .point_masses
+            .iter()
+            .map(|(node, _)| *node)
+            .chain(self.springs.iter().map(|(node, _)| *node))
+            .chain(self.rotational_spring_nodes())
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+
     /// The nodes that carry a rotational spring ([`BeamModel::attach_rotational_spring`]).
     pub fn rotational_spring_nodes(&self) -> impl Iterator<Item = usize> + '_ {
         self.rotational_springs.iter().map(|(node, _)| *node)

@@ -259,6 +259,22 @@ impl FePlan {
         }
     }
 
+    /// The nodes that carry a point mass or a spring (a structure's, or a beam's
+    /// attachments'), where the bending moment may kink or jump: their stress is extrapolated
+    /// to them as a support's (`solve::fe_stress`).
+    pub(crate) fn attachment_nodes(&self) -> Vec<usize> {
+        match &self.structure {
+            Some(st) => st.model.attachment_nodes(),
+            None => {
+                let mut nodes: Vec<usize> =
+                    self.attachments.iter().map(|a| node_at(&self.nodes, a.at)).collect();
+                nodes.sort_unstable();
+                nodes.dedup();
+                nodes
+            }
+        }
+    }
+
     /// The struck face's static flexibility at the impact point (m/N): the analytic
     /// Timoshenko beam's, plus offset^2 times the static twist per torque off the centre.
     pub(crate) fn static_flexibility(&self) -> Option<f64> {

@@ -154,7 +154,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             &target.nodes,
             &target.supports(),
             (target.material.youngs_modulus, target.thickness),
-            (target.impact_site(), &target.stress_breaks()),
+            (target.impact_site(), &target.stress_breaks(), &target.attachment_nodes()),
         );
         if plan.field {
             stress = stress.with_field(&target.nodes, target.width);

@@ -332,8 +332,9 @@ impl FeRecovery {
             None
         };
         let [e0, _, _, t0] = sections[0];
-        let mut stress =
-            FeStress::new(nodes, held, (e0, t0), ((struck, xi), breaks)).with_sections(sections);
+        let attached = model.attachment_nodes();
+        let mut stress = FeStress::new(nodes, held, (e0, t0), ((struck, xi), breaks, &attached))
+            .with_sections(sections);
         if field {
             stress = stress.with_field(nodes, sections[0][2]);
         }
