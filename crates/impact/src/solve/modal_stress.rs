@@ -803,9 +803,16 @@ impl Peaks {
     fn note(&self) -> Option<String> {
         let all = self.gaps();
         let worst = all.iter().map(|g| g.1).fold(0.0, f64::max);
+        // A gap of zero: no stretch's bound reached the value found (the search had nothing
+        // left to split), which "within 0.0e0" had said unbelievably (a review's).
+        let within = if worst > 0.0 {
+            format!("each within {worst:.1e} of the field's maximum")
+        } else {
+            "each the field's maximum itself: every stretch between the observed instants was bounded below the value found, which Newton's method polished to its local maximum".to_string()
+        };
         (!all.is_empty()).then(|| {
             format!(
-                "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), each within {worst:.1e} of the field's maximum (asked {:.0e} for the stress, {:.0e} at a point; a support's stress or a section's torsion shear below 1e-4 of the largest of its kind to 1e-4 of that largest)",
+                "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), {within} (asked {:.0e} for the stress, {:.0e} at a point; a support's stress or a section's torsion shear below 1e-4 of the largest of its kind to 1e-4 of that largest)",
                 self.point_names(),
                 modal_peak::PEAK_TOLERANCE,
                 modal_peak::POINT_TOLERANCE
