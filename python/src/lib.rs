@@ -385,6 +385,10 @@ struct Journal {
     file: Mutex<std::fs::File>,
     /// The rows it held when opened, by point (each checked against the sweep's grid).
     kept: std::collections::BTreeMap<usize, Vec<String>>,
+    /// The first write that failed, and how many rows were not written: the call raises it
+    /// (a journal cut by a full disk or a file-size limit had returned as if every point
+    /// were kept, a review's; the command line stops on it too).
+    failed: Mutex<Option<(String, usize)>>,
 }
 
 /// One CSV line of `cells`.
@@ -458,14 +462,38 @@ impl Journal {
             .append(true)
             .open(&path)
             .map_err(|e| PyValueError::new_err(format!("journal {shown}: cannot write it: {e}")))?;
-        Ok(Self { path, file: Mutex::new(file), kept })
+        Ok(Self { path, file: Mutex::new(file), kept, failed: Mutex::new(None) })
     }
 
-    /// Appends a finished point's row.
+    /// Appends a finished point's row; a failure is kept for [`Journal::check`].
     fn append(&self, cells: &[String]) {
         use std::io::Write;
-        if let (Ok(line), Ok(mut f)) = (csv_line(cells), self.file.lock()) {
-            f.write_all(&line).and_then(|()| f.flush()).ok();
+        let written = match (csv_line(cells), self.file.lock()) {
+            (Ok(line), Ok(mut f)) => {
+                f.write_all(&line).and_then(|()| f.flush()).map_err(|e| e.to_string())
+            }
+            (Err(e), _) => Err(e.to_string()),
+            (_, Err(_)) => Err("a run stopped while writing it".to_string()),
+        };
+        if let Err(why) = written {
+            let mut failed = self.failed.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            match failed.as_mut() {
+                Some((_, missed)) => *missed += 1,
+                None => *failed = Some((why, 1)),
+            }
+        }
+    }
+
+    /// An `OSError` naming the journal, the first write that failed and how many rows were
+    /// not kept, if any was not.
+    fn check(&self) -> PyResult<()> {
+        let failed = self.failed.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        match &*failed {
+            Some((why, missed)) => Err(pyo3::exceptions::PyOSError::new_err(format!(
+                "journal {}: cannot write it: {why}; {missed} finished point(s) are not kept there (a row cut short is run again when the journal is reused)",
+                self.path.display()
+            ))),
+            None => Ok(()),
         }
     }
 }
@@ -566,6 +594,9 @@ fn sweep<'py>(
             j.append(&row(k, r));
         }
     })?;
+    if let Some(j) = &journal {
+        j.check()?;
+    }
     let mut rows = journal.as_ref().map(|j| j.kept.clone()).unwrap_or_default();
     let mut exact = std::collections::BTreeMap::new();
     for (k, r) in results.iter().enumerate() {

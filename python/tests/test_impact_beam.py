@@ -405,3 +405,23 @@ def test_arguments_are_refused_in_pythons_words():
     with pytest.raises(ValueError) as caught:
         ib.simulate({"beam": {"length": 1.0}, "nonsense": 1})
     assert "scene file" not in str(caught.value), caught.value
+
+
+def test_a_journal_that_cannot_be_written_raises(tmp_path):
+    """A journal cut by a file-size limit (a full disk alike) had let the call return as if
+    every point were kept (a review's); it raises OSError naming the journal and how many
+    finished points it does not hold. In a child process: the limit is the process's."""
+    journal = tmp_path / "journal.csv"
+    script = f"""
+import resource, signal
+import impact_beam as ib
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (1500, 1500))
+try:
+    ib.sweep({str(HALF_SPACE)!r}, {{"impact.speed": [0.5 + 0.1 * k for k in range(12)]}}, journal={str(journal)!r})
+    print("returned")
+except OSError as e:
+    print("raised:", e)
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
+    assert out.stdout.startswith("raised: journal") and "are not kept there" in out.stdout, out

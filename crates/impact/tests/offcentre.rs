@@ -175,6 +175,16 @@ fn an_offset_off_the_face_or_on_a_planar_beam_is_refused() {
         "{:?}",
         plan.warnings()
     );
+    // Within its own radius of the edge (the rim at 0.99 of the half-size): warned too (it had
+    // been passed without a word, a review's); two radii inside (10 mm off): nothing said.
+    let near = |offset: &str| {
+        Plan::new(&tip(offset, "").unwrap())
+            .unwrap()
+            .warnings()
+            .iter()
+            .any(|w| w.contains("within its own radius of the face's edge"))
+    };
+    assert!(near("0.012") && !near("0.01"));
 }
 
 /// The converged row (most modes, residual flexibility) of `case` in
