@@ -186,7 +186,7 @@ def sweep(
     """Run a scene over the grid of ``axes`` on every core (the GIL released).
 
     Ctrl-C (KeyboardInterrupt) stops a sweep within a fraction of a second (the points in
-    progress finish); with ``journal``, every finished point is kept there as it finishes, and
+    progress stop too, unfinished, and are run again next time); with ``journal``, every finished point is kept there as it finishes, and
     a sweep given the same journal again runs only the points it lacks.
 
     Args:

@@ -17,8 +17,8 @@
 //!   `SIGNAL_POLL` (20 ms) while the work runs on others, so Ctrl-C (KeyboardInterrupt) is raised
 //!   within a fraction of a second; a progress callback that raises stops the work the same
 //!   way and is not called again. A run in progress stops at its next progress report (a
-//!   thousandth of its window); a sweep's points in progress finish, and a sweep with a
-//!   `journal` keeps every finished point there (resumable).
+//!   thousandth of its window), a sweep's points in progress too (not finished, they are not
+//!   kept), and a sweep with a `journal` keeps every finished point there (resumable).
 //! - A progress callback is called with the GIL held.
 
 use impact::study::{self, Axis, Grid, Shard, COLUMNS};
@@ -289,7 +289,17 @@ fn simulate_all(
                 if stop.stopped() {
                     return None;
                 }
-                let report = impact::simulate(s).map(|o| o.report);
+                // A point in progress stops at its next progress report when the call stops
+                // (it had run to its end: a Ctrl-C waited 9.5 s for 10 s points, a review's);
+                // it is not finished, so it is not kept and runs again with the journal.
+                let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    impact::simulate_with_progress(s, &|_| stop.unwind_if_stopped())
+                }));
+                let report = match run {
+                    Ok(outcome) => outcome.map(|o| o.report),
+                    Err(payload) if payload.is::<Stopped>() => return None,
+                    Err(payload) => std::panic::resume_unwind(payload),
+                };
                 finished(k, &report);
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 callback.call((n, scenes.len()));

@@ -360,6 +360,25 @@ def test_an_interrupted_sweep_raises_promptly_and_its_journal_keeps_the_finished
     assert ran and ran[0] == 1500 - len(kept)
 
 
+def test_an_interrupt_stops_a_sweep_s_points_in_progress(tmp_path):
+    """Ctrl-C half a second into a sweep of two long fe runs (seconds each): KeyboardInterrupt
+    within half a second more, neither point kept (the interrupt had waited for the points in
+    progress to finish, 9.5 s for 10 s points, a review's)."""
+    import signal
+
+    scene = scene_dict(TIP)
+    scene["solver"] = {"method": "fe", "elements": 256, "end_time": 0.2}
+    journal = tmp_path / "journal.csv"
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt, match="0 of 2 points are kept"):
+        ib.sweep(scene, {"impact.drop_height": [0.1, 0.2]}, journal=journal)
+    late = time.perf_counter() - start - 0.5
+    assert late < 0.5, f"KeyboardInterrupt {late:.3f} s after the signal"
+    assert journal.read_text().splitlines()[2:] == []
+
+
 def test_a_raising_progress_callback_stops_a_sweep_after_one_call():
     calls = []
 
