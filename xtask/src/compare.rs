@@ -119,7 +119,14 @@ pub(crate) fn run(
             row.wall_time
         )?;
     }
-    write_atomic(&out.join("summary.csv"), csv.as_bytes())?;
+    // The earlier comparison's files first, the summary last: a comparison stopped on its way
+    // leaves no summary beside another run's figures (a review's had mixed the two).
+    for stem in ["displacement", "force", "displacement_difference"] {
+        for ext in ["svg", "csv"] {
+            crate::files::remove_output(&out.join(&format!("{stem}.{ext}")))?;
+        }
+    }
+    crate::files::remove_output(&out.join("summary.csv"))?;
 
     let history =
         |pick: fn(&impact::History) -> &Vec<f64>, time_scale: f64, scale: f64, until: f64| {
@@ -184,6 +191,7 @@ pub(crate) fn run(
         reference_first: false,
     }
     .write(out, "displacement_difference")?;
+    write_atomic(&out.join("summary.csv"), csv.as_bytes())?;
     let estimate = reference
         .report
         .estimated_error
