@@ -189,15 +189,28 @@ impl Output {
     /// Renames the whole file into place (replacing a link there, not its target).
     pub(crate) fn finish(mut self) -> anyhow::Result<()> {
         let Some(mut file) = self.file.take() else { return Ok(()) };
-        file.flush().with_context(|| format!("cannot write {}", self.path.display()))?;
+        // On the disk before the rename, and the rename on it after: the name never stands for
+        // a file the disk does not hold whole, across a power loss too (without them a rename
+        // may reach the disk before the data, a review's; 0.5 ms a file here).
+        let written = file
+            .flush()
+            .and_then(|()| file.get_ref().sync_all())
+            .with_context(|| format!("cannot write {}", self.path.display()));
         drop(file);
         // The destination is checked again: it may have become an input's name meanwhile.
-        let renamed = refuse_input(&self.path).and_then(|()| {
+        let renamed = written.and_then(|()| refuse_input(&self.path)).and_then(|()| {
             std::fs::rename(&self.tmp, &self.path)
                 .with_context(|| format!("cannot write {}", self.path.display()))
         });
-        if renamed.is_err() {
-            std::fs::remove_file(&self.tmp).ok();
+        match &renamed {
+            Err(_) => {
+                std::fs::remove_file(&self.tmp).ok();
+            }
+            Ok(()) => {
+                let folder = self.path.parent().filter(|p| !p.as_os_str().is_empty());
+                let folder = folder.unwrap_or_else(|| Path::new("."));
+                std::fs::File::open(folder).and_then(|d| d.sync_all()).ok();
+            }
         }
         unfinished(&self.tmp, false);
         renamed
