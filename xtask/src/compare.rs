@@ -123,7 +123,7 @@ pub(crate) fn run(
     // leaves no summary beside another run's figures (a review's had mixed the two).
     for stem in ["displacement", "force", "displacement_difference"] {
         for ext in ["svg", "csv"] {
-            crate::files::remove_output(&out.join(&format!("{stem}.{ext}")))?;
+            crate::files::remove_output(&out.join(format!("{stem}.{ext}")))?;
         }
     }
     crate::files::remove_output(&out.join("summary.csv"))?;
