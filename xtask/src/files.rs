@@ -165,8 +165,9 @@ fn unfinished(tmp: &Path, live: bool) {
 /// ignored (the outputs are then as safe as before, only the temporaries may stay).
 pub(crate) fn remove_unfinished_on_interrupt() {
     let _ = ctrlc::set_handler(|| {
-        let files = UNFINISHED.lock().map(|f| f.clone()).unwrap_or_default();
-        for tmp in &files {
+        // Held to the exit: no temporary file is made or registered meanwhile.
+        let files = UNFINISHED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        for tmp in files.iter() {
             std::fs::remove_file(tmp).ok();
         }
         let _ = writeln!(
@@ -250,12 +251,21 @@ pub(crate) fn create(path: &Path) -> anyhow::Result<Output> {
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("file");
     let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let tmp = path.with_file_name(format!(".{name}.tmp{}-{n}", std::process::id()));
+    // Registered before it exists: a stop between the two then finds nothing to remove rather
+    // than missing a file.
+    unfinished(&tmp, true);
     let file = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(&tmp)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    unfinished(&tmp, true);
+        .with_context(|| format!("cannot write {}", path.display()));
+    let file = match file {
+        Ok(file) => file,
+        Err(e) => {
+            unfinished(&tmp, false);
+            return Err(e);
+        }
+    };
     Ok(Output { path: path.to_path_buf(), tmp, file: Some(std::io::BufWriter::new(file)) })
 }
 

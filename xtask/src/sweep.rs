@@ -479,6 +479,25 @@ pub(crate) fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<bool> {
         );
     }
     let whole = Manifest { shard: Shard::WHOLE, ..manifest };
+    // Before anything is removed: a merge into one of its own shards had cleared that shard's
+    // table and figures and only then been refused (its rows lost), and one into a folder
+    // holding an unfinished sweep had overwritten its manifest and orphaned its journal (a
+    // review's).
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    if let Some(shard) = dirs.iter().find(|d| same(d, out)) {
+        bail!(
+            "--out {} is one of the shards given to --merge: give another folder",
+            shard.display()
+        );
+    }
+    ensure!(
+        !out.join(PARTIAL).exists(),
+        "{} holds an unfinished sweep ({PARTIAL}): finish it with --resume, or merge into another folder",
+        out.display()
+    );
     let dir = OutDir::create(out)?;
     // The earlier table and figures first, then the manifest, the table last: a stopped merge
     // into a folder that held a sweep had left the new manifest over the old rows (and a later
@@ -592,6 +611,16 @@ mod tests {
             assert!(e.contains(says), "{says}: {e}");
         };
         refused(&[dirs[0].clone(), dirs[0].clone()], "given twice");
+        // Into one of its own shards: refused before anything there is touched.
+        let e = format!("{:#}", merge(&dirs, &dirs[1]).unwrap_err());
+        assert!(e.contains("is one of the shards"), "{e}");
+        assert!(dirs[1].join(TABLE).exists() && dirs[1].join("sweep.svg").exists());
+        // Into a folder holding an unfinished sweep: refused, its journal kept.
+        let unfinished = root.join("unfinished");
+        run_with(&Request { limit: Some(1), ..request(&sets, &unfinished) }, &timeless).unwrap();
+        let e = format!("{:#}", merge(&dirs, &unfinished).unwrap_err());
+        assert!(e.contains("holds an unfinished sweep"), "{e}");
+        assert!(unfinished.join(PARTIAL).exists());
         refused(&dirs[..2], "2 of the 7 points are missing (2, 5): shard(s) 3/3 not given");
         // A shard of another sweep.
         let other = root.join("other");

@@ -60,7 +60,7 @@ pub fn elastic_limit_velocity(
 ) -> Result<f64, HertzError> {
     positive("mass", mass, "kg")?;
     positive("limiting_pressure", limiting_pressure, "Pa")?;
-    let delta_y = hertz.approach_at_pressure(limiting_pressure);
+    let delta_y = hertz.approach_at_pressure(limiting_pressure)?;
     Ok((2.0 * hertz.elastic_energy(delta_y) / mass).sqrt())
 }
 

@@ -94,9 +94,14 @@ impl Hertz {
 
     /// Approach (m) at which the central pressure reaches `pressure` (Pa):
     /// delta = R (pi p / (2 E*))^2, the inverse of [`Hertz::max_pressure`].
-    pub fn approach_at_pressure(&self, pressure: f64) -> f64 {
+    ///
+    /// # Errors
+    /// `InvalidParameter` if the pressure is not finite and positive (a negative one had
+    /// given a positive approach, a review's).
+    pub fn approach_at_pressure(&self, pressure: f64) -> Result<f64, HertzError> {
+        positive("pressure", pressure, "Pa")?;
         let x = std::f64::consts::PI * pressure / (2.0 * self.effective_modulus);
-        self.effective_radius * x * x
+        Ok(self.effective_radius * x * x)
     }
 }
 

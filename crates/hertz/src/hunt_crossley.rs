@@ -54,16 +54,9 @@ impl HuntCrossley {
         restitution: f64,
         speed: f64,
     ) -> Result<Self, HertzError> {
-        if !(restitution.is_finite() && restitution > 0.0 && restitution <= 1.0) {
-            return Err(HertzError::InvalidParameter {
-                name: "restitution",
-                value: restitution,
-                unit: "-",
-                allowed: "a number in (0, 1]",
-            });
-        }
+        let a = damping_for_restitution(restitution)?;
         positive("speed", speed, "m/s")?;
-        Self::new(hertz, damping_for_restitution(restitution) / speed)
+        Self::new(hertz, a / speed)
     }
 
     /// The elastic part.
@@ -151,9 +144,20 @@ pub fn restitution_relation(a: f64, e: f64) -> f64 {
 /// The a = chi V (-) that gives restitution e (in (0, 1]) on a half-space: the root of
 /// [`restitution_relation`] in (0, 1 / e), by bisection to round-off (the residual is positive
 /// near 0 and falls to minus infinity at 1 / e, one root between).
-pub fn damping_for_restitution(e: f64) -> f64 {
+///
+/// # Errors
+/// `InvalidParameter` for e not in (0, 1] (it had answered inf, -1 or NaN there, a review's).
+pub fn damping_for_restitution(e: f64) -> Result<f64, HertzError> {
+    if !(e.is_finite() && e > 0.0 && e <= 1.0) {
+        return Err(HertzError::InvalidParameter {
+            name: "restitution",
+            value: e,
+            unit: "-",
+            allowed: "a number in (0, 1]",
+        });
+    }
     if e >= 1.0 {
-        return 0.0;
+        return Ok(0.0);
     }
     let (mut lo, mut hi) = (0.0, 1.0 / e);
     for _ in 0..200 {
@@ -167,7 +171,7 @@ pub fn damping_for_restitution(e: f64) -> f64 {
             hi = mid;
         }
     }
-    0.5 * (lo + hi)
+    Ok(0.5 * (lo + hi))
 }
 
 impl ContactLaw for HuntCrossley {

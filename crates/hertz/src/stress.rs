@@ -1,5 +1,6 @@
 //! Stresses under a Hertz contact.
 
+use crate::error::HertzError;
 use crate::hertz::Hertz;
 
 /// Stresses of a Hertz contact of a sphere on a body of Poisson's ratio nu.
@@ -21,7 +22,19 @@ pub struct ContactStress {
 /// sigma_r/p0 = -(1 + nu)(1 - zeta atan(1/zeta)) + 1/(2 (1 + zeta^2)),
 /// tau = (sigma_r - sigma_z)/2, maximised over zeta by golden-section search.
 /// For nu = 0.3: 0.3100 p0 at 0.4809 a (Johnson quotes 0.31 p0 at 0.48 a).
-pub fn max_subsurface_shear(poisson_ratio: f64) -> (f64, f64) {
+///
+/// # Errors
+/// `InvalidParameter` for a Poisson's ratio not in (-1, 0.5) (it had answered NaN, or the
+/// search bracket's edge, there, a review's).
+pub fn max_subsurface_shear(poisson_ratio: f64) -> Result<(f64, f64), HertzError> {
+    if !(poisson_ratio.is_finite() && poisson_ratio > -1.0 && poisson_ratio < 0.5) {
+        return Err(HertzError::InvalidParameter {
+            name: "poisson_ratio",
+            value: poisson_ratio,
+            unit: "-",
+            allowed: "a number in (-1, 0.5)",
+        });
+    }
     let tau = |z: f64| {
         let sz = -1.0 / (1.0 + z * z);
         let sr = -(1.0 + poisson_ratio) * (1.0 - z * (1.0 / z).atan()) + 0.5 / (1.0 + z * z);
@@ -40,21 +53,24 @@ pub fn max_subsurface_shear(poisson_ratio: f64) -> (f64, f64) {
         }
     }
     let z = 0.5 * (lo + hi);
-    (tau(z), z)
+    Ok((tau(z), z))
 }
 
 impl Hertz {
     /// Contact radius, central pressure and the largest subsurface shear stress at approach
     /// `delta` (m), in a body of Poisson's ratio `poisson_ratio`.
-    pub fn stresses(&self, delta: f64, poisson_ratio: f64) -> ContactStress {
+    ///
+    /// # Errors
+    /// As [`max_subsurface_shear`].
+    pub fn stresses(&self, delta: f64, poisson_ratio: f64) -> Result<ContactStress, HertzError> {
         let a = self.contact_radius(delta);
         let p0 = self.max_pressure(delta);
-        let (tau, depth) = max_subsurface_shear(poisson_ratio);
-        ContactStress {
+        let (tau, depth) = max_subsurface_shear(poisson_ratio)?;
+        Ok(ContactStress {
             contact_radius: a,
             max_pressure: p0,
             max_shear: tau * p0,
             max_shear_depth: depth * a,
-        }
+        })
     }
 }

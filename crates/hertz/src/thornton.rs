@@ -60,7 +60,7 @@ impl Thornton {
     /// `InvalidParameter` if p_y is not finite and positive.
     pub fn new(hertz: Hertz, limiting_pressure: f64) -> Result<Self, HertzError> {
         positive("limiting_pressure", limiting_pressure, "Pa")?;
-        let yield_approach = hertz.approach_at_pressure(limiting_pressure);
+        let yield_approach = hertz.approach_at_pressure(limiting_pressure)?;
         Ok(Self {
             hertz,
             limiting_pressure,

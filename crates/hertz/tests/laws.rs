@@ -110,12 +110,12 @@ fn max_subsurface_shear_for_steel() {
     // Maximum of tau(zeta) for nu = 0.3 computed with mpmath (30 digits, root of d tau/d zeta):
     // 0.310020501954521 p0 at zeta = 0.480864485292895. Golden section is limited by the
     // flatness of the maximum: sqrt(eps) ~ 1e-8 in depth, eps in value.
-    let (tau, depth) = max_subsurface_shear(0.3);
+    let (tau, depth) = max_subsurface_shear(0.3).unwrap();
     assert!((tau - 0.310020501954521).abs() < 1e-12);
     assert!((depth - 0.480864485292895).abs() < 1e-7);
     // Johnson quotes 0.31 p0 at 0.48 a (two digits).
     let (c, _) = reference_contact();
-    let s = c.stresses(2e-5, 0.3);
+    let s = c.stresses(2e-5, 0.3).unwrap();
     assert!((s.max_shear / s.max_pressure - 0.31).abs() < 0.005);
     assert!((s.max_shear_depth / s.contact_radius - 0.48).abs() < 0.005);
     assert!(
@@ -274,9 +274,9 @@ fn hunt_crossley_delivers_the_restitution_asked_for() {
         assert!(hertz::restitution_relation(a, target).abs() < 1e-12);
     }
     // Small damping: a -> 3(1 - e)/2 (Hunt & Crossley's limit).
-    let a = hertz::damping_for_restitution(0.999);
+    let a = hertz::damping_for_restitution(0.999).unwrap();
     assert!((a - 1.5e-3).abs() < 1e-5, "{a}");
-    assert!(hertz::damping_for_restitution(1.0) == 0.0);
+    assert!(hertz::damping_for_restitution(1.0).unwrap() == 0.0);
 }
 
 #[test]
@@ -366,4 +366,23 @@ fn hunt_crossley_s_damping_brings_the_peak_force_forward() {
         let d = law.half_space_duration(mass, speed).unwrap();
         assert!((d - lasts).abs() < 2e-9, "e = {e}: {d} vs {lasts}");
     }
+}
+
+#[test]
+fn the_helpers_refuse_what_they_cannot_answer() {
+    // A review called them as a library user would: inf, -1 or NaN for a restitution outside
+    // (0, 1], NaN or a bracket's edge for a Poisson's ratio outside (-1, 0.5), a positive
+    // approach for a negative pressure. Each is refused by name now.
+    for e in [0.0, -0.5, f64::NAN, 2.0] {
+        let err = hertz::damping_for_restitution(e).unwrap_err().to_string();
+        assert!(err.contains("restitution") && err.contains("(0, 1]"), "{e}: {err}");
+    }
+    for nu in [f64::NAN, 0.7, -5.0, 0.5] {
+        let err = max_subsurface_shear(nu).unwrap_err().to_string();
+        assert!(err.contains("poisson_ratio"), "{nu}: {err}");
+    }
+    let steel = hertz::Material::new(2.1e11, 0.3).unwrap();
+    let c = hertz::Hertz::between(&steel, &steel, 0.005).unwrap();
+    assert!(c.stresses(2e-5, f64::NAN).is_err());
+    assert!(c.approach_at_pressure(-1e9).is_err() && c.approach_at_pressure(1e9).unwrap() > 0.0);
 }

@@ -193,6 +193,9 @@ impl LinearSolver {
 #[derive(Debug)]
 pub struct Integrator {
     scheme: Scheme,
+    /// Whether a step checks the scheme against the family's stable region (only
+    /// [`crate::amplification`] steps one outside it: that is how such a scheme is studied).
+    pub(crate) check_scheme: bool,
     options: NewtonOptions,
     lu: LinearSolver,
     triplets: Triplets,
@@ -603,6 +606,7 @@ impl Integrator {
     pub fn new(scheme: Scheme, options: NewtonOptions) -> Self {
         Self {
             scheme,
+            check_scheme: true,
             options,
             lu: LinearSolver::Sparse(Box::default()),
             triplets: Triplets::new(),
@@ -646,6 +650,7 @@ impl Integrator {
         q: M::Config,
         v: Col<f64>,
     ) -> Result<State<M::Config>, HhtError> {
+        self.check_settings()?;
         let n = model.ndof();
         if v.nrows() != n {
             return Err(HhtError::Model(format!(
@@ -703,7 +708,30 @@ impl Integrator {
                 allowed: "a finite time step greater than zero (s)",
             });
         }
+        self.check_settings()?;
         self.step_split(model, state, h, 0)
+    }
+
+    /// The scheme and the Newton options as the constructors allow them: their fields are
+    /// public, and a struct literal could hold an unstable scheme or a tolerance that is not a
+    /// number (a review's ran to 1.2e18 without a word).
+    fn check_settings(&self) -> Result<(), HhtError> {
+        if self.check_scheme {
+            self.scheme.checked()?;
+        }
+        let o = &self.options;
+        let bad =
+            |name, value: f64, allowed| Err(HhtError::InvalidParameter { name, value, allowed });
+        if o.max_iterations == 0 {
+            return bad("max_iterations", 0.0, "at least one Newton iteration");
+        }
+        if !(o.rtol.is_finite() && o.rtol >= 0.0) {
+            return bad("rtol", o.rtol, "a finite relative tolerance >= 0");
+        }
+        if !(o.atol.is_finite() && o.atol >= 0.0) {
+            return bad("atol", o.atol, "a finite absolute tolerance >= 0");
+        }
+        Ok(())
     }
 
     /// Hands back a state no longer needed, so that the next steps reuse its columns and its
@@ -734,6 +762,7 @@ impl Integrator {
         from: &State<M::Config>,
         h: f64,
     ) -> Result<(State<M::Config>, StepReport), HhtError> {
+        self.check_settings()?;
         if !(h.is_finite() && h > 0.0) {
             return Err(HhtError::InvalidParameter {
                 name: "time step",

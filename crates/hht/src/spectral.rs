@@ -21,6 +21,8 @@ pub struct Spectrum {
 
 /// Amplification matrix of one step of size `omega_h` on `d'' + d = 0`, for the scaled state
 /// (d, h v, h^2 a), measured by stepping the integrator itself from the three unit states.
+/// Any scheme, in the family's stable region or not (the integrator refuses one outside it;
+/// here it is studied: validation/REFERENCES.md 4.3).
 ///
 /// # Errors
 /// [`HhtError::InvalidParameter`] for a step that is not finite and positive.
@@ -28,6 +30,7 @@ pub fn amplification(scheme: Scheme, omega_h: f64) -> Result<Matrix3<f64>, HhtEr
     let model = Oscillator::undamped(1.0)?;
     let h = omega_h;
     let mut integrator = Integrator::new(scheme, NewtonOptions::default());
+    integrator.check_scheme = false;
     let mut m = Matrix3::zeros();
     for j in 0..3 {
         let mut x = [0.0; 3];

@@ -433,3 +433,23 @@ fn a_new_step_size_re_weights_the_kept_stiffness() {
         assert!((a.v[k] - b.v[k]).abs() < 1e-11, "{a:?} {b:?}");
     }
 }
+
+#[test]
+fn a_scheme_written_by_hand_is_checked_before_a_step() {
+    // The unstable convention of validation/REFERENCES.md 4.3 as a struct literal: the
+    // constructors refuse it, and the integrator had run it to 1.2e18 in 200 steps without a
+    // word (a review's). Now the first step refuses it by name; so is a tolerance that is not
+    // a number.
+    let unstable = Scheme { alpha_m: 0.0, alpha_f: -0.1, beta: 0.2025, gamma: 0.4 };
+    let model = Oscillator::undamped(100.0).unwrap();
+    let mut integrator = Integrator::new(unstable, NewtonOptions::default());
+    let err = integrator.initial_state(&model, 0.0, 1.0, Col::zeros(1)).unwrap_err().to_string();
+    assert!(err.contains("alpha_f"), "{err}");
+    let nan = NewtonOptions { rtol: f64::NAN, ..NewtonOptions::default() };
+    let mut integrator = Integrator::new(Scheme::trapezoidal(), nan);
+    let err = integrator.initial_state(&model, 0.0, 1.0, Col::zeros(1)).unwrap_err().to_string();
+    assert!(err.contains("rtol"), "{err}");
+    // beta past the family's upper bound: the message says the bound.
+    let err = Scheme::custom(0.0, 0.0, 100.0, 0.5).unwrap_err().to_string();
+    assert!(err.contains("<= 10"), "{err}");
+}

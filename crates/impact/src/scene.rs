@@ -284,6 +284,27 @@ pub struct StructureSpec {
     pub(crate) lowered: bool,
 }
 
+impl StructureSpec {
+    /// A structure of `segments` of `section`, held by `supports`, without masses, springs or
+    /// a yield stress (set the public fields for them): how a program builds a `[structure]`
+    /// without a file (a private field had made the struct unbuildable in code, a review's).
+    pub fn new(
+        section: simo_beam::scene::SectionSpec,
+        segments: Vec<simo_beam::scene::SegmentSpec>,
+        supports: Vec<simo_beam::scene::SupportSpec>,
+    ) -> Self {
+        Self {
+            section,
+            segments,
+            supports,
+            yield_stress: None,
+            masses: Vec::new(),
+            springs: Vec::new(),
+            lowered: false,
+        }
+    }
+}
+
 /// An elastic support on a structure (`[[structure.spring]]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]

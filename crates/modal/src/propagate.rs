@@ -17,12 +17,29 @@ pub struct PointModes {
 }
 
 /// Modal coordinates q (m sqrt(kg)) and their rates v (m sqrt(kg)/s), one per mode.
+///
+/// # Panics
+/// Every function that takes a state panics, naming both lengths, when `q` or `v` does not
+/// hold exactly one number per mode of the modes it is used with (a state made for other
+/// modes: make it with [`ModalState::at_rest`]`(modes.len())`). A shorter state had panicked
+/// deep in a vector kernel, or been read as if its missing modes were at rest (a review's).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ModalState {
     /// Modal displacements.
     pub q: Vec<f64>,
     /// Modal velocities.
     pub v: Vec<f64>,
+}
+
+/// Panics unless `state` holds `modes` modes (see [`ModalState`]).
+#[inline]
+fn check_len(state: &ModalState, modes: usize) {
+    assert!(
+        state.q.len() == modes && state.v.len() == modes,
+        "a ModalState of {} displacements and {} rates used with {modes} modes: make it with ModalState::at_rest({modes})",
+        state.q.len(),
+        state.v.len()
+    );
 }
 
 impl ModalState {
@@ -33,6 +50,7 @@ impl ModalState {
 
     /// Displacement w(x) (m) of the beam at any point, from its modes.
     pub fn displacement_at(&self, beam: &Beam, modes: &[Mode], x: f64) -> f64 {
+        check_len(self, modes.len());
         let scale = 1.0 / beam.mass().sqrt();
         modes.iter().zip(&self.q).map(|(m, q)| m.shape.value(x) * scale * q).sum()
     }
@@ -145,17 +163,20 @@ impl PointModes {
 
     /// Displacement at the point, w = sum g q (m).
     pub fn displacement(&self, s: &ModalState) -> f64 {
+        check_len(s, self.len());
         self.gain.iter().zip(&s.q).map(|(g, q)| g * q).sum()
     }
 
     /// Velocity at the point, sum g v (m/s). The series does not converge as modes are added
     /// (validation/REFERENCES.md 1.2): use it for estimates, never in the contact condition.
     pub fn velocity(&self, s: &ModalState) -> f64 {
+        check_len(s, self.len());
         self.gain.iter().zip(&s.v).map(|(g, v)| g * v).sum()
     }
 
     /// Kinetic plus strain energy of the beam, sum (v^2 + omega^2 q^2)/2 (J).
     pub fn energy(&self, s: &ModalState) -> f64 {
+        check_len(s, self.len());
         self.omega
             .iter()
             .zip(s.q.iter().zip(&s.v))
@@ -176,6 +197,7 @@ impl PointModes {
 
     /// Power dissipated by the modal damping, sum 2 zeta omega v^2 (W).
     pub fn damping_power(&self, s: &ModalState) -> f64 {
+        check_len(s, self.len());
         self.omega
             .iter()
             .zip(&self.damping_ratio)
@@ -349,6 +371,7 @@ impl PointModes {
     /// # Panics
     /// If `range` reaches past the modes.
     pub fn partial_motion(&self, state: &ModalState, range: std::ops::Range<usize>) -> (f64, f64) {
+        check_len(state, self.len());
         let gain = &self.gain[range.clone()];
         (dot(gain, &state.q[range.clone()]), dot(gain, &state.v[range]))
     }
@@ -427,6 +450,7 @@ impl OneStep {
     /// Displacement at the point at the end of the step with the force going linearly from
     /// `f0` to zero (m).
     pub fn free_displacement(&self, modes: &PointModes, state: &ModalState, f0: f64) -> f64 {
+        check_len(state, modes.len());
         let mut w = 0.0;
         for (i, s) in self.modes.iter().enumerate() {
             let g = modes.gain[i];
@@ -444,6 +468,7 @@ impl OneStep {
         f0: f64,
         f1: f64,
     ) -> (f64, f64) {
+        check_len(state, modes.len());
         let (mut w, mut energy) = (0.0, 0.0);
         for (i, s) in self.modes.iter().enumerate() {
             let (g, omega) = (modes.gain[i], modes.omega[i]);
@@ -462,6 +487,7 @@ impl OneStep {
     /// replays steps and reads neither the displacement nor the energy (the sums' chains of
     /// additions set the loop's time).
     pub fn advance_state(&self, modes: &PointModes, state: &mut ModalState, f0: f64, f1: f64) {
+        check_len(state, modes.len());
         let n = self.modes.len();
         let (gain, q, v) = (&modes.gain[..n], &mut state.q[..n], &mut state.v[..n]);
         for (i, s) in self.modes.iter().enumerate() {
@@ -659,6 +685,7 @@ impl Transition {
     /// (free flight, and most of a contact) needs exactly that to decide the next step, and
     /// saves a second pass over the modes.
     pub fn advance_predicting(&self, state: &mut ModalState, f0: f64, f1: f64) -> (f64, f64, f64) {
+        check_len(state, self.e11.len());
         let f_next = f1;
         let f1 = if self.hold == Hold::Zero { 0.0 } else { f1 };
         if f0 == 0.0 && f1 == 0.0 {
@@ -671,6 +698,7 @@ impl Transition {
     /// Displacement at the point at the end of the step if the end force were zero (m):
     /// the end displacement is `free_displacement + compliance * f1`.
     pub fn free_displacement(&self, state: &ModalState, f0: f64) -> f64 {
+        check_len(state, self.e11.len());
         Arch::new().dispatch(FreeKernel { t: self, state, f0 })
     }
 

@@ -367,3 +367,27 @@ fn curvatures_of_many_modes_at_once_match_each_modes_own() {
         }
     }
 }
+
+#[test]
+fn a_static_flexibility_off_the_beam_is_none() {
+    // A review's cantilever answered -6.1e-3 m/N at c = -1 m and NaN for NaN; on the beam,
+    // to round-off at its ends, the closed form.
+    let beam = Beam::new(1.0, 1.0, 1.15, Support::ClampedFree).unwrap();
+    for c in [-1.0, 2.3, f64::NAN] {
+        assert_eq!(beam.static_flexibility(c), None, "{c}");
+        assert_eq!(beam.static_curvature(c, 0.5), None, "{c}");
+    }
+    assert!(beam.static_flexibility(1.15 * (1.0 + 1e-15)).is_some());
+    assert!(beam.static_curvature(0.5, 1.15).is_some());
+}
+
+#[test]
+#[should_panic(expected = "ModalState::at_rest(5)")]
+fn a_state_for_other_modes_is_refused_by_its_lengths() {
+    // A short state had panicked inside a vector kernel, or been read as if its missing modes
+    // were at rest (a review's): the panic now names both lengths and the remedy.
+    let beam = Beam::new(1.0, 1.0, 1.15, Support::ClampedFree).unwrap();
+    let modes = beam.modes(5).unwrap();
+    let point = PointModes::new(&beam, &modes, 1.15, 0.0).unwrap();
+    let _ = point.displacement(&modal::ModalState::at_rest(2));
+}

@@ -21,7 +21,9 @@ pub struct Mesh {
 fn frame(tangent: &Vector3<f64>, e3_hint: &Vector3<f64>) -> Result<UnitQuaternion<f64>, BeamError> {
     let e1 = tangent.normalize();
     let e2 = e3_hint.cross(&e1);
-    if e2.norm() < 1e-9 {
+    // Written so that a hint or tangent that is not a number is refused too (a NaN hint had
+    // given NaN frames, a review's).
+    if e2.norm().is_nan() || e2.norm() < 1e-9 {
         return Err(BeamError::Mesh(format!(
             "the section axis E3 hint {e3_hint:?} is parallel to the beam axis {e1:?}"
         )));
@@ -78,7 +80,7 @@ impl Mesh {
         }
         let q = frame(&axis, &e3_hint)?;
         let positions: Vec<_> = fractions.iter().map(|f| start + axis * *f).collect();
-        Ok(Self::from_nodes(positions, vec![q; fractions.len()], section))
+        Self::from_nodes(positions, vec![q; fractions.len()], section)
     }
 
     /// A circular arc in the plane normal to `normal` (E3 of every section), centred at
@@ -101,8 +103,19 @@ impl Mesh {
         if elements == 0 {
             return Err(BeamError::Mesh("a beam needs at least one element".into()));
         }
+        // A zero or non-finite normal, or a start along it, has no plane: refused (they had
+        // given NaN positions, a review's).
+        if !(normal.norm() > 0.0 && normal.iter().all(|c| c.is_finite())) {
+            return Err(BeamError::Mesh(format!("the arc's normal {normal:?} has no direction")));
+        }
         let n = normal.normalize();
-        let u = (start_direction - n * n.dot(&start_direction)).normalize();
+        let in_plane = start_direction - n * n.dot(&start_direction);
+        if in_plane.norm().is_nan() || in_plane.norm() <= 1e-9 * start_direction.norm() {
+            return Err(BeamError::Mesh(format!(
+                "the arc's start direction {start_direction:?} has no part normal to its normal {normal:?}"
+            )));
+        }
+        let u = in_plane.normalize();
         let w = n.cross(&u);
         let mut positions = Vec::new();
         let mut frames = Vec::new();
@@ -112,15 +125,45 @@ impl Mesh {
             let tangent = (-u * t.sin() + w * t.cos()) * angle.signum();
             frames.push(frame(&tangent, &n)?);
         }
-        Ok(Self::from_nodes(positions, frames, section))
+        Self::from_nodes(positions, frames, section)
     }
 
     /// Chains the nodes in order with one section.
+    ///
+    /// # Errors
+    /// [`BeamError::Mesh`] for fewer than two nodes, a frame count that is not the node count,
+    /// a position or frame that is not a number, or two neighbouring nodes at one place (a
+    /// zero-length element); [`BeamError::InvalidParameter`] for a section that is not
+    /// physical ([`Section::validated`]). (The mesh had panicked on fewer frames than nodes,
+    /// and a zero-length element had failed only in a solve, as a residual not finite, a
+    /// review's.)
     pub fn from_nodes(
         positions: Vec<Vector3<f64>>,
         frames: Vec<UnitQuaternion<f64>>,
         section: Section,
-    ) -> Self {
+    ) -> Result<Self, BeamError> {
+        let section = section.validated()?;
+        if positions.len() < 2 || frames.len() != positions.len() {
+            return Err(BeamError::Mesh(format!(
+                "a mesh needs at least two nodes and one frame a node, not {} nodes and {} frames",
+                positions.len(),
+                frames.len()
+            )));
+        }
+        let finite = |v: &[f64]| v.iter().all(|c| c.is_finite());
+        if let Some(k) = (0..positions.len())
+            .find(|&k| !(finite(positions[k].as_slice()) && finite(frames[k].coords.as_slice())))
+        {
+            return Err(BeamError::Mesh(format!("node {k}'s position or frame is not a number")));
+        }
+        if let Some(k) =
+            (1..positions.len()).find(|&k| (positions[k] - positions[k - 1]).norm() <= 0.0)
+        {
+            return Err(BeamError::Mesh(format!(
+                "nodes {} and {k} are at one place: an element needs a length",
+                k - 1
+            )));
+        }
         let mut elements = Vec::new();
         let mut arc_length = vec![0.0];
         for i in 0..positions.len().saturating_sub(1) {
@@ -133,7 +176,7 @@ impl Mesh {
             arc_length.push(arc_length[i] + e.length);
             elements.push(e);
         }
-        Self { positions, frames, elements, arc_length }
+        Ok(Self { positions, frames, elements, arc_length })
     }
 
     /// Appends another mesh whose first node coincides with this mesh's last node (a frame

@@ -119,7 +119,15 @@ pub fn solve_static(
                 NewtonWeights::stiffness(),
                 &mut triplets,
             );
-            solver.factor(n, &triplets, target)?;
+            // A singular tangent at the load factor `target` (passed where the linear solver
+            // says "t", a time): said as what it is, with what to check (a free beam's had
+            // read "singular ... at t = 1 s", a review's).
+            solver.factor(n, &triplets, target).map_err(|e| match e {
+                hht::HhtError::Singular { reason, .. } => BeamError::Mesh(format!(
+                    "the static stiffness is singular at load factor {target}: the beam is a mechanism or free (check its supports: {reason})"
+                )),
+                other => BeamError::Integrator(other),
+            })?;
             r *= -1.0;
             solver.solve_in_place(r.as_mut(), target)?;
             model.update(&mut trial, r.as_ref());

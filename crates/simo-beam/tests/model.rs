@@ -158,3 +158,26 @@ fn free_vibration_energy_is_kept_by_trapezoid_and_never_gained_with_alpha() {
     let last = e[300..].iter().copied().fold(f64::MIN, f64::max);
     assert!(last < first, "envelope {first} -> {last}");
 }
+
+#[test]
+fn degenerate_meshes_and_sections_are_refused_by_name() {
+    // A review's: a NaN hint and an arc without a plane gave NaN frames and positions, fewer
+    // frames than nodes panicked, coincident nodes failed only in a solve, and a section of
+    // EA = -1 was solved (the 3D path never checked it; the planar one did).
+    use nalgebra::UnitQuaternion;
+    let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+    let s = Section::rectangle(&steel, 0.025, 0.005).unwrap();
+    let (o, x) = (Vector3::zeros(), Vector3::x());
+    let err = |r: Result<Mesh, simo_beam::BeamError>| r.map(|_| ()).unwrap_err().to_string();
+    assert!(err(Mesh::straight(o, x, 4, s, Vector3::new(f64::NAN, 0.0, 1.0))).contains("hint"));
+    assert!(err(Mesh::arc(o, 1.0, x, Vector3::zeros(), 1.0, 4, s)).contains("normal"));
+    assert!(err(Mesh::arc(o, 1.0, Vector3::z(), Vector3::z(), 1.0, 4, s)).contains("start"));
+    let three = vec![o, x, 2.0 * x];
+    let one_frame = vec![UnitQuaternion::identity()];
+    assert!(err(Mesh::from_nodes(three.clone(), one_frame, s)).contains("frame"));
+    let frames = vec![UnitQuaternion::identity(); 3];
+    assert!(err(Mesh::from_nodes(vec![o, x, x], frames.clone(), s)).contains("one place"));
+    let negative = Section { ea: -1.0, ..s };
+    assert!(err(Mesh::from_nodes(three, frames, negative)).contains("EA"));
+    assert!(err(Mesh::straight(o, x, 4, negative, Vector3::z())).contains("EA"));
+}

@@ -18,7 +18,8 @@ fn pair(xs: &[f64]) -> (BeamModel, PlanarBeam) {
         xs.iter().map(|x| Vector3::new(*x, 0.0, 0.0)).collect(),
         vec![UnitQuaternion::identity(); xs.len()],
         s,
-    );
+    )
+    .unwrap();
     let spatial = BeamModel::new(mesh).unwrap().support(0, Support::Clamped).unwrap();
     let planar = PlanarBeam::new(xs, &s).unwrap().support(0, Support::Clamped).unwrap();
     (spatial, planar)

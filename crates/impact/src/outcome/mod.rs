@@ -520,7 +520,9 @@ fn contact_stresses(plan: &Plan, c: &mut Contact) {
     let (p0, a) = plan.law.peak_pressure(c.peak_force, c.max_approach, c.print_radius);
     c.max_pressure = p0;
     c.contact_radius = a;
-    let [ball, body] = plan.poisson_ratios.map(hertz::max_subsurface_shear);
+    // The plan validated both ratios (in (-1, 0.5)): the search answers for each.
+    let [ball, body] =
+        plan.poisson_ratios.map(|nu| hertz::max_subsurface_shear(nu).unwrap_or((0.0, 0.0)));
     (c.ball_max_shear, c.ball_max_shear_depth) = (ball.0 * p0, ball.1 * a);
     (c.body_max_shear, c.body_max_shear_depth) = (body.0 * p0, body.1 * a);
 }

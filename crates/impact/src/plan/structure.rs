@@ -63,19 +63,24 @@ impl StructurePlan {
 
 impl StructurePlan {
     /// The first elastic mode's angular frequency (rad/s) of the structure linearised at rest,
-    /// `None` if the eigen-solution fails: modes below a cutoff raised fourfold from 1 rad/s
-    /// until one is elastic (a count of the eigenvalues below it, one factorisation, decides
-    /// each rung with none; a free body's rigid modes, at zero, are passed over). Without it
-    /// a structure's window warnings had nothing to measure the swing by, and a largest
+    /// `None` if no rung finds one: modes below a cutoff raised fourfold from 1 rad/s until
+    /// one is elastic (a count of the eigenvalues below it, one factorisation, decides each
+    /// rung with none; a free body's or a mechanism's rigid modes, at zero, are passed over,
+    /// and a rung whose solution fails on them, a shift at their eigenvalue, is passed too: it
+    /// had ended the search, and a free bar's window went unwarned, a review's). Without it a
+    /// structure's window warnings had nothing to measure the swing by, and a largest
     /// displacement still rising at a 2 ms window's end (a frame whose quarter period is
     /// 42.5 ms) was reported as the maximum without a word (a review's).
     pub(crate) fn first_frequency(&self) -> Option<f64> {
         let at_rest = simo_beam::AtRest::of(&self.model);
         let mut cutoff = 1.0;
         for _ in 0..40 {
-            let modes = at_rest.modes_below(cutoff).ok()?;
-            if let Some(omega) = modes.iter().map(|m| m.omega).find(|w| *w > 0.0) {
-                return Some(omega);
+            let elastic = at_rest
+                .modes_below(cutoff)
+                .ok()
+                .and_then(|modes| modes.iter().map(|m| m.omega).find(|w| *w > 0.0));
+            if elastic.is_some() {
+                return elastic;
             }
             cutoff *= 4.0;
         }
