@@ -34,3 +34,16 @@ pub(crate) fn positive(
     }
     Ok(value)
 }
+
+/// Checks that `nu` is a Poisson's ratio of a stable isotropic solid, in (-1, 0.5).
+pub(crate) fn poisson_ratio(nu: f64) -> Result<f64, HertzError> {
+    if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+        return Err(HertzError::InvalidParameter {
+            name: "poisson_ratio",
+            value: nu,
+            unit: "-",
+            allowed: "a number in (-1, 0.5)",
+        });
+    }
+    Ok(nu)
+}

@@ -23,14 +23,7 @@ impl Material {
     /// `InvalidParameter` if E is not finite and positive or nu is outside (-1, 0.5).
     pub fn new(youngs_modulus: f64, poisson_ratio: f64) -> Result<Self, HertzError> {
         positive("youngs_modulus", youngs_modulus, "Pa")?;
-        if !(poisson_ratio.is_finite() && poisson_ratio > -1.0 && poisson_ratio < 0.5) {
-            return Err(HertzError::InvalidParameter {
-                name: "poisson_ratio",
-                value: poisson_ratio,
-                unit: "-",
-                allowed: "a number in (-1, 0.5)",
-            });
-        }
+        crate::error::poisson_ratio(poisson_ratio)?;
         Ok(Self { youngs_modulus, poisson_ratio, yield_stress: None })
     }
 

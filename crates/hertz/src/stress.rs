@@ -27,14 +27,7 @@ pub struct ContactStress {
 /// `InvalidParameter` for a Poisson's ratio not in (-1, 0.5) (it had answered NaN, or the
 /// search bracket's edge, there, a review's).
 pub fn max_subsurface_shear(poisson_ratio: f64) -> Result<(f64, f64), HertzError> {
-    if !(poisson_ratio.is_finite() && poisson_ratio > -1.0 && poisson_ratio < 0.5) {
-        return Err(HertzError::InvalidParameter {
-            name: "poisson_ratio",
-            value: poisson_ratio,
-            unit: "-",
-            allowed: "a number in (-1, 0.5)",
-        });
-    }
+    crate::error::poisson_ratio(poisson_ratio)?;
     let tau = |z: f64| {
         let sz = -1.0 / (1.0 + z * z);
         let sr = -(1.0 + poisson_ratio) * (1.0 - z * (1.0 / z).atan()) + 0.5 / (1.0 + z * z);
