@@ -366,7 +366,9 @@ fn chart(
                     .collect();
                 let label = match group_index {
                     Some(i) => format!("{} = {g} {}", header[i], unit_of(&header[i])),
-                    None => name.replace('_', " "),
+                    // One curve: the quantity as the axis says it (the column's SI name had
+                    // read "first duration s" beside a µs axis, a review's).
+                    None => y_label.to_string(),
                 };
                 (!points.is_empty()).then_some(Series { label, points })
             })
@@ -411,11 +413,16 @@ fn unit_of(key: &str) -> &'static str {
     let last = key.rsplit('.').next().unwrap_or(key);
     match last {
         "speed" => "m/s",
-        "drop_height" | "length" | "width" | "thickness" | "radius" | "position" => "m",
+        "drop_height" | "length" | "width" | "thickness" | "radius" | "position" | "offset"
+        | "at" => "m",
         "mass" => "kg",
         "youngs_modulus" | "yield_stress" => "Pa",
         "density" => "kg/m^3",
-        "end_time" | "time_step" => "s",
+        "end_time" | "time_step" | "output_interval" => "s",
+        // Ratios and counts: no unit (a Poisson's ratio had been labelled "as in the scene
+        // file", a review's).
+        "poisson_ratio" | "restitution" | "tolerance" | "alpha" | "modes" | "elements"
+        | "samples_per_pulse" => "-",
         _ => "as in the scene file",
     }
 }
