@@ -212,7 +212,7 @@ fn chart(study: &Study, dir: &Path, stem: &str) -> anyhow::Result<()> {
         let picks: Vec<(&str, Metric)> =
             if curve == EULER_BERNOULLI { vec![metrics[1], metrics[3]] } else { metrics.to_vec() };
         for (name, pick) in picks {
-            let mut points: Vec<(f64, f64)> = study
+            let points: Vec<(f64, f64)> = study
                 .rows
                 .iter()
                 .filter(|r| r.series == curve && r.ladder)
@@ -220,7 +220,9 @@ fn chart(study: &Study, dir: &Path, stem: &str) -> anyhow::Result<()> {
                 // An error of exactly 0 has no place on a logarithmic axis.
                 .filter(|p| p.0 > 0.0 && p.1 > 0.0)
                 .collect();
-            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // In the ladder's order (each point the next refinement), not the wall time's: the
+            // times of runs of a few milliseconds are noisy, and sorted by them a converging
+            // ladder had zig-zagged in its errors (a review's, 1 -> 0.12 -> 1).
             series.push(Series { label: format!("{curve}: {name}"), points });
         }
         if curve != method {
