@@ -122,9 +122,7 @@ pub(crate) fn run(
     // The earlier comparison's files first, the summary last: a comparison stopped on its way
     // leaves no summary beside another run's figures (a review's had mixed the two).
     for stem in ["displacement", "force", "displacement_difference"] {
-        for ext in ["svg", "csv"] {
-            crate::files::remove_output(&out.join(format!("{stem}.{ext}")))?;
-        }
+        crate::plot::remove_figure(out, stem)?;
     }
     crate::files::remove_output(&out.join("summary.csv"))?;
 

@@ -83,6 +83,16 @@ fn bounds(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// Removes the figure `stem` ([`Chart::write`]'s `stem.svg` and `stem.csv`) from `dir`, if
+/// there: a command clears the figures it owns in a reused folder before it writes, so that
+/// none of an earlier run's stays beside its own.
+pub(crate) fn remove_figure(dir: &Path, stem: &str) -> anyhow::Result<()> {
+    for ext in ["svg", "csv"] {
+        crate::files::remove_output(&dir.join(format!("{stem}.{ext}")))?;
+    }
+    Ok(())
+}
+
 impl Chart<'_> {
     /// Writes `stem.svg` and `stem.csv` (long format: series, x, y) into `dir`.
     pub(crate) fn write(&self, dir: &Path, stem: &str) -> anyhow::Result<()> {

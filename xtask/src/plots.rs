@@ -21,9 +21,7 @@ pub(crate) fn one_run(dir: &Path, outcome: &Outcome) -> anyhow::Result<()> {
     // had shown a beam run's stress figures left in the folder, a review's).
     crate::files::remove_output(&dir.join("index.html"))?;
     for (stem, _) in FIGURES {
-        for ext in ["svg", "csv"] {
-            crate::files::remove_output(&dir.join(format!("{stem}.{ext}")))?;
-        }
+        crate::plot::remove_figure(dir, stem)?;
     }
     let h = &outcome.history;
     let ms = |v: &[f64], scale: f64| -> Vec<(f64, f64)> {

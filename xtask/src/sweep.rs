@@ -234,9 +234,7 @@ fn clear(dir: &OutDir) -> anyhow::Result<()> {
     crate::files::remove_output(&dir.join(TABLE))?;
     crate::files::remove_output(&dir.join("sweep.svg"))?;
     for (name, ..) in DRAWN {
-        for ext in ["svg", "csv"] {
-            crate::files::remove_output(&dir.join(&format!("sweep_{name}.{ext}")))?;
-        }
+        crate::plot::remove_figure(dir.path(), &format!("sweep_{name}"))?;
     }
     Ok(())
 }
