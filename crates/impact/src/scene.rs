@@ -633,8 +633,10 @@ pub struct SolverSpec {
     /// beam's static flexibility minus the kept modes' share) in series with the contact, as
     /// the mode-acceleration method does: the modes above the cutoff answer the force
     /// quasi-statically. Default false on a `[beam]` struck on its centre line (true with
-    /// `tolerance`), true off it (`impact.offset`: the torsion modes' static share falls only
-    /// as 1/N) and on a `[structure]` (on a free one by inertia relief).
+    /// `tolerance`, and where the kept modes leave out more than 1 % of the static flexibility
+    /// at the impact point, as near a support: the plan says so), true off it
+    /// (`impact.offset`: the torsion modes' static share falls only as 1/N) and on a
+    /// `[structure]` (on a free one by inertia relief).
     #[schemars(extend("default" = false))]
     pub residual_flexibility: Option<bool>,
     /// Modal method: recover the bending stress by the plain modal series

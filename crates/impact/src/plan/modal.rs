@@ -64,6 +64,11 @@ pub struct ModalPlan {
     /// Whether the truncated modes' static compliance sits in series with the contact
     /// (`solver.residual_flexibility`).
     pub(crate) residual_flexibility: bool,
+    /// Whether the solver takes the residual flexibility where the kept modes leave out a
+    /// notable share of the static flexibility at the impact point (neither asked for nor
+    /// refused, and no tolerance: `solve::modal`'s `RESIDUAL_SHARE`). Decided there, where the
+    /// modes are built: here they would be built twice.
+    pub(crate) residual_by_share: bool,
     /// Whether the bending stress is the plain series (`solver.plain_stress_series`), not the
     /// mode-acceleration form.
     pub(crate) plain_stress_series: bool,
@@ -187,6 +192,7 @@ pub(super) fn plan(
             modes: needed,
             tolerance: Some(tolerance),
             residual_flexibility,
+            residual_by_share: false,
             plain_stress_series,
             twin: None,
             torsion: None,
@@ -213,6 +219,7 @@ pub(super) fn plan(
         modes,
         tolerance: None,
         residual_flexibility,
+        residual_by_share: s.residual_flexibility.is_none() && supported,
         plain_stress_series,
         twin: None,
         torsion: None,

@@ -278,6 +278,7 @@ pub(super) fn modal_plan(
         modes: 0,
         tolerance,
         residual_flexibility,
+        residual_by_share: false,
         plain_stress_series,
         twin: None,
         torsion: None,
