@@ -333,32 +333,25 @@ impl FePlan {
     }
 }
 
-/// Contact steps a period of the contact's local frequency below which a plan warns: the
-/// paper's tip struck by heavier balls at the default plan (a review's) had its first contact
-/// 0.5 % long at 3 kg, 5 % at 10 kg, 11 % at 30 kg and 30 % at 100 kg, against runs refined in
-/// space and time, with no word.
+/// Contact steps a period of the contact's local frequency below which a plan warns, and which
+/// the default steps take at least: the paper's tip struck by heavier balls at 200 steps a
+/// rigid-support pulse (a review's) had its first contact 0.5 % long at 3 kg, 5 % at 10 kg, 11 %
+/// at 30 kg and 30 % at 100 kg, against runs refined in space and time, with no word; at 100 kg
+/// on its mid-span (5.3 steps a period) Newton's iteration diverged in the first contact.
 const LOCAL_STEPS: f64 = 40.0;
 
-/// Warns where the contact step, sized by the rigid-support pulse, takes fewer than
-/// [`LOCAL_STEPS`] over a period of the contact's local frequency (a ball heavy against the
-/// beam, whose local response then sets the force's time scale:
-/// [`super::modal::local_frequency`]), unless a tolerance refines the steps.
-fn local_steps(
-    beam: &modal::Beam,
-    steps: &Steps,
-    pulse: &Pulse,
-    s: &SolverSpec,
-    warnings: &mut Vec<String>,
-) {
+/// Warns where the contact step takes fewer than [`LOCAL_STEPS`] over a period of the
+/// contact's `local` frequency (rad/s; a ball heavy against the beam, whose local response
+/// then sets the force's time scale: [`super::modal::local_frequency`]): where
+/// `solver.samples_per_pulse` or `time_step` set the steps (the default takes that many), unless a tolerance refines them.
+fn local_steps(local: f64, steps: &Steps, s: &SolverSpec, warnings: &mut Vec<String>) {
     if s.tolerance.is_some() {
         return;
     }
-    let local =
-        super::modal::local_frequency(beam, (pulse.ball_mass, pulse.speed, pulse.max_approach));
     let per_period = 2.0 * PI / local / steps.contact_step;
     if per_period < LOCAL_STEPS {
         let needed = (steps.samples as f64 * LOCAL_STEPS / per_period).ceil();
-        warnings.push(format!("the contact step {:.3e} s takes {per_period:.1} steps over a period of the contact's local frequency {local:.4e} rad/s (the ball is heavy against the beam, whose local response sets the force's time scale, not the rigid-support pulse the step is sized by): the first contact is not converged in time (a review's, the paper's tip struck by heavier balls at the default plan: 0.5 % long at 3 kg, 5 % at 10 kg, 30 % at 100 kg); set solver.samples_per_pulse = {needed} or more, or solver.tolerance", steps.contact_step));
+        warnings.push(format!("the contact step {:.3e} s takes {per_period:.1} steps over a period of the contact's local frequency {local:.4e} rad/s (the ball is heavy against the beam, whose local response sets the force's time scale, not the rigid-support pulse the step is sized by): the first contact is not converged in time (a review's, the paper's tip struck by heavier balls at 200 steps a rigid-support pulse: 0.5 % long at 3 kg, 5 % at 10 kg, 30 % at 100 kg; at 100 kg on its mid-span Newton's iteration diverged); set solver.samples_per_pulse = {needed} or more, or solver.tolerance", steps.contact_step));
     }
 }
 
@@ -369,12 +362,29 @@ pub(super) struct Steps {
     pub(super) samples: usize,
     pub(super) contact_step: f64,
     pub(super) free_time_step: f64,
+    /// The default steps a pulse, where the contact's local frequency raised them (to take
+    /// [`LOCAL_STEPS`] a period of it).
+    pub(super) raised_from: Option<usize>,
 }
 
 impl Steps {
-    /// From `solver.samples_per_pulse`, `alpha` and `time_step`, for the pulse's duration.
-    pub(super) fn new(s: &SolverSpec, pulse: &Pulse) -> Result<Self, ImpactError> {
+    /// From `solver.samples_per_pulse`, `alpha` and `time_step`, for the pulse's duration; by
+    /// default at least [`LOCAL_STEPS`] a period of the contact's `local` frequency (rad/s),
+    /// where it is known (a `[beam]`'s).
+    pub(super) fn new(
+        s: &SolverSpec,
+        pulse: &Pulse,
+        local: Option<f64>,
+    ) -> Result<Self, ImpactError> {
         let mut samples = s.samples_per_pulse.unwrap_or(FE_SAMPLES_PER_PULSE);
+        let mut raised_from = None;
+        if let (None, None, Some(local)) = (s.samples_per_pulse, s.time_step, local) {
+            let needed = (LOCAL_STEPS * pulse.duration * local / (2.0 * PI)).ceil();
+            if needed > samples as f64 && needed.is_finite() {
+                raised_from = Some(samples);
+                samples = (needed as usize).min(super::MAX_SAMPLES_PER_PULSE);
+            }
+        }
         if samples < 10 {
             return Err(invalid("solver.samples_per_pulse", samples, "must be at least 10"));
         }
@@ -403,7 +413,7 @@ impl Steps {
             Some(h) if !shorter => h.max(contact_step),
             _ => FE_FREE_STEP_RATIO * contact_step,
         };
-        Ok(Self { alpha, samples, contact_step, free_time_step })
+        Ok(Self { alpha, samples, contact_step, free_time_step, raised_from })
     }
 
     /// The reasons for the steps and for how the maxima are sampled.
@@ -413,7 +423,10 @@ impl Steps {
         estimated_duration: f64,
         reasons: &mut Vec<String>,
     ) {
-        let Steps { alpha, samples, contact_step, free_time_step } = *self;
+        let Steps { alpha, samples, contact_step, free_time_step, raised_from } = *self;
+        if let Some(from) = raised_from {
+            reasons.push(format!("{samples} contact steps per estimated contact duration, not {from}: the ball is heavy against the beam, whose local response sets the force's time scale (the contact's local frequency), and a period of it takes {LOCAL_STEPS} steps (at 5.3 a period, the paper's beam struck at mid-span by a 100 kg ball, Newton's iteration had diverged in the first contact; at 10 kg on its tip the first contact came out 5 % long)"));
+        }
         if free_time_step > contact_step * (1.0 + 1e-9) {
             reasons.push(format!("HHT alpha = {alpha}; steps of {contact_step:.4e} s in contact ({samples} per estimated contact duration {estimated_duration:.4e} s), up to {free_time_step:.4e} s out of contact (solver.time_step): the waves the impacts leave in the beam are then integrated with HHT's dispersion at the longer steps, and the contacts after the first few are not converged in time (validation/REFERENCES.md 1.7)"));
         } else {
@@ -442,7 +455,11 @@ pub(super) fn plan(
     if damping > 0.0 {
         return Err(invalid("beam.modal_damping", damping, "must be 0 or absent with method = \"fe\" (the finite-element beam is undamped; HHT alpha adds numerical damping of high frequencies)"));
     }
-    let steps = Steps::new(s, pulse)?;
+    let local = super::modal::local_frequency(
+        &analytic,
+        (pulse.ball_mass, pulse.speed, pulse.max_approach),
+    );
+    let steps = Steps::new(s, pulse, Some(local))?;
     let Steps { alpha, samples, free_time_step, .. } = steps;
     reasons.push("planar geometrically exact beam (Reissner-Simo, 3 unknowns a node): the ball strikes the face along the thickness and nothing moves the beam or the ball out of that plane, so the 3D beam's other 3 unknowns a node would stay zero (and it takes about 4.5x the time: validation/REFERENCES.md 1.9; solver.fe_model = \"3d\" forces it)".into());
     let bar = (beam.youngs_modulus / beam.density).sqrt();
@@ -468,7 +485,7 @@ pub(super) fn plan(
     let sized = pulse.sized(analytic.flexural_rigidity(), analytic.mass_per_length());
     resolution(s, (&analytic, bar), (&nodes, ends, position), sized, (reasons, warnings))?;
     steps.reasons(s, pulse.duration, reasons);
-    local_steps(&analytic, &steps, pulse, s, warnings);
+    local_steps(local, &steps, s, warnings);
     Ok(FePlan {
         material: simo_beam::Material::new(beam.youngs_modulus, beam.poisson_ratio, beam.density)?,
         analytic: Some(analytic),

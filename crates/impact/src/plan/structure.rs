@@ -206,7 +206,7 @@ pub(super) fn plan(
         ));
     }
     let fe = build(scene, spec, pulse, (reasons, warnings))?;
-    Steps::new(s, pulse)?.reasons(s, pulse.duration, reasons);
+    Steps::new(s, pulse, None)?.reasons(s, pulse.duration, reasons);
     Ok(FePlan { tolerance, ..fe })
 }
 
@@ -1073,7 +1073,7 @@ fn build(
     }
     let point = mesh.positions[a] * (1.0 - xi) + mesh.positions[b] * xi + across * offset;
     let ball_start = point + up * (half_depth + scene.ball.radius);
-    let steps = Steps::new(s, pulse)?;
+    let steps = Steps::new(s, pulse, None)?;
     let supports: Vec<String> = spec
         .supports
         .iter()
