@@ -464,9 +464,14 @@ impl Journal {
             text.extend(csv_line(row)?);
         }
         // Rewritten whole (a cut last line dropped), then appended to.
+        // Synced before the rename (else a machine that stops may leave the new name on an
+        // empty file) and after it.
         let tmp = path.with_extension("journal-tmp");
+        let synced = |p: &std::path::Path| std::fs::File::open(p).and_then(|f| f.sync_all());
         std::fs::write(&tmp, &text)
+            .and_then(|()| synced(&tmp))
             .and_then(|()| std::fs::rename(&tmp, &path))
+            .and_then(|()| path.parent().map_or(Ok(()), |d| synced(d).or(Ok(()))))
             .map_err(|e| PyValueError::new_err(format!("journal {shown}: cannot write it: {e}")))?;
         let file = std::fs::OpenOptions::new()
             .append(true)
@@ -480,7 +485,11 @@ impl Journal {
         use std::io::Write;
         let written = match (csv_line(cells), self.file.lock()) {
             (Ok(line), Ok(mut f)) => {
-                f.write_all(&line).and_then(|()| f.flush()).map_err(|e| e.to_string())
+                // Synced: a machine that stops keeps the finished rows too.
+                f.write_all(&line)
+                    .and_then(|()| f.flush())
+                    .and_then(|()| f.sync_data())
+                    .map_err(|e| e.to_string())
             }
             (Err(e), _) => Err(e.to_string()),
             (_, Err(_)) => Err("a run stopped while writing it".to_string()),

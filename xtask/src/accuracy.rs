@@ -332,7 +332,10 @@ pub(crate) fn run(
             report: report.clone(),
         })? + "\n";
         let mut f = file.lock().map_err(|_| anyhow::anyhow!("a run panicked"))?;
-        f.write_all(line.as_bytes()).with_context(|| format!("cannot write {}", journal.display()))
+        // Synced as a sweep's rows are: a machine that stops keeps the finished runs.
+        f.write_all(line.as_bytes())
+            .and_then(|()| f.sync_data())
+            .with_context(|| format!("cannot write {}", journal.display()))
     })
     .with_context(|| format!("in {}", path.display()))?;
     reports.extend(ran.into_iter().map(|(i, r)| (all[i].label.clone(), r)));
