@@ -38,6 +38,19 @@ fn load_and_run_with(path: &Path, field: bool, plots: bool) -> anyhow::Result<im
     })
     .with_context(|| format!("in {}", path.display()));
     bar.finish_and_clear();
+    // A run that fails prints no report: its plan (the mesh, the steps, their warnings) is
+    // what a user needs to see why, so it goes to standard error before the error.
+    if outcome.is_err() {
+        let summary = plan.summary();
+        let mut text = format!("the plan the run failed on ({}):\n", path.display());
+        for reason in &summary.reasons {
+            text += &format!("  - {reason}\n");
+        }
+        for warning in plan.warnings() {
+            text += &format!("  warning: {warning}\n");
+        }
+        std::io::Write::write_all(&mut std::io::stderr(), text.as_bytes())?;
+    }
     outcome
 }
 
