@@ -102,19 +102,41 @@ const SAME_NODE: f64 = 1e-9;
 
 /// `nodes` with a node at every attachment (an existing node within [`SAME_NODE`] of the
 /// beam's length moved onto it, else a node added).
-pub(crate) fn with_nodes_at(mut nodes: Vec<f64>, attachments: &[Attachment]) -> Vec<f64> {
+pub(crate) fn with_nodes_at(nodes: Vec<f64>, attachments: &[Attachment]) -> Vec<f64> {
+    with_points(nodes, attachments.iter().map(|a| a.at))
+}
+
+/// `nodes` with a node at each of `points` (m), as [`with_nodes_at`].
+fn with_points(mut nodes: Vec<f64>, points: impl IntoIterator<Item = f64>) -> Vec<f64> {
     let length = nodes.last().copied().unwrap_or(0.0);
-    for a in attachments {
-        let k = nodes.partition_point(|x| *x < a.at);
+    for at in points {
+        let k = nodes.partition_point(|x| *x < at);
         let near = [k.checked_sub(1), Some(k)]
             .into_iter()
             .flatten()
             .filter(|&i| i < nodes.len())
-            .find(|&i| (nodes[i] - a.at).abs() <= SAME_NODE * length);
+            .find(|&i| (nodes[i] - at).abs() <= SAME_NODE * length);
         match near {
-            Some(i) => nodes[i] = a.at,
-            None => nodes.insert(k, a.at),
+            Some(i) => nodes[i] = at,
+            None => nodes.insert(k, at),
         }
+    }
+    nodes
+}
+
+/// `nodes` with a node at the impact point `position` (m), as the default meshes have (the
+/// stress under the ball and the contact are read best there: validation/REFERENCES.md 1.5),
+/// and two elements, not one, between it and an end it lies one element from (an end's
+/// stress is extrapolated from its two nearest midpoints, which must not straddle the
+/// moment's kink under the ball).
+fn with_ball_node(nodes: Vec<f64>, position: f64) -> Vec<f64> {
+    let mut nodes = with_points(nodes, [position]);
+    let n = nodes.len() - 1;
+    let k = node_at(&nodes, position);
+    if n >= 2 && k == 1 {
+        nodes.insert(1, 0.5 * (nodes[0] + nodes[1]));
+    } else if n >= 2 && k == n - 1 {
+        nodes.insert(n, 0.5 * (nodes[n - 1] + nodes[n]));
     }
     nodes
 }
@@ -307,7 +329,8 @@ impl FePlan {
         Some(2.0 * std::f64::consts::PI / omega)
     }
 
-    /// The same plan on `elements` equal elements (and a node at each attachment); a
+    /// The same plan on `elements` equal elements (and a node at each attachment and at the
+    /// impact point, with two elements between it and a near end: [`with_ball_node`]); a
     /// structure's with every segment's elements times `elements` over its own.
     ///
     /// # Errors
@@ -321,7 +344,10 @@ impl FePlan {
             return Ok(refined);
         }
         let length = self.nodes.last().copied().unwrap_or(0.0);
-        let nodes = with_nodes_at(uniform(length, elements), &self.attachments);
+        let nodes = with_ball_node(
+            with_nodes_at(uniform(length, elements), &self.attachments),
+            self.position,
+        );
         let mut remeshed = FePlan { nodes, ..self.clone() };
         if let Some(st) = &self.structure {
             // A 3D [beam]: lowered again, onto the new mesh.
@@ -566,8 +592,8 @@ fn mesh(
             ));
         }
         let tolerance = super::checked_tolerance(tolerance)?;
-        reasons.push(format!("uniform meshes from {FE_LADDER_START} elements, doubled until two successive ones agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (the finer mesh's error a third of their difference, Richardson at second order; the largest displacement's their whole difference, its mesh error swinging in sign with the waves' dispersion); then, on that mesh, uniform steps of the contact step divided by 2, 4, ... until two runs agree again (the steps' error is their whole difference), the estimated error being the mesh's plus the steps'"));
-        return Ok(uniform(length, FE_LADDER_START));
+        reasons.push(format!("uniform meshes (with a node at the impact point, and two elements between it and an end it lies one element from) from {FE_LADDER_START} elements, doubled until two successive ones agree within solver.tolerance = {tolerance} on every significant contact's start, duration and peak force and on the largest displacement (the finer mesh's error a third of their difference, Richardson at second order; the largest displacement's their whole difference, its mesh error swinging in sign with the waves' dispersion); then, on that mesh, uniform steps of the contact step divided by 2, 4, ... until two runs agree again (the steps' error is their whole difference), the estimated error being the mesh's plus the steps'"));
+        return Ok(with_ball_node(uniform(length, FE_LADDER_START), position));
     }
     match s.elements {
         Some(0) => Err(invalid("solver.elements", 0, "must be at least 1")),
