@@ -673,7 +673,8 @@ pub struct SolverSpec {
     pub time_step: Option<f64>,
     /// Relative error accepted on every significant contact (start, duration, peak force) and
     /// on the largest displacement, instead of a resolution: the fe method refines a uniform
-    /// mesh, the modal method doubles its modes, until two successive runs agree within it.
+    /// mesh (with a node at the impact point), the modal method doubles its modes, until two
+    /// successive runs agree within it.
     #[schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = 1))]
     pub tolerance: Option<f64>,
 }
