@@ -112,6 +112,12 @@ struct Solver<'a, L: ContactLaw> {
     /// Why the residual flexibility was taken when the plan had left it to the modes' share
     /// (see [`residual_taken`]), for the report's plan.
     residual_note: Option<String>,
+    /// The truncated modes' compliance at the point the run leaves out (m/N; 0 where it takes
+    /// it), and the largest displacement there with it added (the quasi-static answer of the
+    /// left-out modes, `left_out` x force), over the steps: a warning's measure of what leaving
+    /// it out costs (validation/REFERENCES.md 1.4).
+    left_out: f64,
+    largest_with_left_out: f64,
     /// The last step taken once or tried by the event search (see `approach_after`).
     event_step: OneStep,
     /// Work space of `safe_horizon` (|g| A per mode, and its sums per segment between
@@ -282,7 +288,17 @@ fn torsion_shear_rows(
 /// What a solver steps and reads of a basis: its modes at the impact point, the residual
 /// flexibility in series with the contact (m/N, 0 if not taken, and why it was taken where the
 /// plan left it to the modes' share) and the beam's recovery.
-type Stepped<'a> = (PointModes, (f64, Option<String>), Option<Box<dyn BeamRecorder + 'a>>);
+type Stepped<'a> = (PointModes, Residual, Option<Box<dyn BeamRecorder + 'a>>);
+
+/// The truncated modes' static compliance at the impact point (m/N): what the run takes in
+/// series with the contact, what it leaves out, and why it took it where the plan left that to
+/// the modes' share.
+#[derive(Debug, Default)]
+struct Residual {
+    taken: f64,
+    left_out: f64,
+    note: Option<String>,
+}
 
 /// The share of the site's static flexibility the kept modes may leave out before the
 /// residual flexibility is taken where the plan left it to them
@@ -294,23 +310,28 @@ type Stepped<'a> = (PointModes, (f64, Option<String>), Option<Box<dyn BeamRecord
 /// keep Goldsmith's plain series).
 const RESIDUAL_SHARE: f64 = 1e-2;
 
+/// A run that leaves the residual flexibility out warns where adding it (its quasi-static
+/// answer to the contact force) would make the largest displacement at the impact point larger
+/// by more than this share.
+const LEFT_OUT_WARNING: f64 = 1e-2;
+
 /// The residual flexibility (m/N) in series with the contact: the site's, where the plan takes
 /// it, or leaves it to the modes' share and they leave out more than [`RESIDUAL_SHARE`] of the
 /// site's static flexibility (with why), and the body is held; else 0.
-fn residual_taken(m: &ModalPlan, site: &modal::SiteModes) -> (f64, Option<String>) {
-    let Some(residual) = site.residual_flexibility() else { return (0.0, None) };
+fn residual_taken(m: &ModalPlan, site: &modal::SiteModes) -> Residual {
+    let Some(residual) = site.residual_flexibility() else { return Residual::default() };
     if m.residual_flexibility {
-        return (residual, None);
+        return Residual { taken: residual, ..Residual::default() };
     }
     let share = m.static_flexibility().filter(|f| *f > 0.0).map_or(0.0, |f| residual / f);
     if !(m.residual_by_share && share > RESIDUAL_SHARE) {
-        return (0.0, None);
+        return Residual { left_out: residual, ..Residual::default() };
     }
     let note = format!(
         "residual flexibility (taken where the kept modes leave out more than {RESIDUAL_SHARE:.0e} of the beam's static flexibility at the impact point): the {} modes leave out {share:.3} of it here (near a support the static deflection under the ball bends on a length the modes do not resolve), and without it the displacement there would be low by about that share; the truncated modes' static compliance sits in series with the contact and in the strains (mode-acceleration method); solver.residual_flexibility = false leaves it out",
         m.modes
     );
-    (residual, Some(note))
+    Residual { taken: residual, left_out: 0.0, note: Some(note) }
 }
 
 /// A uniform beam's analytic basis: its modes at the impact point (bending, and torsion off
@@ -324,10 +345,11 @@ fn analytic<'a>(
 ) -> Result<Stepped<'a>, ImpactError> {
     let basis = point_modes(m, beam)?;
     let site = modal::SiteModes::new(basis.modes, m.static_flexibility())?;
-    let (residual, note) = residual_taken(m, &site);
+    let taken = residual_taken(m, &site);
+    let residual = taken.taken;
     let modes = site.into_modes();
     let Some((thickness, width)) = plan.thickness.zip(plan.width) else {
-        return Ok((modes, (residual, note), None));
+        return Ok((modes, taken, None));
     };
     let setup = StressSetup {
         position: m.position,
@@ -349,7 +371,7 @@ fn analytic<'a>(
     if plan.field {
         stress.record_field();
     }
-    Ok((modes, (residual, note), Some(Box::new(stress))))
+    Ok((modes, taken, Some(Box::new(stress))))
 }
 
 /// 0, 1, 2, 3, 4, 6, 8, 12, 16, ... (powers of two and 1.5 times them) below n, then n.
@@ -380,7 +402,7 @@ fn quadratic_horizon(a: f64, b: f64, gap: f64) -> f64 {
 impl<'a, L: ContactLaw> Solver<'a, L> {
     fn new(plan: &'a Plan, law: &'a L, progress: Progress<'a>) -> Result<Self, ImpactError> {
         let mut modes_below = None;
-        let (modes, (residual, residual_note), stress) = match &plan.method {
+        let (modes, residual, stress) = match &plan.method {
             Method::Modal(m) => match &m.basis {
                 ModalBasis::Analytic(beam) => analytic(plan, m, beam)?,
                 ModalBasis::Fe(basis) => {
@@ -399,7 +421,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 }
             },
             Method::HalfSpace | Method::Fe(_) => {
-                (PointModes::from_parts(vec![], vec![], vec![])?, (0.0, None), None)
+                (PointModes::from_parts(vec![], vec![], vec![])?, Residual::default(), None)
             }
         };
         let n = modes.len();
@@ -445,7 +467,9 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 Method::HalfSpace | Method::Fe(_) => 0.0,
             },
             damped,
-            residual,
+            residual: residual.taken,
+            left_out: residual.left_out,
+            largest_with_left_out: 0.0,
             damping_work: 0.0,
             contacts: Vec::new(),
             max_displacement: (0.0, 0.0),
@@ -455,7 +479,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             accel_factor,
             rigid_modes,
             modes_below,
-            residual_note,
+            residual_note: residual.note,
             event_step: OneStep::default(),
             horizon_amplitude: Vec::with_capacity(n),
             horizon_scratch: Vec::new(),
@@ -779,6 +803,8 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         if self.beam_displacement() > self.max_displacement.0 {
             self.max_displacement = (self.beam_displacement(), self.t);
         }
+        let with_left_out = self.beam_displacement() + self.left_out * f1;
+        self.largest_with_left_out = self.largest_with_left_out.max(with_left_out);
         Ok(next_free)
     }
 
@@ -1026,6 +1052,18 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
             warnings.push(format!(
                 "the struck section twists {twist:.3e} rad, beyond small rotation ({SMALL_TWIST} rad): the torsion modes take the face's motion as offset x twist, which is off by about twist^2/2 = {:.1e} of it, and a strip twisted this far also shortens and stiffens (Wagner), which Saint-Venant torsion leaves out",
                 0.5 * twist * twist
+            ));
+        }
+        // Against the largest found between the steps too (at least the steps' largest).
+        let stepped = self.max_displacement.0;
+        if self.left_out > 0.0
+            && stepped > 0.0
+            && self.largest_with_left_out > (1.0 + LEFT_OUT_WARNING) * stepped
+        {
+            warnings.push(format!(
+                "the largest displacement at the impact point leaves out the truncated modes' static compliance there ({:.3e} m/N): with it, as their quasi-static answer to the contact force, it would be {:.1} % larger (near a support the modes do not resolve the deflection under the ball: 2 mm from the paper's beam's pinned end the plain series had it 22 % low, validation/REFERENCES.md 1.4); solver.residual_flexibility = true takes it, or more modes",
+                self.left_out,
+                100.0 * (self.largest_with_left_out / stepped - 1.0)
             ));
         }
         let static_stiffness = match &plan.method {
