@@ -64,6 +64,9 @@ pub struct FePlan {
     pub(crate) free_time_step: f64,
     /// Steps per estimated contact duration.
     pub(crate) samples_per_pulse: usize,
+    /// The contact's local frequency at the struck section (rad/s; `None` where the struck
+    /// section has no density to take it from), which the default steps resolve.
+    pub(crate) local_frequency: Option<f64>,
     /// Largest approach on a rigid support (m): the scale of the event tolerance.
     pub(crate) approach_scale: f64,
     /// The pulse's duration the meshes are sized for (s): omega t_c = 20 at the fastest
@@ -370,7 +373,7 @@ const LOCAL_STEPS: f64 = 40.0;
 /// contact's `local` frequency (rad/s; a ball heavy against the beam, whose local response
 /// then sets the force's time scale: [`super::modal::local_frequency`]): where
 /// `solver.samples_per_pulse` or `time_step` set the steps (the default takes that many), unless a tolerance refines them.
-fn local_steps(local: f64, steps: &Steps, s: &SolverSpec, warnings: &mut Vec<String>) {
+pub(super) fn local_steps(local: f64, steps: &Steps, s: &SolverSpec, warnings: &mut Vec<String>) {
     if s.tolerance.is_some() {
         return;
     }
@@ -523,6 +526,7 @@ pub(super) fn plan(
         alpha,
         free_time_step,
         samples_per_pulse: samples,
+        local_frequency: Some(local),
         approach_scale: pulse.max_approach,
         sized_duration: sized,
         tolerance: s.tolerance,
@@ -932,19 +936,48 @@ fn clamped_ends(
         if distance <= within {
             support_mesh((&what, "solver.elements", n), (h, wavelength), (reasons, warnings));
         }
-        // The extrapolation takes the moment as linear out to its farther midpoint (the one
-        // element's own where there is only one); the ball kinks it where it strikes.
-        let far = match (end, n) {
-            (_, 1) => h,
-            (0, _) => 0.5 * (nodes[1] + nodes[2]) - nodes[0],
-            _ => nodes[n] - 0.5 * (nodes[n - 1] + nodes[n - 2]),
-        };
-        if distance > 0.0 && distance < far {
-            let enough = (2.0 * nodes[n] / distance).ceil();
-            warnings.push(format!(
-                "{what}: the ball strikes {distance:.3e} m from it, within the elements its stress is extrapolated from (their midpoints out to {far:.3e} m): the moment's kink under the ball lies between them, and the clamp's stress can be tens of per cent off, as can the displacement under the ball inside the clamp's first element (the paper's cantilever struck 1 mm from its clamp on elements of 1.54 mm: the clamp's stress 28 % low, the displacement 33 %, validation/REFERENCES.md 1.5); elements of at most half that distance there (solver.elements = {enough} or more), or the default mesh, which puts two elements between the ball and an end"
-            ));
-        }
+        kink_at_end(
+            (nodes, end, position),
+            (&what, &format!("solver.elements = {} or more", (2.0 * nodes[n] / distance).ceil())),
+            warnings,
+        );
+    }
+}
+
+/// Warns where the ball's load reaches the mesh (its node, or both nodes of the element it
+/// strikes inside) between the end `end` of `stations` (positions along the chain, m) and the
+/// farther of the two midpoints its stress is extrapolated from (the one element's own where
+/// there is only one): the moment's kink under the ball then lies in the extrapolation, which
+/// takes the moment as linear there. `advice` names the elements that would not.
+pub(super) fn kink_at_end(
+    (stations, end, position): (&[f64], usize, f64),
+    (what, advice): (&str, &str),
+    warnings: &mut Vec<String>,
+) {
+    let n = stations.len() - 1;
+    if n == 0 {
+        return;
+    }
+    let far = match (end, n) {
+        (_, 1) => stations[1] - stations[0],
+        (0, _) => 0.5 * (stations[1] + stations[2]) - stations[0],
+        _ => stations[n] - 0.5 * (stations[n - 1] + stations[n - 2]),
+    };
+    // Each node the ball's load reaches is a kink of the discrete moment (a ball inside the
+    // second element, between 1.5 and 2 elements from the clamp, had read it 11 % low).
+    let k = stations.partition_point(|x| *x < position).min(n);
+    let on_node = (stations[k] - position).abs() <= SAME_NODE * (stations[n] - stations[0]);
+    let kinks =
+        if on_node || k == 0 { vec![stations[k]] } else { vec![stations[k - 1], stations[k]] };
+    let inside = |x: f64| {
+        let d = (stations[end] - x).abs();
+        d > 0.0 && d < far
+    };
+    let distance = (stations[end] - position).abs();
+    if distance > 0.0 && kinks.into_iter().any(inside) {
+        warnings.push(format!(
+            "{what}: the ball strikes {distance:.3e} m from it, and its load reaches the mesh within the elements its stress is extrapolated from (their midpoints out to {far:.3e} m): the moment's kink under the ball lies between them, and the support's stress can be tens of per cent off, as can the displacement under the ball inside the support's first element (the paper's cantilever struck 1 mm from its clamp on elements of 1.54 mm: the clamp's stress 28 % low, the displacement 33 %, validation/REFERENCES.md 1.5); elements of at most half that distance there ({advice}), or the default mesh, which puts two elements between the ball and an end"
+        ));
     }
 }
 
