@@ -191,6 +191,24 @@ impl Stop {
     }
 }
 
+/// What a caught panic said.
+fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
+    panic
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_string()))
+        .unwrap_or_default()
+}
+
+/// `work` on this thread with a panic turned into `RuntimeError` (the plan is made here,
+/// before the run goes to its own thread: a panic in it had reached Python as pyo3's
+/// `PanicException`, which `except Exception` does not catch).
+fn unpanicked<T>(work: impl FnOnce() -> T) -> PyResult<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)).map_err(|panic| {
+        PyRuntimeError::new_err(ImpactError::Internal(panic_message(panic.as_ref())).to_string())
+    })
+}
+
 /// Runs `work` on another thread without the GIL while this thread checks Python's signals
 /// every [`SIGNAL_POLL`] (an interrupt stops the call: `stop`); a panic is caught and turned
 /// into an error, a run unwound by [`Stop`] into the reason it stopped.
@@ -212,12 +230,7 @@ fn detached<T: Send>(py: Python<'_>, stop: &Stop, work: impl FnOnce() -> T + Sen
         if panic.is::<Stopped>() {
             return stop.take().unwrap_or_else(|| PyRuntimeError::new_err("the call was stopped"));
         }
-        let what = panic
-            .downcast_ref::<String>()
-            .cloned()
-            .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_string()))
-            .unwrap_or_default();
-        PyRuntimeError::new_err(format!("internal error (please report it): {what}"))
+        PyRuntimeError::new_err(ImpactError::Internal(panic_message(panic.as_ref())).to_string())
     })?;
     // An interrupt that came as the work ended still counts.
     Python::attach(|py| py.check_signals())?;
@@ -264,9 +277,9 @@ impl<'a> Callback<'a> {
 /// `RuntimeError` for a solver that failed.
 fn run_error(input: &SceneInput, e: &ImpactError) -> PyErr {
     match e {
-        ImpactError::SolverFailed { .. } | ImpactError::Integrator { .. } => {
-            PyRuntimeError::new_err(chain(e))
-        }
+        ImpactError::SolverFailed { .. }
+        | ImpactError::Integrator { .. }
+        | ImpactError::Internal(_) => PyRuntimeError::new_err(chain(e)),
         _ => input.refuse(e),
     }
 }
@@ -280,6 +293,13 @@ fn simulate_all(
     (stop, callback): (&Stop, &Callback<'_>),
     finished: &(dyn Fn(usize, &Result<impact::Report, ImpactError>) + Sync),
 ) -> PyResult<Vec<Option<Result<impact::Report, ImpactError>>>> {
+    // A progress callback runs on one of the pool's workers: a sweep or a comparison called
+    // from it would wait for workers that wait for it (it hung, past Ctrl-C, a review's).
+    if rayon::current_thread_index().is_some() {
+        return Err(PyRuntimeError::new_err(
+            "sweep and compare cannot be called from inside a sweep's or a comparison's progress callback: the callback runs on one of the worker threads the inner call would wait for; call them after the outer call returns (simulate may be called there)",
+        ));
+    }
     let done = std::sync::atomic::AtomicUsize::new(0);
     detached(py, stop, || {
         scenes
@@ -295,10 +315,12 @@ fn simulate_all(
                 let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     impact::simulate_with_progress(s, &|_| stop.unwind_if_stopped())
                 }));
+                // A point that panics is its own error row, not the sweep's end (a review's
+                // degenerate beam had taken every point of a journaled sweep with it).
                 let report = match run {
                     Ok(outcome) => outcome.map(|o| o.report),
                     Err(payload) if payload.is::<Stopped>() => return None,
-                    Err(payload) => std::panic::resume_unwind(payload),
+                    Err(payload) => Err(ImpactError::Internal(panic_message(payload.as_ref()))),
                 };
                 finished(k, &report);
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -323,9 +345,9 @@ fn simulate<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(String, Bound<'py, PyDict>, Option<Bound<'py, PyDict>>)> {
     let input = scene_input(scene)?;
-    let mut plan = impact::Plan::new(&input.scene).map_err(|e| input.refuse(&e))?;
+    let mut plan = unpanicked(|| impact::Plan::new(&input.scene))?.map_err(|e| input.refuse(&e))?;
     if field {
-        plan = plan.with_field().map_err(|e| input.refuse(&e))?;
+        plan = unpanicked(|| plan.with_field())?.map_err(|e| input.refuse(&e))?;
     }
     let stop = Stop::default();
     let callback = Callback::new(progress, &stop)?;

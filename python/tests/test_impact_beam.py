@@ -444,3 +444,28 @@ except OSError as e:
 """
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
     assert out.stdout.startswith("raised: journal") and "are not kept there" in out.stdout, out
+
+
+def test_a_sweep_called_from_a_sweep_s_progress_callback_is_refused():
+    # The callback runs on one of the sweep's workers: a sweep or a comparison called there
+    # waited for workers waiting for it, and hung past Ctrl-C (a review's). Refused at once;
+    # simulate, which needs no worker, still runs there.
+    seen = []
+
+    def nested(done, total):
+        seen.append(ib.simulate(HALF_SPACE).report["impact_speed"])
+        ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 1.0]})
+
+    with pytest.raises(RuntimeError, match="cannot be called from inside a sweep's"):
+        ib.sweep(HALF_SPACE, {"impact.speed": [0.5, 1.0]}, progress=nested)
+    assert seen and all(speed > 0.0 for speed in seen)
+
+
+def test_a_degenerate_beam_is_refused_as_a_value_error():
+    # A micrometre strip of the paper's section: the plan had panicked, and pyo3's
+    # PanicException (not an Exception) had escaped a sweep loop's `except Exception`.
+    scene = scene_dict(TIP)
+    scene["beam"]["length"] = 1e-6
+    scene["impact"]["position"] = 0.0
+    with pytest.raises(ValueError, match="not a beam"):
+        ib.simulate(scene)

@@ -29,6 +29,10 @@ pub enum ImpactError {
     /// that cannot be run as written; the message names the option or key and what is allowed.
     #[error("{0}")]
     Study(String),
+    /// A fault of this library caught where a front end runs many scenes (a panic, which no
+    /// input should cause): the message says what, to be reported.
+    #[error("internal error (please report it): {0}")]
+    Internal(String),
     /// A numerical failure in a run; carries the simulated time.
     #[error("the solver failed at t = {t} s: {reason}")]
     SolverFailed {

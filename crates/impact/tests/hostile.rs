@@ -162,11 +162,16 @@ fn unit_slips_warn_by_field_with_the_value_meant() {
         w.iter().any(|w| w.contains("youngs_modulus = 210000") && w.contains("2.1e11")),
         "{w:?}"
     );
-    let w = warnings_with("thickness = 0.005", "thickness = 6.0");
-    assert!(
-        w.iter().any(|w| w.starts_with("beam.thickness = 6 m is larger than beam.length")),
-        "{w:?}"
-    );
+    // A section larger than the span is refused by name (a micrometre strip of the paper's
+    // section had panicked in the stress recovery, a review's): no beam theory answers for it.
+    for (from, to, field) in [
+        ("thickness = 0.005", "thickness = 6.0", "beam.thickness = 6e0"),
+        ("length = 1.15", "length = 1e-6", "beam.thickness = 5e-3"),
+    ] {
+        let text = paper_tip().replacen(from, to, 1).replacen("position = 1.15", "position = 0", 1);
+        let e = Plan::new(&Scene::from_toml(&text).unwrap()).unwrap_err().to_string();
+        assert!(e.starts_with(field) && e.contains("not a beam"), "{e}");
+    }
     // The paper's own scene: not a word.
     let own = Plan::new(&Scene::from_toml(&paper_tip()).unwrap()).unwrap().warnings().to_vec();
     assert!(

@@ -247,7 +247,13 @@ impl Timoshenko {
             + (self.rho_i * self.rho_i + 8.0 * self.rho_a * self.ei / w2).sqrt())
             / (4.0 * self.rho_a);
         let longest = PI * shear.min(bending).sqrt();
-        let segments = (self.length / longest).ceil().max(1.0) as usize;
+        let ratio = self.length / longest;
+        // Segments past what memory holds, or not a number (a beam of a nanometre: its
+        // frequencies' squares overflow): the asymptotic count, as for a million modes.
+        if !(ratio.is_finite() && ratio <= 1e7) {
+            return if estimate.is_finite() { estimate.max(0.0) as usize } else { usize::MAX };
+        }
+        let segments = ratio.ceil().max(1.0) as usize;
         let stiffness = self.segment_stiffness(omega, self.length / segments as f64);
         let (left, right) = ends(self.support);
         let dofs = 2 * (segments + 1);
