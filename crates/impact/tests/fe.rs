@@ -175,6 +175,14 @@ fn struck_beside_its_clamp_the_clamp_s_stress_is_read_on_its_own_side() {
     let stress = clamp(&ladder) / clamp(&modal) - 1.0;
     let displacement = ladder.max_displacement / modal.max_displacement - 1.0;
     assert!(stress.abs() < 1e-2 && displacement.abs() < 1e-2, "{stress} {displacement}");
+    // 4 mm out, the local elements between the clamp and the ball refined with the ladder
+    // (with two on every rung it stopped 3.0 % low under an estimate of 4.6e-3): the estimate
+    // holds against the review's reference 1.1693e-6 m (validation/REFERENCES.md 1.5).
+    tolerant.impact.position = Some(0.004);
+    let four = simulate(&tolerant).unwrap().report;
+    let (error, estimate) =
+        (four.max_displacement / 1.1693e-6 - 1.0, four.estimated_error.unwrap());
+    assert!(error.abs() <= estimate && estimate <= 1e-2, "{error} against {estimate}");
     // A uniform mesh with the ball inside the clamp's first element is warned of.
     let mut coarse = scene_with_solver(
         "paper-tip.toml",
