@@ -134,8 +134,10 @@ class Simulation:
         # A notebook shows this: the headline numbers, not thousands of samples.
         r, plan = self.report, self.report["plan"]
         first = self.first_contact
+        # A contact the window cut is marked as the command line marks it.
         contact = (
-            f"first {first['duration'] * 1e6:.2f} µs, {first['peak_force']:.1f} N"
+            f"first {first['duration'] * 1e6:.2f}{'' if first['complete'] else '+'} µs"
+            f"{'' if first['complete'] else ' (not ended)'}, {first['peak_force']:.1f} N"
             if first
             else "no contact"
         )
@@ -158,8 +160,10 @@ def simulate(
     Args:
         scene: a path to a TOML scene file or a dict with its tables and keys.
         field: also record the beam along its length (displacement, slope, moment, stress).
-        progress: called with the fraction of the simulated window done (0 to 1), at most a
-            thousand times; an exception it raises stops the run and is raised.
+        progress: called with the fraction of the simulated window done (0 to 1; with
+            ``solver.tolerance`` from 0 again for every run of the refinement), at most a
+            thousand times a run, on a worker thread with the GIL held; an exception it raises
+            stops the run and is raised.
 
     Returns:
         The report, the history's arrays and (with ``field``) the field's.
@@ -265,7 +269,8 @@ def compare(
         The columns of compare's summary.csv (``SUMMARY_COLUMNS``): ``run`` (list of str), the
         first contact's duration (s) and peak force (N), the contact count (int64), the largest
         displacement (m), the largest bending stress (Pa; NaN where the method does not recover
-        it) and the wall time (s).
+        it) and the wall time (s); and each run's ``estimated_error`` (NaN without one) and
+        ``warnings`` (list of lists of str: whether the reference met its tolerance, too).
 
     Raises:
         ValueError: the scene is refused, or has no beam.

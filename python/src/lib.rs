@@ -383,8 +383,24 @@ fn simulate<'py>(
     Ok((report, history, field))
 }
 
-/// The value of a swept key at each point, as numbers when they all are, else as text.
+/// The value of a swept key at each point: integers (int64) or booleans when they all are
+/// (a bool axis had come back as the strings 'true' and 'false', and 'false' is truthy),
+/// numbers (float64) when they all are, else text.
 fn key_column<'py>(py: Python<'py>, values: &[&toml::Value]) -> PyResult<Bound<'py, PyAny>> {
+    let integers: Option<Vec<i64>> = values
+        .iter()
+        .map(|v| if let toml::Value::Integer(n) = v { Some(*n) } else { None })
+        .collect();
+    if let Some(n) = integers {
+        return Ok(numpy::PyArray1::from_vec(py, n).into_any());
+    }
+    let booleans: Option<Vec<bool>> = values
+        .iter()
+        .map(|v| if let toml::Value::Boolean(b) = v { Some(*b) } else { None })
+        .collect();
+    if let Some(b) = booleans {
+        return Ok(numpy::PyArray1::from_vec(py, b).into_any());
+    }
     let numbers: Option<Vec<f64>> = values
         .iter()
         .map(|v| match v {
@@ -769,6 +785,13 @@ fn compare<'py>(
     out.set_item(displacement, floats(|r| Some(r.max_displacement)))?;
     out.set_item(stress, floats(|r| r.max_bending_stress))?;
     out.set_item(wall, floats(|r| Some(r.wall_time)))?;
+    // Beyond summary.csv: each run's estimated error (NaN without one) and warnings, which
+    // say whether the reference met its tolerance (the command line prints it; a notebook had
+    // compared against a reference flagged unconverged without knowing, a review's).
+    let estimated: Vec<f64> =
+        reports.iter().map(|r| r.estimated_error.unwrap_or(f64::NAN)).collect();
+    out.set_item("estimated_error", column(py, &estimated))?;
+    out.set_item("warnings", reports.iter().map(|r| r.warnings.clone()).collect::<Vec<_>>())?;
     Ok(out)
 }
 

@@ -285,8 +285,12 @@ def test_compare_equals_the_command_lines_summary(tmp_path):
     cli("compare", TIP, "--modes", "16", "--elements", "20", "--out", tmp_path)
     rows = read_csv(tmp_path / "summary.csv")
     table = ib.compare(TIP, modes=[16], elements=[20])
-    assert list(table) == ib.SUMMARY_COLUMNS == list(rows[0])
+    assert list(table)[: len(ib.SUMMARY_COLUMNS)] == ib.SUMMARY_COLUMNS == list(rows[0])
     assert table["run"] == [r["run"] for r in rows]
+    # Beyond summary.csv: each run's estimated error and warnings (the reference's tolerance
+    # met or not, which the command line prints and a notebook had not seen).
+    assert len(table["estimated_error"]) == len(table["warnings"]) == len(rows)
+    assert table["estimated_error"][0] > 0.0 and np.isnan(table["estimated_error"][-1])
     for name in ib.SUMMARY_COLUMNS[1:-1]:
         if name == "contact_count":
             assert list(table[name]) == [int(r[name]) for r in rows]
@@ -469,3 +473,19 @@ def test_a_degenerate_beam_is_refused_as_a_value_error():
     scene["impact"]["position"] = 0.0
     with pytest.raises(ValueError, match="not a beam"):
         ib.simulate(scene)
+
+
+def test_swept_integers_and_booleans_keep_their_kind():
+    # A bool axis had come back as the strings 'true' and 'false' ('false' is truthy) and an
+    # integer axis as floats.
+    table = ib.sweep(TIP, {"solver.modes": [8, 16], "impact.gravity": [True, False]})
+    assert table["solver.modes"].dtype == np.int64 and list(table["solver.modes"]) == [8, 8, 16, 16]
+    assert table["impact.gravity"].dtype == np.bool_ and list(table["impact.gravity"]) == [True, False, True, False]
+
+
+def test_a_contact_the_window_cut_is_marked_in_the_headline():
+    scene = scene_dict(TIP)
+    scene["solver"] = {"method": "modal", "modes": 16, "end_time": 2e-5}
+    run = ib.simulate(scene)
+    assert not run.first_contact["complete"]
+    assert "+ µs (not ended)" in repr(run), repr(run)
