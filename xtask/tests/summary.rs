@@ -6,14 +6,20 @@ use std::process::Command;
 
 const XTASK: &str = env!("CARGO_BIN_EXE_xtask");
 
-/// The summary of `scene` (TOML text), run from a scratch file named after `test`.
-fn summary(test: &str, scene: &str) -> String {
+/// `simulate` on `scene` (TOML text), run from a scratch file named after `test`.
+fn simulate(test: &str, scene: &str) -> std::process::Output {
     let dir = std::env::temp_dir().join(format!("xtask-summary-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("scene.toml");
     std::fs::write(&path, scene).unwrap();
     let out = Command::new(XTASK).args(["simulate", path.to_str().unwrap()]).output().unwrap();
     std::fs::remove_dir_all(&dir).ok();
+    out
+}
+
+/// The summary of `scene` (TOML text), run from a scratch file named after `test`.
+fn summary(test: &str, scene: &str) -> String {
+    let out = simulate(test, scene);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     String::from_utf8(out.stdout).unwrap()
 }
@@ -71,12 +77,7 @@ fn a_failed_run_prints_the_plan_it_failed_on() {
         .replace("mass = 0.009", "mass = 100.0")
         .replace("method = \"modal\"", "method = \"fe\"\nsamples_per_pulse = 200")
         .replace("end_time = 1e-4", "end_time = 2e-4");
-    let dir = std::env::temp_dir().join(format!("xtask-summary-failed-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, scene).unwrap();
-    let out = Command::new(XTASK).args(["simulate", path.to_str().unwrap()]).output().unwrap();
-    std::fs::remove_dir_all(&dir).ok();
+    let out = simulate("failed", &scene);
     assert!(!out.status.success());
     let err = String::from_utf8(out.stderr).unwrap();
     let plan = err.find("the plan the run failed on").unwrap();

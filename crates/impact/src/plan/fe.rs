@@ -340,8 +340,9 @@ impl FePlan {
     }
 
     /// The same plan on `elements` equal elements (and a node at each attachment and at the
-    /// impact point, with two elements between it and a near end: [`with_ball_node`]); a
-    /// structure's with every segment's elements times `elements` over its own.
+    /// impact point, with 2 x `elements` / [`FE_LADDER_START`] elements between it and a near
+    /// end: [`with_ball_node`]); a structure's with every segment's elements times `elements`
+    /// over its own.
     ///
     /// # Errors
     /// From rebuilding a structure (not expected: it was built once).
@@ -380,7 +381,8 @@ const LOCAL_STEPS: f64 = 40.0;
 /// Warns where the contact step takes fewer than [`LOCAL_STEPS`] over a period of the
 /// contact's `local` frequency (rad/s; a ball heavy against the beam, whose local response
 /// then sets the force's time scale: [`super::modal::local_frequency`]): where
-/// `solver.samples_per_pulse` or `time_step` set the steps (the default takes that many), unless a tolerance refines them.
+/// `solver.samples_per_pulse` or `time_step` set the steps (the default takes that many),
+/// unless a tolerance refines them.
 pub(super) fn local_steps(local: f64, steps: &Steps, s: &SolverSpec, warnings: &mut Vec<String>) {
     if s.tolerance.is_some() {
         return;
@@ -407,7 +409,7 @@ pub(super) struct Steps {
 impl Steps {
     /// From `solver.samples_per_pulse`, `alpha` and `time_step`, for the pulse's duration; by
     /// default at least [`LOCAL_STEPS`] a period of the contact's `local` frequency (rad/s),
-    /// where it is known (a `[beam]`'s).
+    /// where it is known (a `[beam]`'s, or a structure's at its struck section).
     pub(super) fn new(
         s: &SolverSpec,
         pulse: &Pulse,
@@ -946,7 +948,13 @@ fn clamped_ends(
         }
         kink_at_end(
             (nodes, end, position),
-            (&what, &format!("solver.elements = {} or more", (2.0 * nodes[n] / distance).ceil())),
+            (
+                &what,
+                &format!(
+                    "solver.elements = {} or more, or the default mesh, which puts two elements between the ball and an end",
+                    (2.0 * nodes[n] / distance).ceil()
+                ),
+            ),
             warnings,
         );
     }
@@ -984,7 +992,7 @@ pub(super) fn kink_at_end(
     let distance = (stations[end] - position).abs();
     if distance > 0.0 && kinks.into_iter().any(inside) {
         warnings.push(format!(
-            "{what}: the ball strikes {distance:.3e} m from it, and its load reaches the mesh within the elements its stress is extrapolated from (their midpoints out to {far:.3e} m): the moment's kink under the ball lies between them, and the support's stress can be tens of per cent off, as can the displacement under the ball inside the support's first element (the paper's cantilever struck 1 mm from its clamp on elements of 1.54 mm: the clamp's stress 28 % low, the displacement 33 %, validation/REFERENCES.md 1.5); elements of at most half that distance there ({advice}), or the default mesh, which puts two elements between the ball and an end"
+            "{what}: the ball strikes {distance:.3e} m from it, and its load reaches the mesh within the elements its stress is extrapolated from (their midpoints out to {far:.3e} m): the moment's kink under the ball lies between them, and the support's stress can be tens of per cent off, as can the displacement under the ball inside the support's first element (the paper's cantilever struck 1 mm from its clamp on elements of 1.54 mm: the clamp's stress 28 % low, the displacement 33 %, validation/REFERENCES.md 1.5); elements of at most half that distance there ({advice})"
         ));
     }
 }

@@ -305,8 +305,8 @@ struct Residual {
 /// ([`ModalPlan::residual_by_share`]). The displacement at the impact point under a load slow
 /// against the left-out modes is low by that share: the paper's cantilever struck 1 mm from
 /// its clamp, 128 Timoshenko modes, left out 0.868 of it and its largest displacement came out
-/// 86.6 % low (1.98e-7 m with the residual flexibility, 1.95e-7 m by the fe method at 747
-/// elements); 10 mm from the clamp 0.019 and 2.1 % low; at the tip 3.4e-8 (the paper's runs
+/// 86.6 % low (1.98e-7 m with the residual flexibility, 1.97e-7 m by the fe method on its
+/// default mesh); 10 mm from the clamp 0.019 and 2.1 % low; at the tip 3.4e-8 (the paper's runs
 /// keep Goldsmith's plain series).
 const RESIDUAL_SHARE: f64 = 1e-2;
 
