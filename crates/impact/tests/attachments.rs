@@ -385,4 +385,21 @@ end_time = 0.0002
         warnings.iter().any(|w| w.contains("kink") && w.contains("structure.segment[0].elements")),
         "{warnings:?}"
     );
+    assert!(warnings.iter().any(|w| w.contains("closer than the struck section's depth")));
+    // A clamp inside the chain, struck 1 mm beside it on elements of 1.4 mm: read 27 % low
+    // and the displacement 24 % (a second review's), unwarned where the same strike beside an
+    // end clamp was warned.
+    let mut inside = structure.clone();
+    let st = inside.structure.as_mut().unwrap();
+    st.segments[0].end = Some([0.6, 0.0, 0.0]);
+    st.segments[0].elements = 400;
+    st.segments[1].elements = 400;
+    st.supports.push(st.supports[0]);
+    st.supports[1].at = 0.6;
+    inside.impact.at = Some(0.601);
+    let warnings = Plan::new(&inside).unwrap().warnings().to_vec();
+    assert!(
+        warnings.iter().any(|w| w.contains("kink") && w.contains("support at s = 0.6 m")),
+        "{warnings:?}"
+    );
 }

@@ -187,6 +187,10 @@ fn struck_beside_its_clamp_the_clamp_s_stress_is_read_on_its_own_side() {
     let (error, estimate) =
         (four.max_displacement / 1.1693e-6 - 1.0, four.estimated_error.unwrap());
     assert!(error.abs() <= estimate && estimate <= 1e-2, "{error} against {estimate}");
+    // 1 um out (past beam theory, warned) the ladder's elements there stop at 1e-7 of the
+    // beam: split into 4 nm elements beside 140 um ones, Newton's iteration had diverged.
+    tolerant.impact.position = Some(1e-6);
+    assert!(simulate(&tolerant).is_ok());
     // A uniform mesh with the ball inside the clamp's first element is warned of.
     let mut coarse = scene_with_solver(
         "paper-tip.toml",
