@@ -257,6 +257,33 @@ impl Beam {
         }
     }
 
+    /// Static deflection w(x)/P (m/N) at `x` under a point force P at `c`, both along w, shear
+    /// included for a Timoshenko beam: [`Beam::static_flexibility`]'s influence line (at x = c
+    /// the same; symmetric in x and c, Maxwell). Pinned-pinned by the beam tables (Roark,
+    /// Table 8.1): x b (L^2 - b^2 - x^2)/(6 EI L) for x <= c, b = L - c, plus x b g / L; a
+    /// clamp at 0 by the cantilever's line and the redundants at L. `None` for free-free and
+    /// for points off the beam.
+    pub fn static_deflection(&self, c: f64, x: f64) -> Option<f64> {
+        let (c, x) = (self.on_beam(c)?, self.on_beam(x)?);
+        let (l, ei, g) = (self.length, self.flexural_rigidity, self.shear_flexibility());
+        match self.support {
+            Support::FreeFree => None,
+            Support::PinnedPinned => {
+                let (x, c) = if x <= c { (x, c) } else { (l - x, l - c) };
+                let b = l - c;
+                Some(x * b * (l * l - b * b - x * x) / (6.0 * ei * l) + x * b * g / l)
+            }
+            _ => {
+                let (force, moment) = self.redundants(c)?;
+                Some(
+                    self.cantilever(x, c)
+                        + force * self.cantilever(x, l)
+                        + moment * x * x / (2.0 * ei),
+                )
+            }
+        }
+    }
+
     /// Deflection at x of the cantilever clamped at 0 under a unit force at a (m/N):
     /// x^2 (3a - x)/(6EI) + x g for x <= a, symmetric in x and a (Maxwell).
     fn cantilever(&self, x: f64, a: f64) -> f64 {

@@ -373,7 +373,7 @@ fn analytic<'a>(
     };
     let mut stress = ModalStress::new(beam, basis.shapes, setup);
     if plan.field {
-        stress.record_field();
+        stress.record_field(residual);
     }
     Ok((modes, taken, Some(Box::new(stress))))
 }
