@@ -245,15 +245,8 @@ impl Beam {
         let b = l - c;
         match self.support {
             Support::PinnedPinned => Some(c * c * b * b / (3.0 * ei * l) + c * b * g / l),
-            Support::FreeFree => None,
-            _ => {
-                let (force, moment) = self.redundants(c)?;
-                Some(
-                    self.cantilever(c, c)
-                        + force * self.cantilever(c, l)
-                        + moment * c * c / (2.0 * ei),
-                )
-            }
+            // The influence line at the force (the same sums, to the bit).
+            _ => self.static_deflection(c, c),
         }
     }
 
