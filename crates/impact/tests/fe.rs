@@ -569,15 +569,19 @@ fn the_stress_under_the_ball_is_extrapolated_to_the_impact_point() {
     // has a kink: the elements' midpoints on either side sit h/2 of the shear below its peak,
     // a first-order error (uniform meshes of 64 to 512 elements read 31.3, 33.1, 40.2,
     // 44.3 MPa), which the impact point's value, extrapolated from the two midpoints on each
-    // side, does not have (40.9, 47.7, 48.85, 48.86 MPa). The reference is the modal method's
-    // certified maximum on 256 Timoshenko modes (validation/REFERENCES.md 1.8; 48.858 MPa at
-    // x = 0.575 m, 48.872 on 128): measured 1.4e-4 off at 256 elements and 2.8e-4 on the
-    // default graded mesh (58 elements); bounds 3e-4 and 1e-3 (the midpoints alone: 1.8e-1
-    // and 6.5e-2).
-    let modal = midspan_stress("method = \"modal\"\nmodes = 256\nend_time = 0.0001");
+    // side, does not have (40.9, 47.7, 48.87, 48.86 MPa). The reference is the modal method's
+    // certified maximum on 256 Timoshenko modes with the residual flexibility (validation/
+    // REFERENCES.md 1.8; 48.8178 MPa, 4096 modes 48.8182: converged to 1e-5; the plain series
+    // had 48.858 at 256 modes and 48.822 at 4096, and this test had taken 48.858 for the
+    // truth): measured 1.1e-3 above it at 256 elements and 7.4e-4 on the default graded mesh;
+    // bounds 1.5e-3 and 1e-3 (the midpoints alone: 1.8e-1 and 6.5e-2).
+    let modal = midspan_stress(
+        "method = \"modal\"\nmodes = 256\nresidual_flexibility = true\nend_time = 0.0001",
+    );
+    assert!((modal / 48.8182e6 - 1.0).abs() < 2e-5, "{modal}");
     let off = |a: f64| (a / modal - 1.0).abs();
     let fe256 = midspan_stress("method = \"fe\"\nelements = 256\nend_time = 0.0001");
-    assert!(off(fe256) < 3e-4, "{fe256} against {modal}");
+    assert!(off(fe256) < 1.5e-3, "{fe256} against {modal}");
     let default = midspan_stress("method = \"fe\"\nend_time = 0.0001");
     assert!(off(default) < 1e-3, "{default} against {modal}");
 }
