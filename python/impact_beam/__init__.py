@@ -99,7 +99,9 @@ SUMMARY_COLUMNS: List[str] = list(_native.SUMMARY_COLUMNS)
 ACCURACY_COLUMNS: List[str] = list(_native.ACCURACY_COLUMNS)
 
 
-@dataclass(frozen=True, repr=False)
+# eq=False: fields of numpy arrays make a generated `==` raise ("the truth value of an array
+# is ambiguous", a review's); two runs compare by identity, and hash by it.
+@dataclass(frozen=True, repr=False, eq=False)
 class Simulation:
     """One run of a scene.
 

@@ -489,3 +489,10 @@ def test_a_contact_the_window_cut_is_marked_in_the_headline():
     run = ib.simulate(scene)
     assert not run.first_contact["complete"]
     assert "+ µs (not ended)" in repr(run), repr(run)
+
+
+def test_two_runs_compare_and_hash_without_raising():
+    # A generated == over numpy fields had raised ValueError; hash had raised TypeError.
+    a, b = ib.simulate(HALF_SPACE), ib.simulate(HALF_SPACE)
+    assert a == a and a != b
+    assert len({a, b}) == 2
