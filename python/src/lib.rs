@@ -191,21 +191,12 @@ impl Stop {
     }
 }
 
-/// What a caught panic said.
-fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
-    panic
-        .downcast_ref::<String>()
-        .cloned()
-        .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_string()))
-        .unwrap_or_default()
-}
-
 /// `work` on this thread with a panic turned into `RuntimeError` (the plan is made here,
 /// before the run goes to its own thread: a panic in it had reached Python as pyo3's
 /// `PanicException`, which `except Exception` does not catch).
 fn unpanicked<T>(work: impl FnOnce() -> T) -> PyResult<T> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)).map_err(|panic| {
-        PyRuntimeError::new_err(ImpactError::Internal(panic_message(panic.as_ref())).to_string())
+        PyRuntimeError::new_err(ImpactError::from_panic(panic.as_ref()).to_string())
     })
 }
 
@@ -230,7 +221,7 @@ fn detached<T: Send>(py: Python<'_>, stop: &Stop, work: impl FnOnce() -> T + Sen
         if panic.is::<Stopped>() {
             return stop.take().unwrap_or_else(|| PyRuntimeError::new_err("the call was stopped"));
         }
-        PyRuntimeError::new_err(ImpactError::Internal(panic_message(panic.as_ref())).to_string())
+        PyRuntimeError::new_err(ImpactError::from_panic(panic.as_ref()).to_string())
     })?;
     // An interrupt that came as the work ended still counts.
     Python::attach(|py| py.check_signals())?;
@@ -320,7 +311,7 @@ fn simulate_all(
                 let report = match run {
                     Ok(outcome) => outcome.map(|o| o.report),
                     Err(payload) if payload.is::<Stopped>() => return None,
-                    Err(payload) => Err(ImpactError::Internal(panic_message(payload.as_ref()))),
+                    Err(payload) => Err(ImpactError::from_panic(payload.as_ref())),
                 };
                 finished(k, &report);
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -387,18 +378,11 @@ fn simulate<'py>(
 /// (a bool axis had come back as the strings 'true' and 'false', and 'false' is truthy),
 /// numbers (float64) when they all are, else text.
 fn key_column<'py>(py: Python<'py>, values: &[&toml::Value]) -> PyResult<Bound<'py, PyAny>> {
-    let integers: Option<Vec<i64>> = values
-        .iter()
-        .map(|v| if let toml::Value::Integer(n) = v { Some(*n) } else { None })
-        .collect();
+    let integers = values.iter().map(|v| v.as_integer()).collect::<Option<Vec<i64>>>();
     if let Some(n) = integers {
         return Ok(numpy::PyArray1::from_vec(py, n).into_any());
     }
-    let booleans: Option<Vec<bool>> = values
-        .iter()
-        .map(|v| if let toml::Value::Boolean(b) = v { Some(*b) } else { None })
-        .collect();
-    if let Some(b) = booleans {
+    if let Some(b) = values.iter().map(|v| v.as_bool()).collect::<Option<Vec<bool>>>() {
         return Ok(numpy::PyArray1::from_vec(py, b).into_any());
     }
     let numbers: Option<Vec<f64>> = values

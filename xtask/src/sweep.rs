@@ -93,14 +93,7 @@ pub(crate) fn run(request: &Request<'_>) -> anyhow::Result<bool> {
 fn guarded(runner: Runner<'_>, s: &Scene) -> anyhow::Result<Report> {
     match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| runner(s))) {
         Ok(report) => report,
-        Err(panic) => {
-            let what = panic
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_string()))
-                .unwrap_or_default();
-            anyhow::bail!("internal error (please report it): {what}")
-        }
+        Err(panic) => Err(impact::ImpactError::from_panic(panic.as_ref()).into()),
     }
 }
 

@@ -139,6 +139,19 @@ pub(crate) mod range {
 }
 
 /// `field = value` is outside what is `allowed`.
+impl ImpactError {
+    /// [`ImpactError::Internal`] with what a caught panic's `payload` said (its message, if it
+    /// is text), for a front end that runs many scenes and keeps going past one.
+    pub fn from_panic(payload: &(dyn std::any::Any + Send)) -> Self {
+        let what = payload
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| payload.downcast_ref::<&str>().map(|s| (*s).to_string()))
+            .unwrap_or_default();
+        ImpactError::Internal(what)
+    }
+}
+
 pub(crate) fn invalid(field: &str, value: impl ToString, allowed: &str) -> ImpactError {
     ImpactError::InvalidField {
         field: field.to_owned(),
