@@ -69,6 +69,9 @@ fn tags<'a>(svg: &'a str, element: &str) -> Vec<(&'a str, &'a str)> {
 fn labels(svg: &str) -> Vec<Label<'_>> {
     tags(svg, "text")
         .into_iter()
+        // An empty text draws nothing (a logarithmic axis leaves its ticks between 1, 2 and 5
+        // of a decade unlabelled).
+        .filter(|(_, body)| !body.trim().is_empty())
         .map(|(tag, body)| Label {
             content: body.trim(),
             anchor: attribute(tag, "text-anchor").unwrap_or("start"),

@@ -66,9 +66,15 @@ fn tick_label(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
 
 /// A tick label of a logarithmic axis, whose ticks are powers of ten (and their multiples)
 /// computed in floating point: printed as they come they read "9.999999999e-5". One significant
-/// digit, plain from 0.001 to 1000 ("0.01", "1", "200"), else with an exponent ("1e-7").
+/// digit, plain from 0.001 to 1000 ("0.01", "1", "200"), else with an exponent ("1e-7"); only
+/// the multiples 1, 2 and 5 of a decade are labelled (the others keep their grid line): where
+/// a decade fills its last tenth of the axis, 0.006 to 0.01 had run into one another.
 fn decade_label(v: &f64) -> String {
     let rounded: f64 = format!("{v:.0e}").parse().unwrap_or(*v);
+    let mantissa = rounded.abs() / 10f64.powf(rounded.abs().log10().floor());
+    if ![1.0, 2.0, 5.0].iter().any(|m| (mantissa - m).abs() < 1e-6) {
+        return String::new();
+    }
     if (1e-3..=1e3).contains(&rounded.abs()) {
         format!("{rounded}")
     } else {
@@ -343,6 +349,11 @@ mod tests {
             .map(decade_label)
             .collect();
         assert_eq!(labels, ["1e-4", "0.001", "0.01", "1", "200", "1e7"]);
+        // Between 1, 2 and 5 of a decade the ticks keep their grid line and no label (0.006 to
+        // 0.01 had run into one another on the work-precision chart).
+        let between: Vec<String> =
+            [0.003, 0.0060000000001, 0.008, 0.05].iter().map(decade_label).collect();
+        assert_eq!(between, ["", "", "", "0.05"]);
     }
 
     #[test]
