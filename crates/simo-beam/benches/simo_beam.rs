@@ -215,7 +215,8 @@ fn planar(c: &mut Criterion) {
 /// at 256 elements, bent and twisted): one net (internal) force, the same with the elements'
 /// strains (as the impact asks it), one inertial force (with spin: the gyroscopic term), one
 /// configuration update and one banded back-substitution with the impact's band
-/// (half-bandwidth 11): the kernels of its every Newton iteration.
+/// (half-bandwidth 11): the kernels of its every Newton iteration; and the tangent's assembly
+/// and its banded factorisation, which every change of step (an event located) asks.
 fn spatial(c: &mut Criterion) {
     use hht::{Band, BandedLu};
     use nalgebra::UnitQuaternion;
@@ -249,9 +250,20 @@ fn spatial(c: &mut Criterion) {
     });
     let w = NewtonWeights { inertia: 1.0, force: 1.05, da: 1e13, dv: 1e6, dq: 1.0 };
     let mut t = Triplets::new();
+    group.bench_function(format!("tangent_{elements}"), |b| {
+        b.iter(|| {
+            t.clear();
+            beam.tangent(0.0, &q, v.as_ref(), a.as_ref(), w, &mut t);
+        })
+    });
+    t.clear();
     beam.tangent(0.0, &q, v.as_ref(), a.as_ref(), w, &mut t);
     let mut lu = BandedLu::new();
-    lu.factor(n, Band { half_bandwidth: 11, border: 0 }, &t, 0.0).expect("factor");
+    let band = Band { half_bandwidth: 11, border: 0 };
+    group.bench_function(format!("factor_{elements}"), |b| {
+        b.iter(|| lu.factor(n, band, &t, 0.0).expect("factor"))
+    });
+    lu.factor(n, band, &t, 0.0).expect("factor");
     let mut rhs = Col::<f64>::from_fn(n, |i| (i % 7) as f64 - 3.0);
     group.bench_function(format!("solve_{elements}"), |b| {
         b.iter(|| lu.solve_in_place(rhs.as_mut(), 0.0).expect("solve"))

@@ -15,6 +15,7 @@
 
 use crate::element::{Element, Strains};
 use crate::rotation::{inverse_series, jacobian_series, log_ratio_series, SERIES_BELOW};
+use hht::fast::MulAdd;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Elements a block (the arrays live on the stack: 27 of them, 64 numbers each). Fewer cost
@@ -62,6 +63,18 @@ impl ElementTable {
         table
     }
 
+    /// The first node of the elements `start..end` where they are a chain `n0, n0 + 1, ..`
+    /// (a straight or curved member, the usual block), else `None`.
+    #[inline(always)]
+    pub(crate) fn chain_start(&self, start: usize, end: usize) -> Option<usize> {
+        let n0 = self.nodes[start][0];
+        let chain = self.nodes[start..end]
+            .iter()
+            .enumerate()
+            .all(|(k, &[a, b])| a == n0 + k && b == n0 + k + 1);
+        chain.then_some(n0)
+    }
+
     /// Each element's nodes.
     pub(crate) fn nodes(&self) -> &[[usize; 2]] {
         &self.nodes
@@ -95,7 +108,7 @@ impl hht::fast::Kernel for BlockForces<'_> {
     type Output = ();
 
     #[inline(always)]
-    fn run<A: hht::fast::MulAdd>(mut self, _: A) {
+    fn run<A: hht::fast::MulAdd>(mut self, m: A) {
         // The block's arrays made (zeroed) once a pass, not once a block.
         let mut scratch = Scratch::new();
         let count = self.elements.len();
@@ -103,28 +116,37 @@ impl hht::fast::Kernel for BlockForces<'_> {
         while start < count {
             let end = (start + BLOCK).min(count);
             if self.strains.is_some() {
-                self.block::<true>(start, end, &mut scratch);
+                self.block::<true, A>(m, start, end, &mut scratch);
             } else {
-                self.block::<false>(start, end, &mut scratch);
+                self.block::<false, A>(m, start, end, &mut scratch);
             }
             start = end;
         }
     }
 }
 
-/// `a x b` on the lanes' components.
+/// `a x b` on the lanes' components, each component one multiply and one multiply-add.
 #[inline(always)]
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+fn cross<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        m.mul_add(a[1], b[2], -(a[2] * b[1])),
+        m.mul_add(a[2], b[0], -(a[0] * b[2])),
+        m.mul_add(a[0], b[1], -(a[1] * b[0])),
+    ]
+}
+
+/// `a . b` by multiply-adds.
+#[inline(always)]
+fn dot<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> f64 {
+    m.mul_add(a[0], b[0], m.mul_add(a[1], b[1], a[2] * b[2]))
 }
 
 /// The vector `v` turned by the unit quaternion `(w, u)`: `v + 2 w u x v + 2 u x (u x v)`.
 #[inline(always)]
-fn turn(w: f64, u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
-    let t = cross(u, v);
-    let t = [2.0 * t[0], 2.0 * t[1], 2.0 * t[2]];
-    let ut = cross(u, t);
-    [v[0] + w * t[0] + ut[0], v[1] + w * t[1] + ut[1], v[2] + w * t[2] + ut[2]]
+fn turn<A: MulAdd>(m: A, w: f64, u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    let t = cross(m, u, v).map(|t| 2.0 * t);
+    let ut = cross(m, u, t);
+    std::array::from_fn(|c| m.mul_add(w, t[c], v[c] + ut[c]))
 }
 
 /// A block's nodes: positions `x[end][component][element]` and quaternions
@@ -135,11 +157,11 @@ struct Gathered {
 }
 
 /// A block's arrays: its nodes, the results by lanes (12 force components and, if asked, 6
-/// strains; or 6 strains), each element's `|phi|^2`.
+/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range).
 struct Scratch {
     nodes: Gathered,
     lanes: [[f64; BLOCK]; 18],
-    angle2: [f64; BLOCK],
+    chord2: [f64; BLOCK],
 }
 
 impl Scratch {
@@ -148,7 +170,7 @@ impl Scratch {
         Self {
             nodes: Gathered { x: [[[0.0; BLOCK]; 3]; 2], q: [[[0.0; BLOCK]; 4]; 2] },
             lanes: [[0.0; BLOCK]; 18],
-            angle2: [0.0; BLOCK],
+            chord2: [0.0; BLOCK],
         }
     }
 }
@@ -179,8 +201,13 @@ fn gather(
 struct Lane {
     /// The relative rotation vector `log(Lambda_1^T Lambda_2)` (rad).
     phi: [f64; 3],
-    /// Its square norm (the series hold below `SERIES_BELOW`).
+    /// Its square norm.
     angle2: f64,
+    /// `4 sin^2(a/2)` (<= a^2 = |phi|^2): the series hold where it is below `SERIES_BELOW`,
+    /// and the lane's values are the element's only then. It tells the range from the
+    /// relative rotation itself: `|phi|^2` from the series would not (past a = 1.9 rad the
+    /// series of atan crosses zero, and a large turn would look small).
+    chord2: f64,
     /// The half rotation `exp(phi^ / 2)`, `(w, v)`.
     half: (f64, [f64; 3]),
     /// The midpoint rotation `Lambda_1 exp(phi^ / 2)`, `(w, v)`.
@@ -190,18 +217,19 @@ struct Lane {
 }
 
 #[inline(always)]
-fn lane(g: &Gathered, k: usize, inverse_length: f64) -> Lane {
+fn lane<A: MulAdd>(m: A, g: &Gathered, k: usize, inverse_length: f64) -> Lane {
     let (w1, u1) = (g.q[0][0][k], [g.q[0][1][k], g.q[0][2][k], g.q[0][3][k]]);
     let (w2, u2) = (g.q[1][0][k], [g.q[1][1][k], g.q[1][2][k], g.q[1][3][k]]);
     // The relative rotation conj(q1) q2 = (w1 w2 + u1.u2, w1 u2 - w2 u1 - u1 x u2), turned to
     // w >= 0 (q and -q are one rotation).
-    let c12 = cross(u1, u2);
-    let rw = w1 * w2 + u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2];
+    let c12 = cross(m, u1, u2);
+    let rw = m.mul_add(w1, w2, dot(m, u1, u2));
     let sign = 1.0_f64.copysign(rw);
     let rw = rw * sign;
-    let rv: [f64; 3] = std::array::from_fn(|c| (w1 * u2[c] - w2 * u1[c] - c12[c]) * sign);
+    let rv: [f64; 3] =
+        std::array::from_fn(|c| m.mul_add(w1, u2[c], -m.mul_add(w2, u1[c], c12[c])) * sign);
     // log: phi = v 2 atan(|v| / w) / |v|, by its series in |v|^2 / w^2.
-    let s2 = rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
+    let s2 = dot(m, rv, rv);
     let ratio = log_ratio_series(s2, 1.0 / rw);
     let phi = [rv[0] * ratio, rv[1] * ratio, rv[2] * ratio];
     // The half rotation: the normalised mean of the identity and the relative one.
@@ -209,26 +237,52 @@ fn lane(g: &Gathered, k: usize, inverse_length: f64) -> Lane {
     let inverse_norm = 1.0 / (2.0 * one_plus_w).sqrt();
     let (hw, hv) = (one_plus_w * inverse_norm, rv.map(|v| v * inverse_norm));
     // The midpoint rotation q1 half.
-    let c1h = cross(u1, hv);
-    let mw = w1 * hw - (u1[0] * hv[0] + u1[1] * hv[1] + u1[2] * hv[2]);
-    let mv: [f64; 3] = std::array::from_fn(|c| w1 * hv[c] + hw * u1[c] + c1h[c]);
+    let c1h = cross(m, u1, hv);
+    let mw = m.mul_add(w1, hw, -dot(m, u1, hv));
+    let mv: [f64; 3] = std::array::from_fn(|c| m.mul_add(w1, hv[c], m.mul_add(hw, u1[c], c1h[c])));
     let d: [f64; 3] = std::array::from_fn(|c| (g.x[1][c][k] - g.x[0][c][k]) * inverse_length);
     Lane {
         phi,
-        angle2: phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2],
+        angle2: dot(m, phi, phi),
+        chord2: 4.0 * s2,
         half: (hw, hv),
         midpoint: (mw, mv),
-        gamma_full: turn(mw, mv.map(|v| -v), d),
+        gamma_full: turn(m, mw, mv.map(|v| -v), d),
     }
 }
 
 impl BlockForces<'_> {
+    /// Adds a node's force and moment to its unknowns in `out` (none where held).
+    #[inline(always)]
+    fn add_to_node(&mut self, node: usize, forces: &[f64; 6]) {
+        match self.rows[node] {
+            Some(i) => {
+                for (o, f) in self.out[i..i + 6].iter_mut().zip(forces) {
+                    *o += f;
+                }
+            }
+            None => {
+                for (d, f) in self.dofs[node].iter().zip(forces) {
+                    if let Some(i) = d {
+                        self.out[*i] += f;
+                    }
+                }
+            }
+        }
+    }
+
     /// One block's forces into `out`, and with `STRAINS` its strains into `strains`.
     #[inline(always)]
-    fn block<const STRAINS: bool>(&mut self, start: usize, end: usize, scratch: &mut Scratch) {
+    fn block<const STRAINS: bool, A: MulAdd>(
+        &mut self,
+        fma: A,
+        start: usize,
+        end: usize,
+        scratch: &mut Scratch,
+    ) {
         let m = end - start;
         let t = self.table;
-        let Scratch { nodes: g, lanes: f, angle2 } = scratch;
+        let Scratch { nodes: g, lanes: f, chord2 } = scratch;
         gather(g, &t.nodes[start..end], self.positions, self.rotations);
         let range = start..end;
         let (length, inverse) = (&t.length[range.clone()], &t.inverse_length[range.clone()]);
@@ -241,9 +295,15 @@ impl BlockForces<'_> {
         let (n0, n1, n2) = (&n0[range.clone()], &n1[range.clone()], &n2[range.clone()]);
         let (m0, m1, m2) = (&m0[range.clone()], &m1[range.clone()], &m2[range.clone()]);
         for k in 0..m {
-            let Lane { phi, angle2: a2, half: (hw, hv), midpoint: (mw, mv), gamma_full } =
-                lane(g, k, inverse[k]);
-            angle2[k] = a2;
+            let Lane {
+                phi,
+                angle2: a2,
+                chord2: range,
+                half: (hw, hv),
+                midpoint: (mw, mv),
+                gamma_full,
+            } = lane(fma, g, k, inverse[k]);
+            chord2[k] = range;
             let strain = [gamma_full[0] - g0[k], gamma_full[1] - g1[k], gamma_full[2] - g2[k]];
             let curvature = [
                 (phi[0] - p0[k]) * inverse[k],
@@ -261,24 +321,26 @@ impl BlockForces<'_> {
             // N = C_N Gamma, M = C_M K.
             let n = [strain[0] * n0[k], strain[1] * n1[k], strain[2] * n2[k]];
             let moment = [curvature[0] * m0[k], curvature[1] * m1[k], curvature[2] * m2[k]];
-            let n_spatial = turn(mw, mv, n);
-            let c = cross(n, gamma_full).map(|c| c * length[k]);
+            let n_spatial = turn(fma, mw, mv, n);
+            let c = cross(fma, n, gamma_full).map(|c| c * length[k]);
             // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + c1 p x v + c2 p x (p x v).
             let (j1, j2) = jacobian_series(0.25 * a2);
             let (hp, ch) = (phi.map(|p| 0.5 * p), c.map(|c| 0.5 * c));
-            let pc = cross(hp, ch);
-            let ppc = cross(hp, pc);
-            let mt: [f64; 3] =
-                std::array::from_fn(|i| moment[i] + ch[i] + j1 * pc[i] + j2 * ppc[i]);
+            let pc = cross(fma, hp, ch);
+            let ppc = cross(fma, hp, pc);
+            let mt: [f64; 3] = std::array::from_fn(|i| {
+                fma.mul_add(j1, pc[i], fma.mul_add(j2, ppc[i], moment[i] + ch[i]))
+            });
             // f_th2 = J_r(phi)^-T m~ = m~ - phi x m~ / 2 + coefficient phi x (phi x m~).
             let coefficient = inverse_series(a2);
-            let pm = cross(phi, mt);
-            let ppm = cross(phi, pm);
-            let f_th2: [f64; 3] =
-                std::array::from_fn(|i| mt[i] - 0.5 * pm[i] + coefficient * ppm[i]);
+            let pm = cross(fma, phi, mt);
+            let ppm = cross(fma, phi, pm);
+            let f_th2: [f64; 3] = std::array::from_fn(|i| {
+                fma.mul_add(coefficient, ppm[i], fma.mul_add(-0.5, pm[i], mt[i]))
+            });
             // f_th1 = half (c - half f_th2).
-            let turned = turn(hw, hv, f_th2);
-            let f_th1 = turn(hw, hv, [c[0] - turned[0], c[1] - turned[1], c[2] - turned[2]]);
+            let turned = turn(fma, hw, hv, f_th2);
+            let f_th1 = turn(fma, hw, hv, [c[0] - turned[0], c[1] - turned[1], c[2] - turned[2]]);
             for i in 0..3 {
                 f[i][k] = -n_spatial[i];
                 f[3 + i][k] = f_th1[i];
@@ -286,40 +348,49 @@ impl BlockForces<'_> {
                 f[9 + i][k] = f_th2[i];
             }
         }
+        // The elements the series do not hold (or at a corner) again exactly, into the lanes.
         for k in 0..m {
             let e = start + k;
+            if t.straight[e] && chord2[k] < SERIES_BELOW {
+                continue;
+            }
             let [a, b] = t.nodes[e];
-            let forces: [f64; 12] = if t.straight[e] && angle2[k] < SERIES_BELOW {
-                std::array::from_fn(|i| f[i][k])
-            } else {
-                let (x, r) = (
-                    [&self.positions[a], &self.positions[b]],
-                    [&self.rotations[a], &self.rotations[b]],
-                );
-                if STRAINS {
-                    let exact = self.elements[e].strains(x, r);
-                    for c in 0..3 {
-                        f[12 + c][k] = exact.gamma[c];
-                        f[15 + c][k] = exact.kappa[c];
-                    }
+            let (x, r) = (
+                [&self.positions[a], &self.positions[b]],
+                [&self.rotations[a], &self.rotations[b]],
+            );
+            if STRAINS {
+                let exact = self.elements[e].strains(x, r);
+                for c in 0..3 {
+                    f[12 + c][k] = exact.gamma[c];
+                    f[15 + c][k] = exact.kappa[c];
                 }
-                let exact = self.elements[e].force(x, r);
-                std::array::from_fn(|i| exact[i])
-            };
-            for (end, node) in [a, b].into_iter().enumerate() {
-                let forces = &forces[6 * end..6 * end + 6];
-                match self.rows[node] {
-                    Some(i) => {
-                        for (o, f) in self.out[i..i + 6].iter_mut().zip(forces) {
-                            *o += f;
-                        }
-                    }
-                    None => {
-                        for (d, f) in self.dofs[node].iter().zip(forces) {
-                            if let Some(i) = d {
-                                self.out[*i] += f;
-                            }
-                        }
+            }
+            let exact = self.elements[e].force(x, r);
+            for (i, lane) in f.iter_mut().take(12).enumerate() {
+                lane[k] = exact[i];
+            }
+        }
+        match t.chain_start(start, end) {
+            // A chain of nodes n0, n0 + 1, ..: node n0 + j takes the first end of element j
+            // and the second of element j - 1, summed on the lanes before they are added to
+            // the node's unknowns (half the scattered additions of an element at a time).
+            Some(n0) => {
+                let first: [f64; 6] = std::array::from_fn(|c| f[c][0]);
+                self.add_to_node(n0, &first);
+                for j in 1..m {
+                    let sum: [f64; 6] = std::array::from_fn(|c| f[c][j] + f[6 + c][j - 1]);
+                    self.add_to_node(n0 + j, &sum);
+                }
+                let last: [f64; 6] = std::array::from_fn(|c| f[6 + c][m - 1]);
+                self.add_to_node(n0 + m, &last);
+            }
+            None => {
+                for k in 0..m {
+                    let [a, b] = t.nodes[start + k];
+                    for (end, node) in [a, b].into_iter().enumerate() {
+                        let forces: [f64; 6] = std::array::from_fn(|c| f[6 * end + c][k]);
+                        self.add_to_node(node, &forces);
                     }
                 }
             }
@@ -347,10 +418,10 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
     type Output = ();
 
     #[inline(always)]
-    fn run<A: hht::fast::MulAdd>(mut self, _: A) {
+    fn run<A: hht::fast::MulAdd>(mut self, m: A) {
         let t = self.table;
         let mut scratch = Scratch::new();
-        let Scratch { nodes: g, lanes: strains, angle2 } = &mut scratch;
+        let Scratch { nodes: g, lanes: strains, chord2 } = &mut scratch;
         for (b, block) in self.elements.chunks(BLOCK).enumerate() {
             let start = b * BLOCK;
             gather(g, &t.nodes[start..start + block.len()], self.positions, self.rotations);
@@ -364,8 +435,8 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
             let gamma0 = [&g0[range.clone()], &g1[range.clone()], &g2[range.clone()]];
             let phi0 = [&p0[range.clone()], &p1[range.clone()], &p2[range]];
             for k in 0..block.len() {
-                let l = lane(g, k, inverse[k]);
-                angle2[k] = l.angle2;
+                let l = lane(m, g, k, inverse[k]);
+                chord2[k] = l.chord2;
                 for c in 0..3 {
                     strains[c][k] = l.gamma_full[c] - gamma0[c][k];
                     strains[3 + c][k] = (l.phi[c] - phi0[c][k]) * inverse[k];
@@ -373,7 +444,7 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
             }
             for (k, element) in block.iter().enumerate() {
                 let e = start + k;
-                let s = if t.straight[e] && angle2[k] < SERIES_BELOW {
+                let s = if t.straight[e] && chord2[k] < SERIES_BELOW {
                     Strains {
                         gamma: Vector3::from_fn(|c, _| strains[c][k]),
                         kappa: Vector3::from_fn(|c, _| strains[3 + c][k]),
@@ -411,7 +482,7 @@ mod tests {
     /// A frame: a straight leg of 50 elements joined at a right-angle corner to an arc of 0.1
     /// rad in 29 (more than one block, a corner, curved elements within the series), clamped at
     /// its start, moved off its reference by small turns and displacements everywhere and a
-    /// large turn at two nodes.
+    /// large turn at three nodes.
     fn bent_frame() -> (BeamModel, crate::BeamState) {
         let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
         let section = Section::rectangle(&steel, 0.025, 0.005).unwrap();
@@ -444,6 +515,11 @@ mod tests {
         for node in [5, 60] {
             q.rotations[node] *= UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.2, 0.1));
         }
+        // And node 30 turned from node 29 by 1.90882 rad, where the series of atan(x) / x in
+        // x = tan^2(a/2) cross zero (x = 1.99234): a large turn the series alone would take
+        // for none.
+        let turn = Vector3::new(0.0, 0.96, 0.28) * 1.908_822_652_815;
+        q.rotations[30] = q.rotations[29] * UnitQuaternion::from_scaled_axis(turn);
         (model, q)
     }
 
@@ -453,7 +529,10 @@ mod tests {
         // the bound; `Element::force` itself past it and at the corner) in another order: the
         // same to round-off, a few ulps of the terms that cancel in a force (EA times a strain of
         // 1e-4 here, against forces down to EA 1e-8): 1e-9 of the largest entry, an absolute 1e-13
-        // on the strains (of order 1e-4 to 1).
+        // on the strains (of order 1e-4 to 1); 5e-13 on the curvatures, phi / l0 with phi the
+        // difference of O(1) quaternion components (a few ulps, 2.2e-16 each) over l0 = 0.02 m:
+        // 1e-14 an ulp, and the multiply-adds round elsewhere than `Element::force` (1.4e-13
+        // measured beside the large turns).
         let (model, q) = bent_frame();
         let elements = &model.mesh().elements;
         let mut expected = vec![0.0; hht::Model::ndof(&model)];
@@ -482,14 +561,14 @@ mod tests {
             let exact =
                 e.strains([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]]);
             assert!(
-                (s.gamma - exact.gamma).amax() < 1e-13 && (s.kappa - exact.kappa).amax() < 1e-13
+                (s.gamma - exact.gamma).amax() < 1e-13 && (s.kappa - exact.kappa).amax() < 5e-13
             );
             let phi = e.length * s.kappa + e.phi0;
             series += usize::from(e.straight() && phi.norm_squared() < SERIES_BELOW);
         }
-        // Both branches ran: the corner's element and the four beside the large turns not by
+        // Both branches ran: the corner's element and the six beside the large turns not by
         // the series, the rest by it.
-        assert_eq!(series, elements.len() - 5);
+        assert_eq!(series, elements.len() - 7);
         // The force pass that writes the strains too: the same force and the same strains, to
         // the bit (the same formulas in the same order, on both branches).
         let mut lanes: [Vec<f64>; 6] = Default::default();

@@ -147,7 +147,20 @@ pub fn exp(phi: &Vector3<f64>) -> UnitQuaternion<f64> {
     if a2 >= SERIES_BELOW {
         return UnitQuaternion::from_scaled_axis(*phi);
     }
-    let w = 1.0 - a2 * (1.0 / 8.0 - a2 * (1.0 / 384.0 - a2 * (1.0 / 46080.0)));
-    let s = 0.5 - a2 * (1.0 / 48.0 - a2 * (1.0 / 3840.0 - a2 * (1.0 / 645_120.0)));
+    let (w, s) = exp_series_coefficients(hht::fast::Separate, a2);
     UnitQuaternion::new_unchecked(Quaternion::from_parts(w, phi * s))
+}
+
+/// [`exp`]'s series below [`SERIES_BELOW`]: `(cos(a/2), sin(a/2)/a)` from `a2 = a^2`, by
+/// Horner's rule in `m`'s multiply-adds.
+#[inline(always)]
+pub(crate) fn exp_series_coefficients<A: hht::fast::MulAdd>(m: A, a2: f64) -> (f64, f64) {
+    let w =
+        m.mul_add(-a2, m.mul_add(-a2, m.mul_add(-a2, 1.0 / 46080.0, 1.0 / 384.0), 1.0 / 8.0), 1.0);
+    let s = m.mul_add(
+        -a2,
+        m.mul_add(-a2, m.mul_add(-a2, 1.0 / 645_120.0, 1.0 / 3840.0), 1.0 / 48.0),
+        0.5,
+    );
+    (w, s)
 }

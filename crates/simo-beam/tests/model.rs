@@ -181,3 +181,35 @@ fn degenerate_meshes_and_sections_are_refused_by_name() {
     assert!(err(Mesh::from_nodes(three, frames, negative)).contains("EA"));
     assert!(err(Mesh::straight(o, x, 4, negative, Vector3::z())).contains("EA"));
 }
+
+#[test]
+fn a_configuration_update_turns_each_node_by_the_exponential_of_its_increment() {
+    // q (+) dq = (x + u, Lambda exp(th^)) (Simo & Vu-Quoc's update), here against nalgebra's
+    // own exponential (sine and cosine): the update's series below |th|^2 = 1e-4 (truncated
+    // past a^8 / 1e7) and its multiply-adds agree to a few ulps of the unit quaternion; a
+    // turn past the series (0.2 rad at node 2) and the clamped node (nothing moves) too.
+    let (model, q, _, _) = frame();
+    let n = model.ndof();
+    let dq = Col::<f64>::from_fn(n, |i| {
+        let k = i % 6;
+        let size = if k < 3 { 1e-4 } else { 3e-3 };
+        size * (((i * 7919) % 13) as f64 / 6.0 - 1.0)
+    });
+    let mut big = dq.clone();
+    if let Some(i) = model.dof(2, 3) {
+        big[i] = 0.2;
+    }
+    for dq in [dq, big] {
+        let mut moved = q.clone();
+        model.displaced(&q, dq.as_ref(), &mut moved);
+        for node in 0..q.positions.len() {
+            let at = |k: usize| model.dof(node, k).map_or(0.0, |i| dq[i]);
+            let u = Vector3::new(at(0), at(1), at(2));
+            let th = Vector3::new(at(3), at(4), at(5));
+            let expected = q.rotations[node] * nalgebra::UnitQuaternion::from_scaled_axis(th);
+            assert!((moved.positions[node] - (q.positions[node] + u)).amax() <= 1e-15);
+            let (a, b) = (moved.rotations[node].quaternion(), expected.quaternion());
+            assert!((a.coords - b.coords).amax() <= 4.0 * f64::EPSILON, "node {node}: {a} {b}");
+        }
+    }
+}
