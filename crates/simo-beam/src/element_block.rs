@@ -386,8 +386,7 @@ impl BlockForces<'_> {
                 self.add_to_node(n0 + m, &last);
             }
             None => {
-                for k in 0..m {
-                    let [a, b] = t.nodes[start + k];
+                for (k, &[a, b]) in t.nodes[start..end].iter().enumerate() {
                     for (end, node) in [a, b].into_iter().enumerate() {
                         let forces: [f64; 6] = std::array::from_fn(|c| f[6 * end + c][k]);
                         self.add_to_node(node, &forces);
