@@ -871,21 +871,6 @@ fn resolution(
         Some(k) => held(k),
         None => held(element) && held(element + 1),
     };
-    // On a support itself no mesh moves the point: the strike is refused for where it is.
-    let at_support = (position.abs() <= 1e-12 * beam.length() && first != Support::Free)
-        || ((position - beam.length()).abs() <= 1e-12 * beam.length() && last != Support::Free);
-    if at_support {
-        return Err(ImpactError::Inconsistent(format!(
-            "impact.position = {position} m is on a support of the beam ({}): the ball would meet a rigid face there; strike the beam away from its supports ({})",
-            format!("{first:?}-{last:?}").to_lowercase(),
-            [(0.0, first), (beam.length(), last)]
-                .iter()
-                .filter(|(_, s)| *s != Support::Free)
-                .map(|(x, _)| format!("x = {x} m"))
-                .collect::<Vec<_>>()
-                .join(" and ")
-        )));
-    }
     let key = if s.elements.is_some() { "solver.elements" } else { "solver.element_size" };
     if fixed {
         return Err(ImpactError::Inconsistent(format!(
