@@ -29,6 +29,7 @@ import numpy as np
 from . import _native
 
 __all__ = [
+    "__version__",
     "Simulation",
     "simulate",
     "sweep",
@@ -92,6 +93,9 @@ def _shard(value: Any) -> Optional[str]:
     return f"{k}/{n}"
 
 #: The report's scalars in a sweep's table, with their units in the names (as sweep.csv).
+#: The version of the compiled crates (the workspace's; ``pip show impact-beam`` says the same).
+__version__: str = _native.__version__
+
 SWEEP_COLUMNS: List[str] = list(_native.SWEEP_COLUMNS)
 #: The columns of a comparison's table (as compare's summary.csv).
 SUMMARY_COLUMNS: List[str] = list(_native.SUMMARY_COLUMNS)

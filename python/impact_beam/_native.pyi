@@ -7,6 +7,7 @@ import numpy as np
 
 _Scene = Union[str, os.PathLike[str], Mapping[str, Any]]
 
+__version__: str
 SWEEP_COLUMNS: List[str]
 SUMMARY_COLUMNS: List[str]
 ACCURACY_COLUMNS: List[str]

@@ -789,5 +789,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SWEEP_COLUMNS", COLUMNS.to_vec())?;
     m.add("SUMMARY_COLUMNS", study::comparison::SUMMARY_COLUMNS.to_vec())?;
     m.add("ACCURACY_COLUMNS", study::accuracy::ROW_COLUMNS.to_vec())?;
+    // The crates' version (the workspace's, which python/pyproject.toml repeats): what a
+    // result was computed with, for a user's records.
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

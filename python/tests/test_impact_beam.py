@@ -64,6 +64,17 @@ def scene_dict(path):
         return tomllib.load(f)
 
 
+def test_the_version_is_the_packages_and_the_crates():
+    # A result is recorded with what computed it: the compiled crates' version, which the
+    # package's metadata repeats (python/pyproject.toml against the workspace's Cargo.toml).
+    with open(REPO / "Cargo.toml", encoding="utf-8") as f:
+        workspace = next(line.split('"')[1] for line in f if line.startswith("version = "))
+    assert ib.__version__ == workspace
+    from importlib.metadata import version
+
+    assert version("impact-beam") == workspace
+
+
 def test_the_report_equals_the_command_lines_json_to_the_last_digit():
     for scene in (TIP, HALF_SPACE):
         stdout, _ = cli("simulate", scene, "--json")
