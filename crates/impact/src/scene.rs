@@ -463,7 +463,8 @@ pub struct BallSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ImpactSpec {
-    /// Impact point (m) from x = 0 (the first support); required with a beam.
+    /// Impact point (m) from x = 0 (the first support); required with a beam. At most the beam's
+    /// length, and not on a supported end (the ball would meet a rigid face there: refused).
     #[schemars(range(min = 0), extend("x-unit" = "m"))]
     pub position: Option<f64>,
     /// Impact point on a `[structure]`: arc length along its chain of segments (m).
