@@ -610,7 +610,9 @@ pub struct SolverSpec {
     pub beam_theory: Option<TheoryName>,
     /// Where the modal method's modes come from: `analytic` (a uniform `[beam]`) or `fe` (the
     /// 3D finite-element beam's own modes); default analytic on a `[beam]` without masses or
-    /// springs, fe otherwise.
+    /// springs, fe otherwise, and on a free-free `[beam]` struck off its centreline (a free
+    /// body: its own modes carry the truncated modes' static share by inertia relief; unless
+    /// `modes` or `beam_theory` is given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub modal_basis: Option<ModalBasisName>,
     /// Simulated time (s) from first touch; default 5 ms on a beam or a structure, four times

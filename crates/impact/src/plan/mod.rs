@@ -495,6 +495,12 @@ fn fe_keys(s: &SolverSpec) -> bool {
 
 /// The method asked, with `auto` read as `modal` where `solver.modal_basis` (a modal-only key)
 /// is given, saying so.
+/// The auto plan's word where the beam has no static stiffness to bound its bending by.
+const FREE_BODY: &str = "a free body (no static stiffness to bound its bending by sqrt(m V^2 / k)): the run warns if its largest displacement passes the small-deflection range";
+
+/// Why a free-free [beam] struck off its centreline takes its own modes (see `beam_method`).
+const FREE_OFF_CENTRE_BASIS: &str = "modes from the beam's finite elements (the default for a free-free beam struck off its centreline): the [structure] it is (one member, a node at the impact point), its rigid-body motions taken out by inertia relief, so that the truncated modes' static share (bending and torsion) is carried; the uniform beam's analytic modes have none on a free body, and their twist rate's series reads the torque's jump at the struck section as its mean (a review's strip, 10 mm off at 0.5 m: the first peak force 2.8 % high, the torsion shear 6.0e4 against 2.35e7 Pa); solver.modal_basis = \"analytic\" (or solver.modes, beam_theory) takes those, warned";
+
 fn modal_basis_implies_modal(s: &SolverSpec, reasons: &mut Vec<String>) -> MethodName {
     if s.method == MethodName::Auto && s.modal_basis.is_some() {
         reasons.push("method modal (auto): solver.modal_basis given".into());
@@ -623,16 +629,31 @@ fn beam_method(
     if s.method == MethodName::Modal {
         reasons.push("method modal, as asked".into());
     }
+    // A free-free beam struck off its centreline: the uniform beam's analytic modes have no
+    // static flexibility to add the truncated modes' share by (it is a free body), and the
+    // torque e F jumps across the struck section, where their twist rate's series reads the
+    // jump's mean: a review's strip, 10 mm off at 0.5 m, had its first peak force 2.8 % high
+    // (by the torsion modes' slow 1/N tail) and its torsion shear 6.0e4 against 2.35e7 Pa.
+    // Its own modes (the [structure] it is) take the rigid-body motions out by inertia relief
+    // and carry both: the default there.
+    let free_off_centre = offset != 0.0 && beam.support == SupportName::FreeFree;
+    // The analytic modes' own keys (a count, a beam theory) keep them, as the basis named does.
+    let analytic = s.modal_basis == Some(ModalBasisName::Analytic)
+        || (s.modal_basis.is_none() && (s.modes.is_some() || s.beam_theory.is_some()));
+    if free_off_centre && analytic && method != MethodName::Fe {
+        warnings.push("solver.modal_basis = \"analytic\" on a free-free beam struck off its centreline: the analytic modes carry no residual flexibility on a free body, and the torque's jump at the struck section leaves the twist rate's series at its mean there (a review's strip, 10 mm off at 0.5 m: the first peak force 2.8 % high, the torsion shear 6.0e4 against 2.35e7 Pa); leave solver.modal_basis, modes and beam_theory out (the beam's own modes, the default here) or run solver.method = \"fe\"".into());
+    }
+    let own = !attachments.is_empty() || (free_off_centre && !analytic && s.modal_basis.is_none());
     let use_fe = match method {
         MethodName::Modal
             if s.modal_basis == Some(ModalBasisName::Analytic) && !attachments.is_empty() =>
         {
             return Err(ImpactError::Inconsistent("solver.modal_basis = \"analytic\" with [[beam.mass]] or [[beam.spring]]: the analytic modes are the uniform beam's; the beam's own modes are \"fe\" (its finite elements), or leave solver.modal_basis out".into()));
         }
-        MethodName::Modal
-            if !attachments.is_empty() || s.modal_basis == Some(ModalBasisName::Fe) =>
-        {
-            reasons.push(if attachments.is_empty() {
+        MethodName::Modal if own || s.modal_basis == Some(ModalBasisName::Fe) => {
+            reasons.push(if attachments.is_empty() && s.modal_basis.is_none() {
+                FREE_OFF_CENTRE_BASIS.into()
+            } else if attachments.is_empty() {
                 "modes from the beam's finite elements (solver.modal_basis = \"fe\", as asked): the [structure] the beam is (one member, a node at the impact point), its own 3D modes instead of the uniform beam's analytic ones".into()
             } else if s.modal_basis.is_some() {
                 "modes from the beam's finite elements (solver.modal_basis = \"fe\", as asked): it carries point masses or springs; the [structure] it is (one member, a node at each attachment and at the impact point)".into()
@@ -643,7 +664,7 @@ fn beam_method(
             plan.damping = damping;
             return Ok(Method::Modal(plan));
         }
-        MethodName::Auto if !attachments.is_empty() && !large && !fe_keys(s) => {
+        MethodName::Auto if own && !large && !fe_keys(s) => {
             // As a uniform beam's: the modal method where small-deflection theory holds, on the
             // beam's own modes; the fe method where those cannot carry it (say why).
             let kept = (reasons.len(), warnings.len());
@@ -661,14 +682,23 @@ fn beam_method(
             });
             match own {
                 Ok((mut plan, deflection)) => {
-                    reasons.insert(kept.0, format!("method modal (auto): Goldsmith's modal series, exact between steps, on the beam's own modes, which hold its point masses and springs (its 3D finite elements': the [structure] it is, a node at each attachment and at the impact point); the ball's energy bends it at most {deflection:.3e} m (sqrt(m V^2 / k), k its own static stiffness), small against its length (on the paper's beam with a 20 g sensor and a 2000 N/m spring, centred, over 1 ms: 0.067 s against 0.125 s by the fe method; validation/REFERENCES.md 1.13)"));
+                    reasons.insert(kept.0, if attachments.is_empty() {
+                        format!("method modal (auto): Goldsmith's modal series, exact between steps; {FREE_BODY}; {FREE_OFF_CENTRE_BASIS}")
+                    } else {
+                        format!("method modal (auto): Goldsmith's modal series, exact between steps, on the beam's own modes, which hold its point masses and springs (its 3D finite elements': the [structure] it is, a node at each attachment and at the impact point); the ball's energy bends it at most {deflection:.3e} m (sqrt(m V^2 / k), k its own static stiffness), small against its length (on the paper's beam with a 20 g sensor and a 2000 N/m spring, centred, over 1 ms: 0.067 s against 0.125 s by the fe method; validation/REFERENCES.md 1.13)")
+                    });
                     plan.damping = damping;
                     return Ok(Method::Modal(plan));
                 }
                 Err(why) => {
                     reasons.truncate(kept.0);
                     warnings.truncate(kept.1);
-                    reasons.push(format!("method fe (auto): the beam carries point masses or springs, and its own modes cannot carry the modal method here: {why}"));
+                    let what = if attachments.is_empty() {
+                        "a free-free beam struck off its centreline takes its own modes"
+                    } else {
+                        "the beam carries point masses or springs"
+                    };
+                    reasons.push(format!("method fe (auto): {what}, and its own modes cannot carry the modal method here: {why}"));
                     true
                 }
             }
@@ -705,7 +735,11 @@ fn beam_method(
             true
         }
         MethodName::Auto => {
-            reasons.push(format!("method modal (auto): Goldsmith's modal series, exact between steps; the ball's energy bends the beam at most {deflection:.3e} m (sqrt(m V^2 / k)), small against its length"));
+            reasons.push(if flexibility > 0.0 {
+                format!("method modal (auto): Goldsmith's modal series, exact between steps; the ball's energy bends the beam at most {deflection:.3e} m (sqrt(m V^2 / k)), small against its length")
+            } else {
+                format!("method modal (auto): Goldsmith's modal series, exact between steps; {FREE_BODY}")
+            });
             false
         }
     };
