@@ -63,18 +63,6 @@ impl ElementTable {
         table
     }
 
-    /// The first node of the elements `start..end` where they are a chain `n0, n0 + 1, ..`
-    /// (a straight or curved member, the usual block), else `None`.
-    #[inline(always)]
-    pub(crate) fn chain_start(&self, start: usize, end: usize) -> Option<usize> {
-        let n0 = self.nodes[start][0];
-        let chain = self.nodes[start..end]
-            .iter()
-            .enumerate()
-            .all(|(k, &[a, b])| a == n0 + k && b == n0 + k + 1);
-        chain.then_some(n0)
-    }
-
     /// Each element's nodes.
     pub(crate) fn nodes(&self) -> &[[usize; 2]] {
         &self.nodes
@@ -127,7 +115,7 @@ impl hht::fast::Kernel for BlockForces<'_> {
 
 /// `a x b` on the lanes' components, each component one multiply and one multiply-add.
 #[inline(always)]
-fn cross<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(crate) fn cross<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         m.mul_add(a[1], b[2], -(a[2] * b[1])),
         m.mul_add(a[2], b[0], -(a[0] * b[2])),
@@ -137,7 +125,7 @@ fn cross<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 
 /// `a . b` by multiply-adds.
 #[inline(always)]
-fn dot<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn dot<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> f64 {
     m.mul_add(a[0], b[0], m.mul_add(a[1], b[1], a[2] * b[2]))
 }
 
@@ -371,27 +359,10 @@ impl BlockForces<'_> {
                 lane[k] = exact[i];
             }
         }
-        match t.chain_start(start, end) {
-            // A chain of nodes n0, n0 + 1, ..: node n0 + j takes the first end of element j
-            // and the second of element j - 1, summed on the lanes before they are added to
-            // the node's unknowns (half the scattered additions of an element at a time).
-            Some(n0) => {
-                let first: [f64; 6] = std::array::from_fn(|c| f[c][0]);
-                self.add_to_node(n0, &first);
-                for j in 1..m {
-                    let sum: [f64; 6] = std::array::from_fn(|c| f[c][j] + f[6 + c][j - 1]);
-                    self.add_to_node(n0 + j, &sum);
-                }
-                let last: [f64; 6] = std::array::from_fn(|c| f[6 + c][m - 1]);
-                self.add_to_node(n0 + m, &last);
-            }
-            None => {
-                for (k, &[a, b]) in t.nodes[start..end].iter().enumerate() {
-                    for (end, node) in [a, b].into_iter().enumerate() {
-                        let forces: [f64; 6] = std::array::from_fn(|c| f[6 * end + c][k]);
-                        self.add_to_node(node, &forces);
-                    }
-                }
+        for (k, &[a, b]) in t.nodes[start..end].iter().enumerate() {
+            for (end, node) in [a, b].into_iter().enumerate() {
+                let forces: [f64; 6] = std::array::from_fn(|c| f[6 * end + c][k]);
+                self.add_to_node(node, &forces);
             }
         }
         if let (true, Some(strains)) = (STRAINS, self.strains.as_deref_mut()) {

@@ -1,7 +1,7 @@
 //! The assembled beam: supports, loads, inertia, and the [`hht::Model`] implementation.
 
 use crate::element::Strains;
-use crate::element_block::{rows, BlockForces, BlockStrains, ElementTable};
+use crate::element_block::{cross, dot, rows, BlockForces, BlockStrains, ElementTable};
 use crate::error::{not_negative, BeamError};
 use crate::mesh::Mesh;
 use crate::rotation::skew;
@@ -830,16 +830,15 @@ impl hht::fast::Kernel for Displace<'_> {
                     let v = th.map(|t| t * s);
                     let q0 = r0.quaternion();
                     let (w0, u) = (q0.w, [q0.i, q0.j, q0.k]);
-                    let dot = m.mul_add(u[0], v[0], m.mul_add(u[1], v[1], u[2] * v[2]));
-                    let cross = [
-                        m.mul_add(u[1], v[2], -(u[2] * v[1])),
-                        m.mul_add(u[2], v[0], -(u[0] * v[2])),
-                        m.mul_add(u[0], v[1], -(u[1] * v[0])),
-                    ];
+                    let uv = cross(m, u, v);
                     let iv: [f64; 3] =
-                        std::array::from_fn(|c| m.mul_add(w0, v[c], m.mul_add(w, u[c], cross[c])));
-                    let turned =
-                        nalgebra::Quaternion::new(m.mul_add(w0, w, -dot), iv[0], iv[1], iv[2]);
+                        std::array::from_fn(|c| m.mul_add(w0, v[c], m.mul_add(w, u[c], uv[c])));
+                    let turned = nalgebra::Quaternion::new(
+                        m.mul_add(w0, w, -dot(m, u, v)),
+                        iv[0],
+                        iv[1],
+                        iv[2],
+                    );
                     (Vector3::new(x0.x + d[0], x0.y + d[1], x0.z + d[2]), turned)
                 })
             });
