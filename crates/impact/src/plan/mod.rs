@@ -493,14 +493,14 @@ fn fe_keys(s: &SolverSpec) -> bool {
         || s.fe_model.is_some()
 }
 
-/// The method asked, with `auto` read as `modal` where `solver.modal_basis` (a modal-only key)
-/// is given, saying so.
 /// The auto plan's word where the beam has no static stiffness to bound its bending by.
 const FREE_BODY: &str = "a free body (no static stiffness to bound its bending by sqrt(m V^2 / k)): the run warns if its largest displacement passes the small-deflection range";
 
 /// Why a free-free [beam] struck off its centreline takes its own modes (see `beam_method`).
 const FREE_OFF_CENTRE_BASIS: &str = "modes from the beam's finite elements (the default for a free-free beam struck off its centreline): the [structure] it is (one member, a node at the impact point), its rigid-body motions taken out by inertia relief, so that the truncated modes' static share (bending and torsion) is carried; the uniform beam's analytic modes have none on a free body, and their twist rate's series reads the torque's jump at the struck section as its mean (a review's strip, 10 mm off at 0.5 m: the first peak force 2.8 % high, the torsion shear 6.0e4 against 2.35e7 Pa); solver.modal_basis = \"analytic\" (or solver.modes, beam_theory) takes those, warned";
 
+/// The method asked, with `auto` read as `modal` where `solver.modal_basis` (a modal-only key)
+/// is given, saying so.
 fn modal_basis_implies_modal(s: &SolverSpec, reasons: &mut Vec<String>) -> MethodName {
     if s.method == MethodName::Auto && s.modal_basis.is_some() {
         reasons.push("method modal (auto): solver.modal_basis given".into());
@@ -641,7 +641,7 @@ fn beam_method(
     let analytic = s.modal_basis == Some(ModalBasisName::Analytic)
         || (s.modal_basis.is_none() && (s.modes.is_some() || s.beam_theory.is_some()));
     if free_off_centre && analytic && method != MethodName::Fe {
-        warnings.push("solver.modal_basis = \"analytic\" on a free-free beam struck off its centreline: the analytic modes carry no residual flexibility on a free body, and the torque's jump at the struck section leaves the twist rate's series at its mean there (a review's strip, 10 mm off at 0.5 m: the first peak force 2.8 % high, the torsion shear 6.0e4 against 2.35e7 Pa); leave solver.modal_basis, modes and beam_theory out (the beam's own modes, the default here) or run solver.method = \"fe\"".into());
+        warnings.push("the uniform beam's analytic modes (solver.modal_basis = \"analytic\", or solver.modes or beam_theory given) on a free-free beam struck off its centreline: they carry no residual flexibility on a free body, and the torque's jump at the struck section leaves the twist rate's series at its mean there (a review's strip, 10 mm off at 0.5 m: the first peak force 2.8 % high, the torsion shear 6.0e4 against 2.35e7 Pa); leave solver.modal_basis, modes and beam_theory out (the beam's own modes, the default here) or run solver.method = \"fe\"".into());
     }
     let own = !attachments.is_empty() || (free_off_centre && !analytic && s.modal_basis.is_none());
     let use_fe = match method {

@@ -1268,7 +1268,7 @@ fn build(
         if s.method == MethodName::Modal {
             return Err(ImpactError::Inconsistent(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free, which the modal method would take linearised at rest; clamp a node, or pin it at points not all on one line (pins on one straight line leave the turn about that line free: a forked support, a pin that holds the twist, holds it), or strike it by solver.method = \"fe\", which follows large rotations")));
         }
-        warnings.push(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free; it has no static stiffness (no equivalent static force is reported)"));
+        warnings.push(format!("the structure is a mechanism: its supports (structure.support: {held}) leave {rigid_modes} rigid-body motion(s) free; it has no static stiffness (no equivalent static force is reported); pins on one straight line leave the turn about that line free: kind = \"forked\" (a pin that holds the twist) holds it"));
     }
     let Steps { alpha, samples, free_time_step, .. } = steps;
     Ok(FePlan {
