@@ -356,3 +356,29 @@ fn a_first_contact_without_the_truncated_modes_compliance_says_how_far_off_it_is
     let w = few.warnings.iter().find(|w| w.contains("the first contact leaves out")).unwrap();
     assert!(w.contains("far too few modes") && !w.contains("comes out about"), "{w}");
 }
+
+#[test]
+fn a_free_free_beam_s_analytic_modes_say_they_leave_out_the_truncated_modes_compliance() {
+    // The paper's strip free at both ends, struck at mid-span (0.1 ms): its analytic modes
+    // (107 at the default) have no residual flexibility on the free body, and the first peak
+    // force came out 1243.12 N against its own modes' 1234.14 N (0.73 %, inertia relief
+    // carrying the truncated modes' share), unsaid (a second review's). Warned now, and the
+    // size it quotes holds: the analytic run between 0.3 and 1.5 % above.
+    let edits = [
+        ("support = \"clamped-free\"", "support = \"free-free\""),
+        ("end_time = 0.002", "end_time = 0.0001"),
+        ("modes = 128\n", ""),
+    ];
+    let analytic = edited_scene("paper-midspan.toml", &edits);
+    assert!(analytic
+        .warnings
+        .iter()
+        .any(|w| w.contains("a free-free beam's analytic modes carry no residual flexibility")));
+    let own = edited_scene(
+        "paper-midspan.toml",
+        &[edits[0], edits[1], ("modes = 128", "modal_basis = \"fe\"")],
+    );
+    let above = analytic.contacts[0].peak_force / own.contacts[0].peak_force - 1.0;
+    assert!((3e-3..1.5e-2).contains(&above), "{above}");
+    assert!(own.warnings.iter().all(|w| !w.contains("carry no residual flexibility")));
+}
