@@ -305,9 +305,10 @@ const SPRING_OVER_ELEMENTS: f64 = 1e8;
 /// fe method (a second review's). The bound keeps the error near 1e-4.
 const PROP_OVER_STRUCTURE: f64 = 7e13;
 
-/// Refuses for the modal method a spring that outweighs its node's elements by more than
-/// [`PROP_OVER_STRUCTURE`] (along a direction) or [`SPRING_OVER_ELEMENTS`] (about an axis),
-/// naming it, the ratio and what holds the node instead.
+/// Refuses for the modal method a spring that outweighs the structure's bending scale by more
+/// than [`PROP_OVER_STRUCTURE`] (along a direction) or its node's elements by more than
+/// [`SPRING_OVER_ELEMENTS`] (about an axis), naming it, the ratio and what holds the node
+/// instead.
 fn modes_keep_springs(
     spec: &StructureSpec,
     sections: &[[f64; 4]],

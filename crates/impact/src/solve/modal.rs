@@ -1087,7 +1087,7 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
                 // Past its first order the estimate says nothing of the size (ten modes on the
                 // pinned strip: 401 % said, 185 % measured, a review's): only that it is large.
                 warnings.push(format!(
-                    "the first contact leaves out the truncated modes' static compliance at the impact point ({:.3e} m/N), in series with the contact ({:.3e} m/N at its peak, approach over force): far too few modes for the contact, whose peak force and duration are off by some 10 % or more (3/4 of that ratio, {:.0} %, is a first-order estimate past its range); more modes (the default's), solver.residual_flexibility = true, or solver.tolerance",
+                    "the first contact leaves out the truncated modes' static compliance at the impact point ({:.3e} m/N), in series with the contact ({:.3e} m/N at its peak, approach over force): far too few modes for the contact, whose peak force and duration are off by some 10 % or more (3/4 of that ratio, {:.0} %, is a first-order estimate past its range); more modes, solver.residual_flexibility = true, or solver.tolerance",
                     self.left_out,
                     first.max_approach / first.peak_force,
                     100.0 * share
