@@ -1197,8 +1197,9 @@ fn build(
                     )
                 }
             };
+            let what = if lowered { "the beam's own modes' mesh" } else { "the structure" };
             super::fe::torsion_mesh(
-                ("the structure", &advice),
+                (what, &advice),
                 (h, speed, pulse.duration),
                 s,
                 (reasons, warnings),
