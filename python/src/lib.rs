@@ -267,7 +267,12 @@ impl<'a> Callback<'a> {
 /// A run's failure as Python sees it: `ValueError` for a scene the plan refuses,
 /// `RuntimeError` for a solver that failed.
 fn run_error(input: &SceneInput, e: &ImpactError) -> PyErr {
-    match e {
+    // A refinement's run fails as that run's error does (its message the whole chain).
+    let mut cause = e;
+    while let ImpactError::Refinement { source, .. } = cause {
+        cause = source;
+    }
+    match cause {
         ImpactError::SolverFailed { .. }
         | ImpactError::Integrator { .. }
         | ImpactError::Internal(_) => PyRuntimeError::new_err(chain(e)),

@@ -41,6 +41,16 @@ pub enum ImpactError {
         /// What went wrong.
         reason: String,
     },
+    /// A run of `solver.tolerance`'s refinement failed: which (its resolution), and why (the
+    /// source). The plan a front end prints before the error is the refinement's first run's.
+    #[error("in solver.tolerance's refinement, its run at {at} (a plan printed with this error is the refinement's first run's)")]
+    Refinement {
+        /// The run's resolution, e.g. `512 elements`.
+        at: String,
+        /// How it failed.
+        #[source]
+        source: Box<ImpactError>,
+    },
     /// The time integrator (HHT-alpha) of the finite-element method failed; the source says
     /// how (Newton diverged, a singular matrix, ...).
     // The source names the time it failed at: the message does not repeat it.

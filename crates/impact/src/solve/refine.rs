@@ -243,7 +243,10 @@ impl Ladder {
         let mut ladder: Vec<String> = Vec::new();
         let mut coarse: Option<Outcome> = None;
         loop {
-            let fine = run_at(n)?;
+            let fine = run_at(n).map_err(|e| ImpactError::Refinement {
+                at: format!("{n} {}", self.unit),
+                source: Box::new(e),
+            })?;
             let differences = coarse.as_ref().map(|c| c.report.differences_from(&fine.report));
             let error =
                 coarse.as_ref().map_or(f64::INFINITY, |c| self.error(&c.report, &fine.report));
@@ -354,6 +357,38 @@ mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
     use crate::outcome::BendingStress;
+
+    #[test]
+    fn a_rung_that_fails_is_named_in_the_error() {
+        // A failed run of the ladder had said only why, with the ladder's first plan printed
+        // above it (as if that plan had failed): now which run, and why as its source.
+        let scene = crate::Scene::from_toml(include_str!(
+            "../../../../validation/scenes/half-space-r10.toml"
+        ))
+        .unwrap();
+        let base = crate::simulate(&scene).unwrap();
+        let ladder = Ladder {
+            start: 64,
+            end: 1024,
+            unit: "elements",
+            share: 1.0 / 3.0,
+            asked: None,
+            mesh: true,
+        };
+        let e = ladder
+            .climb(1e-9, |n| match n {
+                256 => Err(ImpactError::SolverFailed { t: 1e-4, reason: "Newton diverged".into() }),
+                _ => {
+                    let mut out = base.clone();
+                    out.report.max_displacement = 1.0 + 1.0 / n as f64;
+                    Ok(out)
+                }
+            })
+            .unwrap_err();
+        assert!(e.to_string().contains("its run at 256 elements"), "{e}");
+        let source = std::error::Error::source(&e).map(ToString::to_string).unwrap_or_default();
+        assert!(source.contains("Newton diverged"), "{source}");
+    }
 
     #[test]
     fn a_ladder_that_ends_short_of_its_tolerance_names_what_kept_its_runs_apart() {
