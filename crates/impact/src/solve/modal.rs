@@ -1083,20 +1083,21 @@ impl<'a, L: ContactLaw> Solver<'a, L> {
         // about 3/4 c F / d (F, d the contact's peak force and approach; first order in c).
         if let Some(first) = self.contacts.first().filter(|c| c.max_approach > 0.0) {
             let share = 0.75 * self.left_out * first.peak_force / first.max_approach;
+            let left = format!(
+                "the first contact leaves out the truncated modes' static compliance at the impact point ({:.3e} m/N), in series with the contact ({:.3e} m/N at its peak, approach over force)",
+                self.left_out,
+                first.max_approach / first.peak_force
+            );
+            // Past its first order the estimate says nothing of the size (ten modes on the
+            // pinned strip: 401 % said, 185 % measured, a review's): only that it is large.
             if share > FIRST_ORDER_RANGE {
-                // Past its first order the estimate says nothing of the size (ten modes on the
-                // pinned strip: 401 % said, 185 % measured, a review's): only that it is large.
                 warnings.push(format!(
-                    "the first contact leaves out the truncated modes' static compliance at the impact point ({:.3e} m/N), in series with the contact ({:.3e} m/N at its peak, approach over force): far too few modes for the contact, whose peak force and duration are off by some 10 % or more (3/4 of that ratio, {:.0} %, is a first-order estimate past its range); more modes, solver.residual_flexibility = true, or solver.tolerance",
-                    self.left_out,
-                    first.max_approach / first.peak_force,
+                    "{left}: far too few modes for the contact, whose peak force and duration are off by some 10 % or more (3/4 of that ratio, {:.0} %, is a first-order estimate past its range); more modes, solver.residual_flexibility = true, or solver.tolerance",
                     100.0 * share
                 ));
             } else if share > LEFT_OUT_FORCE_WARNING {
                 warnings.push(format!(
-                    "the first contact leaves out the truncated modes' static compliance at the impact point ({:.3e} m/N), in series with the contact ({:.3e} m/N at its peak, approach over force): its peak force comes out about {:.1} % high and the contact about as much short (3/4 of that ratio: Hertz with a spring in series at the same energy, first order in the spring; the paper's tip at its default 106 modes: 1.3 % high and 1.1 % short, said 1.6 %; its mid-span pinned at both ends 0.77 % and 0.65 %, said 0.84 %; validation/REFERENCES.md 1.4); solver.residual_flexibility = true puts it in series, or solver.tolerance refines the modes",
-                    self.left_out,
-                    first.max_approach / first.peak_force,
+                    "{left}: its peak force comes out about {:.1} % high and the contact about as much short (3/4 of that ratio: Hertz with a spring in series at the same energy, first order in the spring; the paper's tip at its default 106 modes: 1.3 % high and 1.1 % short, said 1.6 %; its mid-span pinned at both ends 0.77 % and 0.65 %, said 0.84 %; validation/REFERENCES.md 1.4); solver.residual_flexibility = true puts it in series, or solver.tolerance refines the modes",
                     100.0 * share
                 ));
             }
