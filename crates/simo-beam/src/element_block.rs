@@ -41,6 +41,11 @@ pub(crate) struct ElementTable {
     nodes: Vec<[usize; 2]>,
     /// The consistent mass matrix's off-diagonal term `rho A l0 / 6` (kg).
     translational_mass: Vec<f64>,
+    /// Each block's first node where its elements run node to node (element k of the block
+    /// joins nodes `first + k` and `first + k + 1`, a straight or curved member's mesh): its
+    /// nodes are then read once each, not once for each of their two elements, and each
+    /// node's two elements' forces are added to it at once.
+    chains: Vec<Option<usize>>,
 }
 
 impl ElementTable {
@@ -60,6 +65,18 @@ impl ElementTable {
             table.nodes.push(e.nodes);
             table.translational_mass.push(e.section.rho_a * e.length / 6.0);
         }
+        table.chains = table
+            .nodes
+            .chunks(BLOCK)
+            .map(|block| {
+                let first = block[0][0];
+                block
+                    .iter()
+                    .enumerate()
+                    .all(|(k, &[a, b])| a == first + k && b == first + k + 1)
+                    .then_some(first)
+            })
+            .collect();
         table
     }
 
@@ -90,6 +107,8 @@ pub(crate) struct BlockForces<'a> {
     /// Each element's strains (Gamma1..3, K1..3, one array each, an entry an element), written
     /// too if given.
     pub strains: Option<&'a mut [Vec<f64>; 6]>,
+    /// The block's arrays ([`with_scratch`]).
+    pub scratch: &'a mut Scratch,
 }
 
 impl hht::fast::Kernel for BlockForces<'_> {
@@ -97,16 +116,14 @@ impl hht::fast::Kernel for BlockForces<'_> {
 
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(mut self, m: A) {
-        // The block's arrays made (zeroed) once a pass, not once a block.
-        let mut scratch = Scratch::new();
         let count = self.elements.len();
         let mut start = 0;
         while start < count {
             let end = (start + BLOCK).min(count);
             if self.strains.is_some() {
-                self.block::<true, A>(m, start, end, &mut scratch);
+                self.block::<true, A>(m, start, end);
             } else {
-                self.block::<false, A>(m, start, end, &mut scratch);
+                self.block::<false, A>(m, start, end);
             }
             start = end;
         }
@@ -138,49 +155,88 @@ fn turn<A: MulAdd>(m: A, w: f64, u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
 }
 
 /// A block's nodes: positions `x[end][component][element]` and quaternions
-/// `q[end][w, i, j, k][element]`.
+/// `q[end][w, i, j, k][element]` (one entry more than the block's elements: a chain's nodes
+/// are gathered into the first ends' arrays, see [`gather`]).
 struct Gathered {
-    x: [[[f64; BLOCK]; 3]; 2],
-    q: [[[f64; BLOCK]; 4]; 2],
+    x: [[[f64; BLOCK + 1]; 3]; 2],
+    q: [[[f64; BLOCK + 1]; 4]; 2],
 }
 
 /// A block's arrays: its nodes, the results by lanes (12 force components and, if asked, 6
-/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range).
-struct Scratch {
+/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range). Every entry a block
+/// reads it has written first.
+pub(crate) struct Scratch {
     nodes: Gathered,
     lanes: [[f64; BLOCK]; 18],
     chord2: [f64; BLOCK],
 }
 
 impl Scratch {
-    #[inline(always)]
-    fn new() -> Self {
-        Self {
-            nodes: Gathered { x: [[[0.0; BLOCK]; 3]; 2], q: [[[0.0; BLOCK]; 4]; 2] },
+    fn boxed() -> Box<Self> {
+        Box::new(Self {
+            nodes: Gathered { x: [[[0.0; BLOCK + 1]; 3]; 2], q: [[[0.0; BLOCK + 1]; 4]; 2] },
             lanes: [[0.0; BLOCK]; 18],
             chord2: [0.0; BLOCK],
-        }
+        })
     }
 }
 
-/// Gathers the nodes of the elements `nodes` into `g`.
+thread_local! {
+    /// Each thread's block arrays, made once: made (zeroed) every pass, their 14 kB took 3 %
+    /// of the paper's tip in 3D.
+    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Scratch::boxed());
+}
+
+/// Runs `f` with this thread's block arrays; with arrays of its own where a pass runs inside
+/// another (a strain's callback of [`BlockStrains`] that evaluates forces).
+pub(crate) fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut scratch) => f(&mut scratch),
+        Err(_) => f(&mut Scratch::boxed()),
+    })
+}
+
+/// Writes node `node`'s position and quaternion into entry `k` of the arrays of `end`.
+#[inline(always)]
+fn put(g: &mut Gathered, (end, k): (usize, usize), (p, r): (&Vector3<f64>, &UnitQuaternion<f64>)) {
+    let r = r.quaternion();
+    for c in 0..3 {
+        g.x[end][c][k] = p[c];
+    }
+    g.q[end][0][k] = r.w;
+    g.q[end][1][k] = r.i;
+    g.q[end][2][k] = r.j;
+    g.q[end][3][k] = r.k;
+}
+
+/// Gathers the nodes of the block's elements `nodes` into `g`: a chain's (from node `first`)
+/// each once into the first ends' arrays, and the second ends' as those from the next entry
+/// on (a copy of whole arrays); else element by element.
 #[inline(always)]
 fn gather(
     g: &mut Gathered,
-    nodes: &[[usize; 2]],
+    (nodes, chain): (&[[usize; 2]], Option<usize>),
     positions: &[Vector3<f64>],
     rotations: &[UnitQuaternion<f64>],
 ) {
-    for (k, e) in nodes.iter().enumerate() {
-        for (end, &node) in e.iter().enumerate() {
-            let (p, r) = (&positions[node], rotations[node].quaternion());
-            for c in 0..3 {
-                g.x[end][c][k] = p[c];
+    let m = nodes.len();
+    match chain {
+        Some(first) => {
+            let (x, r) = (&positions[first..=first + m], &rotations[first..=first + m]);
+            for (k, node) in x.iter().zip(r).enumerate() {
+                put(g, (0, k), node);
             }
-            g.q[end][0][k] = r.w;
-            g.q[end][1][k] = r.i;
-            g.q[end][2][k] = r.j;
-            g.q[end][3][k] = r.k;
+            let ([x0, x1], [q0, q1]) = (&mut g.x, &mut g.q);
+            for (to, from) in x1.iter_mut().zip(x0.iter()).chain(q1.iter_mut().zip(q0.iter())) {
+                to[..m].copy_from_slice(&from[1..=m]);
+            }
+        }
+        None => {
+            for (k, e) in nodes.iter().enumerate() {
+                for (end, &node) in e.iter().enumerate() {
+                    put(g, (end, k), (&positions[node], &rotations[node]));
+                }
+            }
         }
     }
 }
@@ -239,39 +295,45 @@ fn lane<A: MulAdd>(m: A, g: &Gathered, k: usize, inverse_length: f64) -> Lane {
     }
 }
 
-impl BlockForces<'_> {
-    /// Adds a node's force and moment to its unknowns in `out` (none where held).
-    #[inline(always)]
-    fn add_to_node(&mut self, node: usize, forces: &[f64; 6]) {
-        match self.rows[node] {
-            Some(i) => {
-                for (o, f) in self.out[i..i + 6].iter_mut().zip(forces) {
+/// Adds a node's force and moment, the sum of `forces` in their order, to its unknowns in
+/// `out` (none where held).
+#[inline(always)]
+fn add_to_node<const N: usize>(
+    (rows, dofs): (&[Option<usize>], &[[Option<usize>; 6]]),
+    out: &mut [f64],
+    node: usize,
+    forces: [[f64; 6]; N],
+) {
+    match rows[node] {
+        Some(i) => {
+            let o: &mut [f64] = &mut out[i..i + 6];
+            for f in forces {
+                for (o, f) in o.iter_mut().zip(f) {
                     *o += f;
                 }
             }
-            None => {
-                for (d, f) in self.dofs[node].iter().zip(forces) {
+        }
+        None => {
+            for f in forces {
+                for (d, f) in dofs[node].iter().zip(f) {
                     if let Some(i) = d {
-                        self.out[*i] += f;
+                        out[*i] += f;
                     }
                 }
             }
         }
     }
+}
 
+impl BlockForces<'_> {
     /// One block's forces into `out`, and with `STRAINS` its strains into `strains`.
     #[inline(always)]
-    fn block<const STRAINS: bool, A: MulAdd>(
-        &mut self,
-        fma: A,
-        start: usize,
-        end: usize,
-        scratch: &mut Scratch,
-    ) {
+    fn block<const STRAINS: bool, A: MulAdd>(&mut self, fma: A, start: usize, end: usize) {
         let m = end - start;
         let t = self.table;
-        let Scratch { nodes: g, lanes: f, chord2 } = scratch;
-        gather(g, &t.nodes[start..end], self.positions, self.rotations);
+        let chain = t.chains[start / BLOCK];
+        let Scratch { nodes: g, lanes: f, chord2 } = &mut *self.scratch;
+        gather(g, (&t.nodes[start..end], chain), self.positions, self.rotations);
         let range = start..end;
         let (length, inverse) = (&t.length[range.clone()], &t.inverse_length[range.clone()]);
         let [g0, g1, g2] = &t.gamma0;
@@ -359,10 +421,24 @@ impl BlockForces<'_> {
                 lane[k] = exact[i];
             }
         }
-        for (k, &[a, b]) in t.nodes[start..end].iter().enumerate() {
-            for (end, node) in [a, b].into_iter().enumerate() {
-                let forces: [f64; 6] = std::array::from_fn(|c| f[6 * end + c][k]);
-                self.add_to_node(node, &forces);
+        let (to, out) = ((self.rows, self.dofs), &mut *self.out);
+        let end_force =
+            |end: usize, k: usize| -> [f64; 6] { std::array::from_fn(|c| f[6 * end + c][k]) };
+        match chain {
+            // Node first + k: its element k - 1's second end, then its element k's first
+            // (each node's sum in the elements' order, as element by element).
+            Some(first) => {
+                add_to_node(to, out, first, [end_force(0, 0)]);
+                for k in 1..m {
+                    add_to_node(to, out, first + k, [end_force(1, k - 1), end_force(0, k)]);
+                }
+                add_to_node(to, out, first + m, [end_force(1, m - 1)]);
+            }
+            None => {
+                for (k, &[a, b]) in t.nodes[start..end].iter().enumerate() {
+                    add_to_node(to, out, a, [end_force(0, k)]);
+                    add_to_node(to, out, b, [end_force(1, k)]);
+                }
             }
         }
         if let (true, Some(strains)) = (STRAINS, self.strains.as_deref_mut()) {
@@ -382,6 +458,8 @@ pub(crate) struct BlockStrains<'a, F: FnMut(usize, Strains<f64>)> {
     pub positions: &'a [Vector3<f64>],
     pub rotations: &'a [UnitQuaternion<f64>],
     pub each: F,
+    /// The block's arrays ([`with_scratch`]).
+    pub scratch: &'a mut Scratch,
 }
 
 impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
@@ -390,11 +468,11 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(mut self, m: A) {
         let t = self.table;
-        let mut scratch = Scratch::new();
-        let Scratch { nodes: g, lanes: strains, chord2 } = &mut scratch;
+        let Scratch { nodes: g, lanes: strains, chord2 } = &mut *self.scratch;
         for (b, block) in self.elements.chunks(BLOCK).enumerate() {
             let start = b * BLOCK;
-            gather(g, &t.nodes[start..start + block.len()], self.positions, self.rotations);
+            let nodes = (&t.nodes[start..start + block.len()], t.chains[b]);
+            gather(g, nodes, self.positions, self.rotations);
             // [Gamma; K] by lanes, then the elements the series do not hold again exactly.
             // Every array sliced to the block, so that the loop runs without bounds checks
             // (which kept it from the vector lanes).
@@ -504,8 +582,21 @@ mod tests {
         // 1e-14 an ulp, and the multiply-adds round elsewhere than `Element::force` (1.4e-13
         // measured beside the large turns).
         let (model, q) = bent_frame();
+        each_block_s_forces_are_its_elements(&model, &q);
+        // The same elements listed last to first: no block runs node to node (the blocks
+        // gather and scatter element by element, not as a chain).
+        let mut reversed = model.mesh().clone();
+        reversed.elements.reverse();
+        let reversed = BeamModel::new(reversed).unwrap().support(0, Support::Clamped).unwrap();
+        let chains = |m: &BeamModel| ElementTable::new(&m.mesh().elements).chains;
+        assert!(chains(&reversed).iter().all(Option::is_none));
+        assert!(chains(&model).iter().all(Option::is_some));
+        each_block_s_forces_are_its_elements(&reversed, &q);
+    }
+
+    fn each_block_s_forces_are_its_elements(model: &BeamModel, q: &crate::BeamState) {
         let elements = &model.mesh().elements;
-        let mut expected = vec![0.0; hht::Model::ndof(&model)];
+        let mut expected = vec![0.0; hht::Model::ndof(model)];
         for e in elements {
             let [a, b] = e.nodes;
             let f = e.force([&q.positions[a], &q.positions[b]], [&q.rotations[a], &q.rotations[b]]);
@@ -517,14 +608,14 @@ mod tests {
                 }
             }
         }
-        let force = model.internal_force(&q);
+        let force = model.internal_force(q);
         let scale = expected.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
         for (i, f) in expected.iter().enumerate() {
             assert!((force[i] - f).abs() <= 1e-9 * scale, "unknown {i}: {} vs {f}", force[i]);
         }
         let zero = Strains { gamma: Vector3::zeros(), kappa: Vector3::zeros() };
         let mut strains = vec![zero; elements.len()];
-        model.each_strain(&q, |e, s| strains[e] = s);
+        model.each_strain(q, |e, s| strains[e] = s);
         let mut series = 0;
         for (e, s) in elements.iter().zip(&strains) {
             let [a, b] = e.nodes;
@@ -542,10 +633,10 @@ mod tests {
         // The force pass that writes the strains too: the same force and the same strains, to
         // the bit (the same formulas in the same order, on both branches).
         let mut lanes: [Vec<f64>; 6] = Default::default();
-        let mut with = faer::Col::<f64>::zeros(hht::Model::ndof(&model));
-        model.net_force_and_strains(0.0, &q, with.as_mut(), &mut lanes);
-        let mut alone = faer::Col::<f64>::zeros(hht::Model::ndof(&model));
-        hht::Model::net_force(&model, 0.0, &q, faer::Col::zeros(0).as_ref(), alone.as_mut());
+        let mut with = faer::Col::<f64>::zeros(hht::Model::ndof(model));
+        model.net_force_and_strains(0.0, q, with.as_mut(), &mut lanes);
+        let mut alone = faer::Col::<f64>::zeros(hht::Model::ndof(model));
+        hht::Model::net_force(model, 0.0, q, faer::Col::zeros(0).as_ref(), alone.as_mut());
         assert_eq!(with, alone);
         for (e, s) in strains.iter().enumerate() {
             let [g0, g1, g2, k0, k1, k2] = lanes.each_ref().map(|l| l[e]);

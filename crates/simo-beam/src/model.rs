@@ -536,12 +536,15 @@ impl BeamModel {
     /// Hands every element's strains at `q` to `each` (the element's index and its strains,
     /// in the mesh's order): no buffer, for a loop that reads them at every step.
     pub fn each_strain(&self, q: &BeamState, each: impl FnMut(usize, Strains<f64>)) {
-        hht::fast::run(BlockStrains {
-            elements: &self.mesh.elements,
-            table: &self.table,
-            positions: &q.positions,
-            rotations: &q.rotations,
-            each,
+        crate::element_block::with_scratch(|scratch| {
+            hht::fast::run(BlockStrains {
+                elements: &self.mesh.elements,
+                table: &self.table,
+                positions: &q.positions,
+                rotations: &q.rotations,
+                each,
+                scratch,
+            })
         });
     }
 
@@ -617,15 +620,18 @@ impl BeamModel {
     }
 
     fn add_internal(&self, q: &BeamState, out: &mut [f64], strains: Option<&mut [Vec<f64>; 6]>) {
-        hht::fast::run(BlockForces {
-            elements: &self.mesh.elements,
-            table: &self.table,
-            positions: &q.positions,
-            rotations: &q.rotations,
-            dofs: &self.dofs,
-            rows: &self.rows,
-            out,
-            strains,
+        crate::element_block::with_scratch(|scratch| {
+            hht::fast::run(BlockForces {
+                elements: &self.mesh.elements,
+                table: &self.table,
+                positions: &q.positions,
+                rotations: &q.rotations,
+                dofs: &self.dofs,
+                rows: &self.rows,
+                out,
+                strains,
+                scratch,
+            })
         });
     }
 
