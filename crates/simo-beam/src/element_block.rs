@@ -65,6 +65,24 @@ impl ElementTable {
             table.nodes.push(e.nodes);
             table.translational_mass.push(e.section.rho_a * e.length / 6.0);
         }
+        // The lanes' arrays padded to whole blocks (a unit length, no stiffness): the block
+        // loop runs every lane.
+        let whole = table.length.len().next_multiple_of(BLOCK);
+        for (v, pad) in
+            [(&mut table.length, 1.0), (&mut table.inverse_length, 1.0)].into_iter().chain(
+                [
+                    &mut table.gamma0,
+                    &mut table.phi0,
+                    &mut table.force_stiffness,
+                    &mut table.moment_stiffness,
+                ]
+                .into_iter()
+                .flatten()
+                .map(|v| (v, 0.0)),
+            )
+        {
+            v.resize(whole, pad);
+        }
         table.chains = table
             .nodes
             .chunks(BLOCK)
@@ -325,6 +343,86 @@ fn add_to_node<const N: usize>(
     }
 }
 
+/// The block of `v` from `start` (a lane array of the table, padded to whole blocks).
+#[inline(always)]
+fn whole_block(v: &[f64], start: usize) -> &[f64; BLOCK] {
+    #[allow(clippy::expect_used)] // the table is padded to whole blocks
+    v[start..start + BLOCK].try_into().expect("a whole block")
+}
+
+/// The forces (and with `STRAINS` the strains) of the elements `range` of table `t` by the
+/// series, into the lanes `f` and their ranges into `chord2`, from their nodes `g`. A function
+/// of its own: its `&mut` arguments tell the compiler that the lanes alias nothing it reads
+/// (inline, it checked that at run time, and ran part of the loop on one lane).
+#[inline(always)]
+fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
+    fma: A,
+    (t, range): (&'t ElementTable, std::ops::Range<usize>),
+    g: &Gathered,
+    f: &mut [[f64; BLOCK]; 18],
+    chord2: &mut [f64; BLOCK],
+) {
+    // Every lane of the block, past its elements too (the table is padded to whole blocks,
+    // the nodes' arrays hold an earlier block's): a loop of a fixed count that the compiler
+    // runs on whole vectors (up to `range.len()` it left the last one to four lanes to
+    // one-lane code: a fifth of the loop's time).
+    let start = range.start;
+    let block = |v: &'t [f64]| -> &'t [f64; BLOCK] { whole_block(v, start) };
+    let (length, inverse) = (block(&t.length), block(&t.inverse_length));
+    let [g0, g1, g2] = t.gamma0.each_ref().map(|v| block(v));
+    let [p0, p1, p2] = t.phi0.each_ref().map(|v| block(v));
+    let [n0, n1, n2] = t.force_stiffness.each_ref().map(|v| block(v));
+    let [m0, m1, m2] = t.moment_stiffness.each_ref().map(|v| block(v));
+    for k in 0..BLOCK {
+        let Lane { phi, angle2: a2, chord2: range, half: (hw, hv), midpoint: (mw, mv), gamma_full } =
+            lane(fma, g, k, inverse[k]);
+        chord2[k] = range;
+        let strain = [gamma_full[0] - g0[k], gamma_full[1] - g1[k], gamma_full[2] - g2[k]];
+        let curvature = [
+            (phi[0] - p0[k]) * inverse[k],
+            (phi[1] - p1[k]) * inverse[k],
+            (phi[2] - p2[k]) * inverse[k],
+        ];
+        // Into the block's own lanes (a branch on the caller's arrays here kept the loop
+        // from the vector lanes: the 3D run took 37 % longer).
+        if STRAINS {
+            for c in 0..3 {
+                f[12 + c][k] = strain[c];
+                f[15 + c][k] = curvature[c];
+            }
+        }
+        // N = C_N Gamma, M = C_M K.
+        let n = [strain[0] * n0[k], strain[1] * n1[k], strain[2] * n2[k]];
+        let moment = [curvature[0] * m0[k], curvature[1] * m1[k], curvature[2] * m2[k]];
+        let n_spatial = turn(fma, mw, mv, n);
+        let c = cross(fma, n, gamma_full).map(|c| c * length[k]);
+        // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + c1 p x v + c2 p x (p x v).
+        let (j1, j2) = jacobian_series(0.25 * a2);
+        let (hp, ch) = (phi.map(|p| 0.5 * p), c.map(|c| 0.5 * c));
+        let pc = cross(fma, hp, ch);
+        let ppc = cross(fma, hp, pc);
+        let mt: [f64; 3] = std::array::from_fn(|i| {
+            fma.mul_add(j1, pc[i], fma.mul_add(j2, ppc[i], moment[i] + ch[i]))
+        });
+        // f_th2 = J_r(phi)^-T m~ = m~ - phi x m~ / 2 + coefficient phi x (phi x m~).
+        let coefficient = inverse_series(a2);
+        let pm = cross(fma, phi, mt);
+        let ppm = cross(fma, phi, pm);
+        let f_th2: [f64; 3] = std::array::from_fn(|i| {
+            fma.mul_add(coefficient, ppm[i], fma.mul_add(-0.5, pm[i], mt[i]))
+        });
+        // f_th1 = half (c - half f_th2).
+        let turned = turn(fma, hw, hv, f_th2);
+        let f_th1 = turn(fma, hw, hv, [c[0] - turned[0], c[1] - turned[1], c[2] - turned[2]]);
+        for i in 0..3 {
+            f[i][k] = -n_spatial[i];
+            f[3 + i][k] = f_th1[i];
+            f[6 + i][k] = n_spatial[i];
+            f[9 + i][k] = f_th2[i];
+        }
+    }
+}
+
 impl BlockForces<'_> {
     /// One block's forces into `out`, and with `STRAINS` its strains into `strains`.
     #[inline(always)]
@@ -334,70 +432,7 @@ impl BlockForces<'_> {
         let chain = t.chains[start / BLOCK];
         let Scratch { nodes: g, lanes: f, chord2 } = &mut *self.scratch;
         gather(g, (&t.nodes[start..end], chain), self.positions, self.rotations);
-        let range = start..end;
-        let (length, inverse) = (&t.length[range.clone()], &t.inverse_length[range.clone()]);
-        let [g0, g1, g2] = &t.gamma0;
-        let [p0, p1, p2] = &t.phi0;
-        let [n0, n1, n2] = &t.force_stiffness;
-        let [m0, m1, m2] = &t.moment_stiffness;
-        let (g0, g1, g2) = (&g0[range.clone()], &g1[range.clone()], &g2[range.clone()]);
-        let (p0, p1, p2) = (&p0[range.clone()], &p1[range.clone()], &p2[range.clone()]);
-        let (n0, n1, n2) = (&n0[range.clone()], &n1[range.clone()], &n2[range.clone()]);
-        let (m0, m1, m2) = (&m0[range.clone()], &m1[range.clone()], &m2[range.clone()]);
-        for k in 0..m {
-            let Lane {
-                phi,
-                angle2: a2,
-                chord2: range,
-                half: (hw, hv),
-                midpoint: (mw, mv),
-                gamma_full,
-            } = lane(fma, g, k, inverse[k]);
-            chord2[k] = range;
-            let strain = [gamma_full[0] - g0[k], gamma_full[1] - g1[k], gamma_full[2] - g2[k]];
-            let curvature = [
-                (phi[0] - p0[k]) * inverse[k],
-                (phi[1] - p1[k]) * inverse[k],
-                (phi[2] - p2[k]) * inverse[k],
-            ];
-            // Into the block's own lanes (a branch on the caller's arrays here kept the loop
-            // from the vector lanes: the 3D run took 37 % longer).
-            if STRAINS {
-                for c in 0..3 {
-                    f[12 + c][k] = strain[c];
-                    f[15 + c][k] = curvature[c];
-                }
-            }
-            // N = C_N Gamma, M = C_M K.
-            let n = [strain[0] * n0[k], strain[1] * n1[k], strain[2] * n2[k]];
-            let moment = [curvature[0] * m0[k], curvature[1] * m1[k], curvature[2] * m2[k]];
-            let n_spatial = turn(fma, mw, mv, n);
-            let c = cross(fma, n, gamma_full).map(|c| c * length[k]);
-            // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + c1 p x v + c2 p x (p x v).
-            let (j1, j2) = jacobian_series(0.25 * a2);
-            let (hp, ch) = (phi.map(|p| 0.5 * p), c.map(|c| 0.5 * c));
-            let pc = cross(fma, hp, ch);
-            let ppc = cross(fma, hp, pc);
-            let mt: [f64; 3] = std::array::from_fn(|i| {
-                fma.mul_add(j1, pc[i], fma.mul_add(j2, ppc[i], moment[i] + ch[i]))
-            });
-            // f_th2 = J_r(phi)^-T m~ = m~ - phi x m~ / 2 + coefficient phi x (phi x m~).
-            let coefficient = inverse_series(a2);
-            let pm = cross(fma, phi, mt);
-            let ppm = cross(fma, phi, pm);
-            let f_th2: [f64; 3] = std::array::from_fn(|i| {
-                fma.mul_add(coefficient, ppm[i], fma.mul_add(-0.5, pm[i], mt[i]))
-            });
-            // f_th1 = half (c - half f_th2).
-            let turned = turn(fma, hw, hv, f_th2);
-            let f_th1 = turn(fma, hw, hv, [c[0] - turned[0], c[1] - turned[1], c[2] - turned[2]]);
-            for i in 0..3 {
-                f[i][k] = -n_spatial[i];
-                f[3 + i][k] = f_th1[i];
-                f[6 + i][k] = n_spatial[i];
-                f[9 + i][k] = f_th2[i];
-            }
-        }
+        forces_by_lanes::<STRAINS, A>(fma, (t, start..end), g, f, chord2);
         // The elements the series do not hold (or at a corner) again exactly, into the lanes.
         for k in 0..m {
             let e = start + k;
@@ -473,16 +508,12 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
             let start = b * BLOCK;
             let nodes = (&t.nodes[start..start + block.len()], t.chains[b]);
             gather(g, nodes, self.positions, self.rotations);
-            // [Gamma; K] by lanes, then the elements the series do not hold again exactly.
-            // Every array sliced to the block, so that the loop runs without bounds checks
-            // (which kept it from the vector lanes).
-            let range = start..start + block.len();
-            let inverse = &t.inverse_length[range.clone()];
-            let [g0, g1, g2] = &t.gamma0;
-            let [p0, p1, p2] = &t.phi0;
-            let gamma0 = [&g0[range.clone()], &g1[range.clone()], &g2[range.clone()]];
-            let phi0 = [&p0[range.clone()], &p1[range.clone()], &p2[range]];
-            for k in 0..block.len() {
+            // [Gamma; K] by lanes (every lane, as `forces_by_lanes`), then the elements the
+            // series do not hold again exactly.
+            let inverse = whole_block(&t.inverse_length, start);
+            let gamma0 = t.gamma0.each_ref().map(|v| whole_block(v, start));
+            let phi0 = t.phi0.each_ref().map(|v| whole_block(v, start));
+            for k in 0..BLOCK {
                 let l = lane(m, g, k, inverse[k]);
                 chord2[k] = l.chord2;
                 for c in 0..3 {
