@@ -227,16 +227,25 @@ fn put(g: &mut Gathered, (end, k): (usize, usize), (p, r): (&Vector3<f64>, &Unit
     g.q[end][3][k] = r.k;
 }
 
-/// Gathers the nodes of the block's elements `nodes` into `g`: a chain's (from node `first`)
-/// each once into the first ends' arrays, and the second ends' as those from the next entry
-/// on (a copy of whole arrays); else element by element.
+/// Where a block's lanes read their elements' second nodes: `g.x[end][c][k + shift]` and
+/// likewise `g.q`.
+#[derive(Clone, Copy)]
+struct SecondEnds {
+    end: usize,
+    shift: usize,
+}
+
+/// Gathers the nodes of the block's elements `nodes` into `g`, and says where their second
+/// ends are: a chain's nodes (from node `first`) each once into the first ends' arrays (one
+/// entry more than the elements: the second ends are those arrays from the next entry on),
+/// else element by element.
 #[inline(always)]
 fn gather(
     g: &mut Gathered,
     (nodes, chain): (&[[usize; 2]], Option<usize>),
     positions: &[Vector3<f64>],
     rotations: &[UnitQuaternion<f64>],
-) {
+) -> SecondEnds {
     let m = nodes.len();
     match chain {
         Some(first) => {
@@ -244,10 +253,7 @@ fn gather(
             for (k, node) in x.iter().zip(r).enumerate() {
                 put(g, (0, k), node);
             }
-            let ([x0, x1], [q0, q1]) = (&mut g.x, &mut g.q);
-            for (to, from) in x1.iter_mut().zip(x0.iter()).chain(q1.iter_mut().zip(q0.iter())) {
-                to[..m].copy_from_slice(&from[1..=m]);
-            }
+            SecondEnds { end: 0, shift: 1 }
         }
         None => {
             for (k, e) in nodes.iter().enumerate() {
@@ -255,6 +261,7 @@ fn gather(
                     put(g, (end, k), (&positions[node], &rotations[node]));
                 }
             }
+            SecondEnds { end: 1, shift: 0 }
         }
     }
 }
@@ -279,9 +286,16 @@ struct Lane {
 }
 
 #[inline(always)]
-fn lane<A: MulAdd>(m: A, g: &Gathered, k: usize, inverse_length: f64) -> Lane {
+fn lane<A: MulAdd>(
+    m: A,
+    (g, second): (&Gathered, SecondEnds),
+    k: usize,
+    inverse_length: f64,
+) -> Lane {
+    // (`min` tells the compiler the indices are in bounds.)
+    let (e2, k2) = (second.end.min(1), k + second.shift.min(1));
     let (w1, u1) = (g.q[0][0][k], [g.q[0][1][k], g.q[0][2][k], g.q[0][3][k]]);
-    let (w2, u2) = (g.q[1][0][k], [g.q[1][1][k], g.q[1][2][k], g.q[1][3][k]]);
+    let (w2, u2) = (g.q[e2][0][k2], [g.q[e2][1][k2], g.q[e2][2][k2], g.q[e2][3][k2]]);
     // The relative rotation conj(q1) q2 = (w1 w2 + u1.u2, w1 u2 - w2 u1 - u1 x u2), turned to
     // w >= 0 (q and -q are one rotation).
     let c12 = cross(m, u1, u2);
@@ -302,7 +316,7 @@ fn lane<A: MulAdd>(m: A, g: &Gathered, k: usize, inverse_length: f64) -> Lane {
     let c1h = cross(m, u1, hv);
     let mw = m.mul_add(w1, hw, -dot(m, u1, hv));
     let mv: [f64; 3] = std::array::from_fn(|c| m.mul_add(w1, hv[c], m.mul_add(hw, u1[c], c1h[c])));
-    let d: [f64; 3] = std::array::from_fn(|c| (g.x[1][c][k] - g.x[0][c][k]) * inverse_length);
+    let d: [f64; 3] = std::array::from_fn(|c| (g.x[e2][c][k2] - g.x[0][c][k]) * inverse_length);
     Lane {
         phi,
         angle2: dot(m, phi, phi),
@@ -358,7 +372,7 @@ fn whole_block(v: &[f64], start: usize) -> &[f64; BLOCK] {
 fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
     fma: A,
     (t, range): (&'t ElementTable, std::ops::Range<usize>),
-    g: &Gathered,
+    g: (&Gathered, SecondEnds),
     f: &mut [[f64; BLOCK]; 18],
     chord2: &mut [f64; BLOCK],
 ) {
@@ -431,8 +445,8 @@ impl BlockForces<'_> {
         let t = self.table;
         let chain = t.chains[start / BLOCK];
         let Scratch { nodes: g, lanes: f, chord2 } = &mut *self.scratch;
-        gather(g, (&t.nodes[start..end], chain), self.positions, self.rotations);
-        forces_by_lanes::<STRAINS, A>(fma, (t, start..end), g, f, chord2);
+        let second = gather(g, (&t.nodes[start..end], chain), self.positions, self.rotations);
+        forces_by_lanes::<STRAINS, A>(fma, (t, start..end), (g, second), f, chord2);
         // The elements the series do not hold (or at a corner) again exactly, into the lanes.
         for k in 0..m {
             let e = start + k;
@@ -507,14 +521,14 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
         for (b, block) in self.elements.chunks(BLOCK).enumerate() {
             let start = b * BLOCK;
             let nodes = (&t.nodes[start..start + block.len()], t.chains[b]);
-            gather(g, nodes, self.positions, self.rotations);
+            let second = gather(g, nodes, self.positions, self.rotations);
             // [Gamma; K] by lanes (every lane, as `forces_by_lanes`), then the elements the
             // series do not hold again exactly.
             let inverse = whole_block(&t.inverse_length, start);
             let gamma0 = t.gamma0.each_ref().map(|v| whole_block(v, start));
             let phi0 = t.phi0.each_ref().map(|v| whole_block(v, start));
             for k in 0..BLOCK {
-                let l = lane(m, g, k, inverse[k]);
+                let l = lane(m, (g, second), k, inverse[k]);
                 chord2[k] = l.chord2;
                 for c in 0..3 {
                     strains[c][k] = l.gamma_full[c] - gamma0[c][k];
