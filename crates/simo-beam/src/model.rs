@@ -589,6 +589,13 @@ impl BeamModel {
             (0..3).map(|c| va[c] * va[c] + va[c] * vb[c] + vb[c] * vb[c]).sum::<f64>()
         };
         let mut energy = 0.0;
+        // The terms in the order of the element and node lists they come from.
+        for run in &plan.runs {
+            for (j, m) in run.masses.iter().enumerate() {
+                let i = run.first + 6 * j;
+                energy += m * translation(three(v, i), three(v, i + 6));
+            }
+        }
         for &(ia, ib, m) in &plan.chain {
             energy += m * translation(three(v, ia), three(v, ib));
         }
@@ -598,9 +605,17 @@ impl BeamModel {
             let (va, vb) = (self.node_vector(v, a, 0), self.node_vector(v, b, 0));
             energy += m * translation(&va.into(), &vb.into());
         }
-        for &(i, d) in &plan.spinning {
+        let spinning = |(i, d): (usize, &[f64; 3])| {
             let w = three(v, i + 3);
-            energy += 0.5 * (d[0] * w[0] * w[0] + d[1] * w[1] * w[1] + d[2] * w[2] * w[2]);
+            0.5 * (d[0] * w[0] * w[0] + d[1] * w[1] * w[1] + d[2] * w[2] * w[2])
+        };
+        for run in &plan.runs {
+            for (j, d) in run.spin.iter().enumerate() {
+                energy += spinning((run.first + 6 * j, d));
+            }
+        }
+        for (i, d) in &plan.spinning {
+            energy += spinning((*i, d));
         }
         for &node in &plan.other_nodes {
             let w = self.node_vector(v, node, 3);
@@ -675,8 +690,13 @@ impl BeamModel {
 
     #[inline(always)]
     fn inertial_force_inline(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
-        out.fill(0.0);
         let plan = &self.inertia_plan;
+        for unwritten in &plan.unwritten {
+            out[unwritten.clone()].fill(0.0);
+        }
+        for run in &plan.runs {
+            run.write(v, a, out);
+        }
         // Both nodes' three translations in a row (the usual case): read and written as
         // arrays, not looked up an unknown at a time. The first nodes' terms, then the second
         // nodes': within a pass no element writes what the one before wrote, so the loop does
@@ -703,15 +723,8 @@ impl BeamModel {
             self.add_node_vector(out, *node, 0, &(a * *m));
         }
         for &(i, d) in &plan.spinning {
-            // Euler's equation in the body frame: J dW/dt + W x J W; with J diagonal (a
-            // section's principal axes, the usual case) term by term.
-            let (w, dw) = (three(v, i + 3), three(a, i + 3));
-            let jw = [d[0] * w[0], d[1] * w[1], d[2] * w[2]];
-            let f = [
-                d[0] * dw[0] + (w[1] * jw[2] - w[2] * jw[1]),
-                d[1] * dw[1] + (w[2] * jw[0] - w[0] * jw[2]),
-                d[2] * dw[2] + (w[0] * jw[1] - w[1] * jw[0]),
-            ];
+            // Euler's equation with J diagonal (a section's principal axes, the usual case).
+            let f = euler(&d, three(v, i + 3), three(a, i + 3));
             three_mut(out, i + 3).iter_mut().zip(f).for_each(|(o, f)| *o += f);
         }
         for &node in &plan.other_nodes {
@@ -776,33 +789,133 @@ fn three_mut(x: &mut [f64], i: usize) -> &mut [f64; 3] {
 /// up node by node took 2.3 us an inertial force on the paper's strip at 256 elements in 3D.)
 #[derive(Debug, Clone, Default)]
 struct InertiaPlan {
-    /// (first unknown of node a, of node b, `rho A l0 / 6` (kg)).
+    /// Runs of nodes written node by node (the usual mesh: all its free nodes in one run).
+    runs: Vec<InertiaRun>,
+    /// The unknowns no run writes (zeroed first: the terms below add to them).
+    unwritten: Vec<std::ops::Range<usize>>,
+    /// (first unknown of node a, of node b, `rho A l0 / 6` (kg)), elements in no run.
     chain: Vec<(usize, usize, f64)>,
     /// The elements not in `chain`.
     other_elements: Vec<usize>,
-    /// (first unknown of the node, its rotary inertia's diagonal (kg m^2)).
+    /// (first unknown of the node, its rotary inertia's diagonal (kg m^2)), nodes in no run.
     spinning: Vec<(usize, [f64; 3])>,
-    /// The nodes not in `spinning`.
+    /// The nodes neither in a run nor in `spinning`.
     other_nodes: Vec<usize>,
+}
+
+/// Nodes whose six unknowns follow each other node after node (node j's from `first + 6 j`),
+/// joined in order by elements, each with a diagonal rotary inertia: their inertial force is
+/// written node by node, each node's six once, with no zeroing before and no element's terms
+/// added to a node the element before wrote (one pass instead of three: 1.35 -> 0.83 us an
+/// inertial force on the paper's strip at 256 elements in 3D).
+#[derive(Debug, Clone, Default)]
+struct InertiaRun {
+    first: usize,
+    /// Each node's rotary inertia's diagonal (kg m^2).
+    spin: Vec<[f64; 3]>,
+    /// `rho A l0 / 6` (kg) of the element from node j to node j + 1 (one fewer than nodes).
+    masses: Vec<f64>,
 }
 
 impl InertiaPlan {
     fn new(model: &BeamModel) -> Self {
         let mut plan = Self::default();
         let (nodes, masses) = (model.table.nodes(), model.table.translational_masses());
+        let spin = |node: usize| {
+            let j = &model.node_inertia[node];
+            is_diagonal(j).then(|| [j[(0, 0)], j[(1, 1)], j[(2, 2)]])
+        };
+        // The runs, element by element: an element joins the last run where it starts at the
+        // run's last node, or starts one; a node is in one run at most.
+        let mut in_run = vec![false; model.rows.len()];
         for (e, (&[na, nb], &m)) in nodes.iter().zip(masses).enumerate() {
-            match (model.rows[na], model.rows[nb]) {
-                (Some(ia), Some(ib)) => plan.chain.push((ia, ib, m)),
-                _ => plan.other_elements.push(e),
+            let (Some(ia), Some(ib)) = (model.rows[na], model.rows[nb]) else {
+                plan.other_elements.push(e);
+                continue;
+            };
+            let joins = ib == ia + 6 && !in_run[nb] && spin(nb).is_some();
+            let last = plan.runs.last_mut().filter(|r| r.first + 6 * (r.spin.len() - 1) == ia);
+            match (joins, last) {
+                (true, Some(run)) if in_run[na] => {
+                    run.spin.extend(spin(nb));
+                    run.masses.push(m);
+                    in_run[nb] = true;
+                }
+                (true, _) if !in_run[na] && spin(na).is_some() => {
+                    let spin = [spin(na), spin(nb)].into_iter().flatten().collect();
+                    plan.runs.push(InertiaRun { first: ia, spin, masses: vec![m] });
+                    (in_run[na], in_run[nb]) = (true, true);
+                }
+                _ => plan.chain.push((ia, ib, m)),
             }
         }
         for (node, j) in model.node_inertia.iter().enumerate() {
             match (model.rows[node], is_diagonal(j)) {
+                _ if in_run[node] => {}
                 (Some(i), true) => plan.spinning.push((i, [j[(0, 0)], j[(1, 1)], j[(2, 2)]])),
                 _ => plan.other_nodes.push(node),
             }
         }
+        let mut written: Vec<_> =
+            plan.runs.iter().map(|r| (r.first, r.first + 6 * r.spin.len())).collect();
+        written.sort_unstable();
+        let mut from = 0;
+        for (start, end) in written {
+            if start > from {
+                plan.unwritten.push(from..start);
+            }
+            from = end;
+        }
+        if model.ndof > from {
+            plan.unwritten.push(from..model.ndof);
+        }
         plan
+    }
+}
+
+/// `J dW/dt + W x J W`, Euler's equation in the body frame, for a diagonal `J = diag(d)`.
+#[inline(always)]
+fn euler(d: &[f64; 3], w: &[f64; 3], dw: &[f64; 3]) -> [f64; 3] {
+    let jw = [d[0] * w[0], d[1] * w[1], d[2] * w[2]];
+    [
+        d[0] * dw[0] + (w[1] * jw[2] - w[2] * jw[1]),
+        d[1] * dw[1] + (w[2] * jw[0] - w[0] * jw[2]),
+        d[2] * dw[2] + (w[0] * jw[1] - w[1] * jw[0]),
+    ]
+}
+
+impl InertiaRun {
+    /// Writes the run's inertial force into `out` for velocity `v` and acceleration `a`. A
+    /// node's translation: its element to the next node's term `m (2 a_j + a_(j+1))`, then
+    /// the element from the last node's `m (a_(j-1) + 2 a_j)` (the sum in the element loops'
+    /// order).
+    #[inline(always)]
+    fn write(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
+        let n = self.spin.len();
+        let span = self.first..self.first + 6 * n;
+        let (v, a, out) = (&v[span.clone()], &a[span.clone()], &mut out[span]);
+        let put = |out: &mut [f64], f: [f64; 3], d: &[f64; 3], (v, a): (&[f64], &[f64])| {
+            let r = euler(d, &[v[3], v[4], v[5]], &[a[3], a[4], a[5]]);
+            out.copy_from_slice(&[f[0], f[1], f[2], r[0], r[1], r[2]]);
+        };
+        // Element j from node j to node j + 1 (its two nodes' accelerations `pair`): node j's
+        // force is its term ahead plus the last element's term behind (`behind`).
+        let mut behind: Option<[f64; 3]> = None;
+        let elements = a.windows(12).step_by(6).zip(&self.masses);
+        let nodes = out.chunks_exact_mut(6).zip(v.chunks_exact(6)).zip(&self.spin);
+        for (((out, v), d), (pair, &m)) in nodes.zip(elements) {
+            let ahead: [f64; 3] = std::array::from_fn(|c| m * (2.0 * pair[c] + pair[6 + c]));
+            let f = match behind {
+                Some(b) => std::array::from_fn(|c| ahead[c] + b[c]),
+                None => ahead,
+            };
+            put(out, f, d, (v, pair));
+            behind = Some(std::array::from_fn(|c| m * (pair[c] + 2.0 * pair[6 + c])));
+        }
+        let last = 6 * (n - 1);
+        if let (Some(b), Some(d)) = (behind, self.spin.last()) {
+            put(&mut out[last..], b, d, (&v[last..], &a[last..]));
+        }
     }
 }
 
@@ -1026,4 +1139,80 @@ pub(crate) fn load_norm(model: &BeamModel, t: f64, q: &BeamState) -> f64 {
         total += f.norm_squared() + m.norm_squared();
     }
     total.sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::{Material, Section};
+
+    /// The inertial force element by element and node by node, as the equations read:
+    /// `rho A l0 / 6 [2 1; 1 2]` on each direction of each element, `J dW/dt + W x J W` at
+    /// each node with its full rotary inertia, `m a` for each point mass.
+    fn inertial_force_by_definition(model: &BeamModel, v: &[f64], a: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; model.ndof];
+        for e in &model.mesh.elements {
+            let [na, nb] = e.nodes;
+            let m = e.section.rho_a * e.length / 6.0;
+            let (aa, ab) = (model.node_vector(a, na, 0), model.node_vector(a, nb, 0));
+            model.add_node_vector(&mut out, na, 0, &((2.0 * aa + ab) * m));
+            model.add_node_vector(&mut out, nb, 0, &((aa + 2.0 * ab) * m));
+        }
+        for (node, j) in model.node_inertia.iter().enumerate() {
+            let (w, dw) = (model.node_vector(v, node, 3), model.node_vector(a, node, 3));
+            model.add_node_vector(&mut out, node, 3, &(j * dw + w.cross(&(j * w))));
+        }
+        for (node, m) in &model.point_masses {
+            model.add_node_vector(&mut out, *node, 0, &(model.node_vector(a, *node, 0) * *m));
+        }
+        out
+    }
+
+    #[test]
+    fn the_inertia_plan_gives_the_inertial_force_by_definition() {
+        // Meshes that take each path: one run of nodes (the usual), the same elements listed
+        // last to first (runs of two nodes, the elements between them element by element), a
+        // frame's corner with a node held in one direction mid-leg (three runs; the held node
+        // and the corner's, its inertia not diagonal in its frame, by index) and point masses
+        // with rotary inertia. The plan's sums are the definition's in another order: to round-off.
+        let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let section = Section::rectangle(&steel, 0.025, 0.005).unwrap();
+        let straight = |from: Vector3<f64>, to: Vector3<f64>, n: usize| {
+            Mesh::straight(from, to, n, section, Vector3::z()).unwrap()
+        };
+        let (o, x, xy) = (Vector3::zeros(), Vector3::x(), Vector3::new(1.0, 1.0, 0.0));
+        let strip = BeamModel::new(straight(o, x, 20)).unwrap().support(0, Support::Clamped);
+        let strip = strip.unwrap().attach_mass(20, 0.05, [1e-6, 2e-6, 3e-6]).unwrap();
+        let mut reversed = straight(o, x, 20);
+        reversed.elements.reverse();
+        let reversed = BeamModel::new(reversed).unwrap().support(0, Support::Clamped).unwrap();
+        let frame = straight(o, x, 12).join(straight(x, xy, 9)).unwrap();
+        let frame = BeamModel::new(frame).unwrap().support(0, Support::Clamped).unwrap();
+        let frame = frame.hold(&[(6, 1)]).unwrap().attach_mass(6, 0.2, [0.0, 1e-5, 0.0]).unwrap();
+        let mut seed = 11_u64;
+        let mut noise = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (seed >> 11) as f64 / (1_u64 << 53) as f64 - 0.5
+        };
+        for (model, runs) in [(&strip, 1), (&reversed, 10), (&frame, 3)] {
+            assert_eq!(model.inertia_plan.runs.len(), runs);
+            let v: Vec<f64> = (0..model.ndof).map(|_| 30.0 * noise()).collect();
+            let a: Vec<f64> = (0..model.ndof).map(|_| 1e5 * noise()).collect();
+            let expected = inertial_force_by_definition(model, &v, &a);
+            let mut out = vec![f64::NAN; model.ndof];
+            model.inertial_force_into(&v, &a, &mut out);
+            let scale = expected.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+            for (i, (f, e)) in out.iter().zip(&expected).enumerate() {
+                assert!((f - e).abs() <= 1e-14 * scale, "unknown {i}: {f} against {e}");
+            }
+            // And the kinetic energy through the same plan: v . I(v, v) / 2 (the gyroscopic
+            // term is normal to W).
+            let mut i = vec![0.0; model.ndof];
+            model.inertial_force_into(&v, &v, &mut i);
+            let two_t: f64 = v.iter().zip(&i).map(|(v, i)| v * i).sum();
+            let kinetic = model.kinetic_energy(ColRef::from_slice(&v));
+            assert!((2.0 * kinetic - two_t).abs() <= 1e-13 * two_t);
+        }
+    }
 }
