@@ -36,6 +36,8 @@ pub(crate) struct ElementTable {
     moment_stiffness: [Vec<f64>; 3],
     /// Whether both end frames are the nodes' own (no corner offset).
     straight: Vec<bool>,
+    /// Whether each block's elements are all straight.
+    straight_blocks: Vec<bool>,
     /// The element's nodes (the elements themselves are some 300 bytes each: their loops
     /// read these instead).
     nodes: Vec<[usize; 2]>,
@@ -83,6 +85,8 @@ impl ElementTable {
         {
             v.resize(whole, pad);
         }
+        table.straight_blocks =
+            table.straight.chunks(BLOCK).map(|b| b.iter().all(|&s| s)).collect();
         table.chains = table
             .nodes
             .chunks(BLOCK)
@@ -447,8 +451,11 @@ impl BlockForces<'_> {
         let Scratch { nodes: g, lanes: f, chord2 } = &mut *self.scratch;
         let second = gather(g, (&t.nodes[start..end], chain), self.positions, self.rotations);
         forces_by_lanes::<STRAINS, A>(fma, (t, start..end), (g, second), f, chord2);
-        // The elements the series do not hold (or at a corner) again exactly, into the lanes.
-        for k in 0..m {
+        // The elements the series do not hold (or at a corner) again exactly, into the lanes
+        // (looked for element by element only where the block has any).
+        let beyond = chord2[..m].iter().fold(false, |b, &c| b | (c >= SERIES_BELOW) | c.is_nan());
+        let exact = if beyond || !t.straight_blocks[start / BLOCK] { 0..m } else { 0..0 };
+        for k in exact {
             let e = start + k;
             if t.straight[e] && chord2[k] < SERIES_BELOW {
                 continue;
