@@ -68,8 +68,12 @@ pub struct BandedLu {
     /// unknowns each (the 3D beam's six at kd = 11, where the substitution uses it) coupled to
     /// its neighbours only: row `m k + r` of L then has weights only at the `m + r` nearest
     /// columns, of U at the `kd - r` nearest, the rest exact zeros (elimination keeps a row's
-    /// envelope), which the substitution then skips ([`BandedLu::solve_node_blocks`]).
+    /// envelope), which the substitution then skips ([`BandedLu::solve_node_matrices`]).
     node_blocks: bool,
+    /// With [`BandedLu::node_blocks`] at half-bandwidth 11 (the 3D beam's nodes of six), each
+    /// node's substitution as matrices ([`node_matrices`]), 4 x 36 numbers a node; empty
+    /// otherwise.
+    node_matrices: Vec<f64>,
     /// Super-diagonals of U that may hold non-zeros: kd without a row interchange (a
     /// diagonally dominant Newton matrix, the usual case), 2 kd with.
     upper: usize,
@@ -157,6 +161,11 @@ impl BandedLu {
             };
             beyond(&self.lower_rows, &|r| m + r) && beyond(&self.scaled_upper, &|r| kd - r)
         };
+        self.node_matrices.clear();
+        if self.node_blocks && kd == 11 {
+            self.node_matrices =
+                node_matrices(&self.lower_rows, &self.scaled_upper, &self.inverse_diagonal);
+        }
         self.lower_ahead_nodes.clear();
         self.upper_ahead_nodes.clear();
         if self.node_blocks && kd == 5 {
@@ -306,19 +315,19 @@ impl BandedLu {
         // is one): its time was the chain from row to row (2.07 -> 1.77 us a solve on the
         // paper's tip at 256 elements), and without the weights a chain of nodes of three
         // leaves zero where its factors are a chain's (`lower_ahead_nodes`: 1.75 -> 1.64 us).
-        // The 3D beam (six unknowns a node, kd = 11) takes the path a node at a time where its
-        // factors are a chain's (`node_blocks`: 6.1 -> 5.0 us a solve at 256 elements), else
-        // the fixed-width path one row ahead: its instructions set its time, and the weight
-        // more a row made it slower two rows ahead. (The planar beam a node of three at a time
-        // took 1.94 us against 1.77 two rows ahead: its chain, not its instructions, sets its
-        // time.)
+        // The 3D beam (six unknowns a node, kd = 11) takes each node's matrices where its
+        // factors are a chain's (`node_matrices`; row by row, skipping the zeros of a chain's
+        // factors, 6.1 -> 5.0 us a solve at 256 elements; by the matrices 3.4 us), else the
+        // fixed-width path one row ahead: its instructions set its time, and the weight more a
+        // row made it slower two rows ahead. (The planar beam a node of three at a time took
+        // 1.94 us against 1.77 two rows ahead: its chain, not its instructions, sets its time.)
         match (self.kd, self.upper) {
             (5, 5) if !self.lower_ahead_nodes.is_empty() => {
                 return crate::fast::run(AheadOfThree { lu: self, b })
             }
             (5, 5) => return crate::fast::run(FixedSolve::<5, true> { lu: self, b }),
-            (11, 11) if self.node_blocks => {
-                return crate::fast::run(NodeBlocks::<11, 6> { lu: self, b })
+            (11, 11) if !self.node_matrices.is_empty() => {
+                return crate::fast::run(NodeMatrices { lu: self, b })
             }
             (11, 11) => return crate::fast::run(FixedSolve::<11, false> { lu: self, b }),
             _ => {}
@@ -428,52 +437,27 @@ impl BandedLu {
         }
     }
 
-    /// [`BandedLu::solve_band_fixed`] for factors with [`BandedLu::node_blocks`] (half-bandwidth
-    /// `KD = 2 M - 1`): a node's `M` rows at a time, each with only its weights that may be
-    /// non-zero (`M` to `KD` of them), in the same order (farthest first), so the same result
-    /// to the bit; the last node's and this node's values stay in registers, with no window to
-    /// shift a row. (A 3D step's substitution was set by the count of its instructions, 11
-    /// multiply-adds and the window's moves a row.)
+    /// The substitutions by [`node_matrices`]: forward `y_i = P_i b_i - E_i y_(i-1)`, backward
+    /// `x_i = R_i y_i - F_i x_(i+1)`, each node's six rows at once. From one node to the next
+    /// the chain is the product with the last node's values, summed in two halves (three
+    /// multiply-adds deep), where row by row it was up to eleven (4.9 -> 3.4 us a solve on the
+    /// paper's strip at 256 elements in 3D; the columns padded to eight rows for whole vectors,
+    /// 4.2 us: the matrices streamed set the time).
     #[inline(always)]
-    fn solve_node_blocks<const KD: usize, const M: usize, A: MulAdd>(
-        &self,
-        b: &mut [f64],
-        arith: A,
-    ) {
+    fn solve_node_matrices<A: MulAdd>(&self, b: &mut [f64], arith: A) {
+        const M: usize = 6;
         let n = self.n;
         let b = &mut b[..n];
-        let lower = self.lower_rows[..n * KD].chunks_exact(M * KD);
-        let mut before = [0.0; M];
-        for (node, l) in b.chunks_exact_mut(M).zip(lower) {
-            for r in 0..M {
-                let w = &l[r * KD..(r + 1) * KD];
-                // The value d rows back: this node's row r - d, or the last node's.
-                let back =
-                    |node: &[f64], d: usize| if d <= r { node[r - d] } else { before[M + r - d] };
-                let mut far = node[r];
-                for j in (1..M + r).rev() {
-                    far = arith.mul_add(-w[j], back(node, j + 1), far);
-                }
-                node[r] = arith.mul_add(-w[0], back(node, 1), far);
-            }
-            before.copy_from_slice(node);
+        let matrices = self.node_matrices.chunks_exact(4 * M * M);
+        let mut last = [0.0; M];
+        for (node, m) in b.chunks_exact_mut(M).zip(matrices.clone()) {
+            last = node_step(arith, (&m[..M * M], node), (&m[M * M..2 * M * M], &last));
+            node.copy_from_slice(&last);
         }
-        let upper = self.scaled_upper[..n * KD].chunks_exact(M * KD);
-        let inverse = self.inverse_diagonal[..n].chunks_exact(M);
-        let mut after = [0.0; M];
-        for ((node, u), inverse) in b.chunks_exact_mut(M).zip(upper).zip(inverse).rev() {
-            for r in (0..M).rev() {
-                let w = &u[r * KD..(r + 1) * KD];
-                // The value d rows on: this node's row r + d, or the next node's.
-                let on =
-                    |node: &[f64], d: usize| if r + d < M { node[r + d] } else { after[r + d - M] };
-                let mut far = node[r] * inverse[r];
-                for j in (1..KD - r).rev() {
-                    far = arith.mul_add(-w[j], on(node, j + 1), far);
-                }
-                node[r] = arith.mul_add(-w[0], on(node, 1), far);
-            }
-            after.copy_from_slice(node);
+        let mut last = [0.0; M];
+        for (node, m) in b.chunks_exact_mut(M).zip(matrices).rev() {
+            last = node_step(arith, (&m[2 * M * M..3 * M * M], node), (&m[3 * M * M..], &last));
+            node.copy_from_slice(&last);
         }
     }
 
@@ -703,19 +687,98 @@ impl crate::fast::Kernel for AheadOfThree<'_> {
     }
 }
 
-/// [`BandedLu::solve_node_blocks`] as a [`crate::fast::Kernel`].
-struct NodeBlocks<'a, const KD: usize, const M: usize> {
+/// [`BandedLu::solve_node_matrices`] as a [`crate::fast::Kernel`].
+struct NodeMatrices<'a> {
     lu: &'a BandedLu,
     b: &'a mut [f64],
 }
 
-impl<const KD: usize, const M: usize> crate::fast::Kernel for NodeBlocks<'_, KD, M> {
+impl crate::fast::Kernel for NodeMatrices<'_> {
     type Output = ();
 
     #[inline(always)]
     fn run<A: MulAdd>(self, arith: A) {
-        self.lu.solve_node_blocks::<KD, M, A>(self.b, arith);
+        self.lu.solve_node_matrices(self.b, arith);
     }
+}
+
+/// `own x - other last` for 6 x 6 matrices column by column, the product with `last` in two
+/// partial sums (a function, not a closure: a closure's body was not compiled into the
+/// kernel's copy with the fused multiply-add, and called the library's).
+#[inline(always)]
+fn node_step<A: MulAdd>(
+    arith: A,
+    (own, x): (&[f64], &[f64]),
+    (other, last): (&[f64], &[f64; 6]),
+) -> [f64; 6] {
+    const M: usize = 6;
+    let (own, other) = (&own[..M * M], &other[..M * M]);
+    let mut t = [0.0; M];
+    for c in 0..M {
+        for r in 0..M {
+            t[r] = arith.mul_add(own[c * M + r], x[c], t[r]);
+        }
+    }
+    let (mut s0, mut s1) = ([0.0; M], [0.0; M]);
+    for c in 0..M / 2 {
+        for r in 0..M {
+            s0[r] = arith.mul_add(other[c * M + r], last[c], s0[r]);
+            s1[r] = arith.mul_add(other[(c + M / 2) * M + r], last[c + M / 2], s1[r]);
+        }
+    }
+    std::array::from_fn(|r| (t[r] - s0[r]) - s1[r])
+}
+
+/// The substitutions of factors with [`BandedLu::node_blocks`] at half-bandwidth 11 (nodes of
+/// six coupled to their neighbours only) as each node's matrices, 6 x 6 column by column:
+/// L's rows of node i are `L_ii y_i + C_i y_(i-1)` (`L_ii` unit lower triangular, `C_i` the
+/// weights of the node before), so `y_i = P_i b_i - E_i y_(i-1)` with `P_i = L_ii^-1` and
+/// `E_i = P_i C_i`; U's rows scaled by their diagonal `D_i` are `V_ii x_i + G_i x_(i+1)`
+/// (`V_ii` unit upper triangular), so `x_i = R_i y_i - F_i x_(i+1)` with
+/// `R_i = V_ii^-1 D_i^-1` and `F_i = V_ii^-1 G_i`. A node's `[P, E, R, F]` at `144 i ..`.
+fn node_matrices(lower_rows: &[f64], scaled_upper: &[f64], inverse_diagonal: &[f64]) -> Vec<f64> {
+    const M: usize = 6;
+    const KD: usize = 11;
+    let nodes = inverse_diagonal.len() / M;
+    let mut out = vec![0.0; nodes * 4 * M * M];
+    for (i, matrices) in out.chunks_exact_mut(4 * M * M).enumerate() {
+        let (l, u) = (&lower_rows[i * M * KD..], &scaled_upper[i * M * KD..]);
+        // Row r's weight of this node's column c < r, and of the node before's column c
+        // (row 6 i + r of L reaches j + 1 columns back at `r * KD + j`).
+        let own_lower = |r: usize, c: usize| l[r * KD + (r - 1 - c)];
+        let before = |r: usize, c: usize| l[r * KD + (r + M - 1 - c)];
+        // U's row r (scaled) at this node's column c > r, and the next node's column c.
+        let own_upper = |r: usize, c: usize| u[r * KD + (c - r - 1)];
+        let after = |r: usize, c: usize| u[r * KD + (M + c - r - 1)];
+        // P = L_ii^-1 by forward substitution on the identity's columns; V^-1 likewise.
+        let mut p = [[0.0; M]; M];
+        let mut v = [[0.0; M]; M];
+        for c in 0..M {
+            for r in 0..M {
+                let unit = if r == c { 1.0 } else { 0.0 };
+                p[r][c] = unit - (0..r).map(|k| own_lower(r, k) * p[k][c]).sum::<f64>();
+            }
+            for r in (0..M).rev() {
+                let unit = if r == c { 1.0 } else { 0.0 };
+                v[r][c] = unit - (r + 1..M).map(|k| own_upper(r, k) * v[k][c]).sum::<f64>();
+            }
+        }
+        let d = &inverse_diagonal[i * M..(i + 1) * M];
+        let (pm, rest) = matrices.split_at_mut(M * M);
+        let (em, rest) = rest.split_at_mut(M * M);
+        let (rm, fm) = rest.split_at_mut(M * M);
+        for c in 0..M {
+            for r in 0..M {
+                pm[c * M + r] = p[r][c];
+                em[c * M + r] =
+                    if i == 0 { 0.0 } else { (0..M).map(|k| p[r][k] * before(k, c)).sum() };
+                rm[c * M + r] = v[r][c] * d[c];
+                fm[c * M + r] =
+                    if i + 1 == nodes { 0.0 } else { (0..M).map(|k| v[r][k] * after(k, c)).sum() };
+            }
+        }
+    }
+    out
 }
 
 /// A triangular factor's rows `rows` (row `i`'s `kd` weights of the values 1 to `kd` rows
@@ -983,22 +1046,28 @@ mod tests {
     }
 
     #[test]
-    fn a_chain_of_six_unknown_nodes_skips_the_zeros_to_the_bit() {
+    fn a_chain_of_six_unknown_nodes_is_solved_by_each_node_s_matrices() {
         // A chain of nodes of six unknowns each coupled to its neighbours (the 3D beam's
-        // pattern, half-bandwidth 11) with a border of three: the node-by-node substitution
-        // gives the fixed-width one's result to the bit, and the solution to round-off. One
-        // entry two nodes away (inside the band) turns it off, and the fixed path still solves.
+        // pattern, half-bandwidth 11) with a border of three: the nodes' matrices give the
+        // fixed-width substitution's result to round-off (other sums of the same factors: a
+        // few ulps of the solution, entries of order one, on a diagonally dominant matrix), and
+        // `node_chain` checks the solution itself. One entry two nodes away (inside the band)
+        // turns them off, and the fixed path still solves.
         let mut seed = 11;
         for far_entry in [false, true] {
             let extra = if far_entry { vec![(30, 30 - 11, 0.5)] } else { vec![] };
             let (lu, n, b) = node_chain((6, 12, 3), (false, 60.0), &extra, &mut seed);
             assert_eq!(lu.node_blocks, !far_entry);
+            assert_eq!(lu.node_matrices.is_empty(), far_entry);
             // The band's substitution alone, both ways.
             let mut fixed = b[..n].to_vec();
             crate::fast::run(FixedSolve::<11, false> { lu: &lu, b: &mut fixed });
-            let mut blocks = b[..n].to_vec();
-            lu.solve_band(&mut blocks);
-            assert_eq!(bits(&blocks), bits(&fixed), "far entry {far_entry}");
+            let mut nodes = b[..n].to_vec();
+            lu.solve_band(&mut nodes);
+            let scale = fixed.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            for (a, b) in nodes.iter().zip(&fixed) {
+                assert!((a - b).abs() <= 1e-14 * scale, "far entry {far_entry}: {a} vs {b}");
+            }
         }
     }
 
