@@ -149,8 +149,11 @@ impl BandedLu {
                         self.ab[base + 1 + j] * self.inverse_diagonal[row];
                 }
             }
-            self.lower_ahead = two_ahead(&self.lower_rows, n, kd, |i| i.checked_sub(1));
-            self.upper_ahead = two_ahead(&self.scaled_upper, n, kd, |i| Some(i + 1));
+            // The rows two ahead: only the planar beam's half-bandwidth takes them.
+            if kd == 5 {
+                self.lower_ahead = two_ahead(&self.lower_rows, n, kd, |i| i.checked_sub(1));
+                self.upper_ahead = two_ahead(&self.scaled_upper, n, kd, |i| Some(i + 1));
+            }
         }
         let m = kd.div_ceil(2);
         self.node_blocks = self.upper == kd && kd % 2 == 1 && n % m == 0 && {
