@@ -498,8 +498,12 @@ impl BlockForces<'_> {
             }
         }
         if let (true, Some(strains)) = (STRAINS, self.strains.as_deref_mut()) {
-            for (c, out) in strains.iter_mut().enumerate() {
-                out[start..end].copy_from_slice(&f[12 + c][..m]);
+            // Element by element, the six at once (a copy a strain called the library's
+            // memmove six times a block: 1.6 % of the paper's tip in 3D).
+            let [s0, s1, s2, s3, s4, s5] = strains.each_mut().map(|s| &mut s[start..end]);
+            for k in 0..m {
+                (s0[k], s1[k], s2[k]) = (f[12][k], f[13][k], f[14][k]);
+                (s3[k], s4[k], s5[k]) = (f[15][k], f[16][k], f[17][k]);
             }
         }
     }
