@@ -566,6 +566,24 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
     }
 }
 
+/// The runs of nodes whose six unknowns follow each other node after node: (first node, its
+/// first unknown, nodes), node `first + k`'s unknowns from `unknown + 6 k`.
+pub(crate) fn node_runs(rows: &[Option<usize>]) -> Vec<(usize, usize, usize)> {
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    for (node, row) in rows.iter().enumerate() {
+        let Some(row) = *row else { continue };
+        match runs.last_mut() {
+            Some((first, unknown, count))
+                if *first + *count == node && *unknown + 6 * *count == row =>
+            {
+                *count += 1;
+            }
+            _ => runs.push((node, row, 1)),
+        }
+    }
+    runs
+}
+
 /// Each node's first unknown where its six are free and numbered in a row (the internal
 /// force then adds a node's six at once), `None` where any is held.
 pub(crate) fn rows(dofs: &[[Option<usize>; 6]]) -> Vec<Option<usize>> {

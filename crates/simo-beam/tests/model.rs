@@ -187,8 +187,16 @@ fn a_configuration_update_turns_each_node_by_the_exponential_of_its_increment() 
     // q (+) dq = (x + u, Lambda exp(th^)) (Simo & Vu-Quoc's update), here against nalgebra's
     // own exponential (sine and cosine): the update's series below |th|^2 = 1e-4 (truncated
     // past a^8 / 1e7) and its multiply-adds agree to a few ulps of the unit quaternion; a
-    // turn past the series (0.2 rad at node 2) and the clamped node (nothing moves) too.
+    // turn past the series (0.2 rad at node 2) and the clamped node (nothing moves) too; and
+    // with a node held along y mid-leg (the nodes updated in two runs, that node by index).
     let (model, q, _, _) = frame();
+    let held = model.clone().hold(&[(3, 1)]).unwrap();
+    for model in [model, held] {
+        turns_each_node_by_the_exponential(&model, &q);
+    }
+}
+
+fn turns_each_node_by_the_exponential(model: &BeamModel, q: &BeamState) {
     let n = model.ndof();
     let dq = Col::<f64>::from_fn(n, |i| {
         let k = i % 6;
@@ -201,7 +209,7 @@ fn a_configuration_update_turns_each_node_by_the_exponential_of_its_increment() 
     }
     for dq in [dq, big] {
         let mut moved = q.clone();
-        model.displaced(&q, dq.as_ref(), &mut moved);
+        model.displaced(q, dq.as_ref(), &mut moved);
         for node in 0..q.positions.len() {
             let at = |k: usize| model.dof(node, k).map_or(0.0, |i| dq[i]);
             let u = Vector3::new(at(0), at(1), at(2));
