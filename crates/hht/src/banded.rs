@@ -53,7 +53,8 @@ pub struct BandedLu {
     /// at `i * kd ..`, so that the back-substitution's chain from one unknown to the next is
     /// one multiply and one subtraction.
     scaled_upper: Vec<f64>,
-    /// Without row interchanges, the substitutions' rows two ahead (see
+    /// Without row interchanges at half-bandwidth 5 (the only one whose substitution reads
+    /// them; empty otherwise), the substitutions' rows two ahead (see
     /// [`BandedLu::solve_band_ahead`]): row `i` at `i * (kd + 1) ..` holds the weight of the
     /// right-hand side one row back (forward) or on (backward), then the weights of the
     /// solved values two to `kd + 1` rows away.
@@ -68,7 +69,7 @@ pub struct BandedLu {
     /// unknowns each (the 3D beam's six at kd = 11, where the substitution uses it) coupled to
     /// its neighbours only: row `m k + r` of L then has weights only at the `m + r` nearest
     /// columns, of U at the `kd - r` nearest, the rest exact zeros (elimination keeps a row's
-    /// envelope), which the substitution then skips ([`BandedLu::solve_node_matrices`]).
+    /// envelope): each node's rows are then a few small matrices ([`node_matrices`]).
     node_blocks: bool,
     /// With [`BandedLu::node_blocks`] at half-bandwidth 11 (the 3D beam's nodes of six), each
     /// node's substitution as matrices ([`node_matrices`]), 4 x 36 numbers a node; empty
@@ -150,10 +151,12 @@ impl BandedLu {
                 }
             }
             // The rows two ahead: only the planar beam's half-bandwidth takes them.
-            if kd == 5 {
-                self.lower_ahead = two_ahead(&self.lower_rows, n, kd, |i| i.checked_sub(1));
-                self.upper_ahead = two_ahead(&self.scaled_upper, n, kd, |i| Some(i + 1));
-            }
+            (self.lower_ahead, self.upper_ahead) = if kd == 5 {
+                let lower = two_ahead(&self.lower_rows, n, kd, |i| i.checked_sub(1));
+                (lower, two_ahead(&self.scaled_upper, n, kd, |i| Some(i + 1)))
+            } else {
+                (Vec::new(), Vec::new())
+            };
         }
         let m = kd.div_ceil(2);
         self.node_blocks = self.upper == kd && kd % 2 == 1 && n % m == 0 && {
@@ -166,8 +169,8 @@ impl BandedLu {
         };
         self.node_matrices.clear();
         if self.node_blocks && kd == 11 {
-            self.node_matrices =
-                node_matrices(&self.lower_rows, &self.scaled_upper, &self.inverse_diagonal);
+            let (l, u, d) = (&self.lower_rows, &self.scaled_upper, &self.inverse_diagonal);
+            node_matrices(l, u, d, &mut self.node_matrices);
         }
         self.lower_ahead_nodes.clear();
         self.upper_ahead_nodes.clear();
@@ -739,11 +742,17 @@ fn node_step<A: MulAdd>(
 /// `E_i = P_i C_i`; U's rows scaled by their diagonal `D_i` are `V_ii x_i + G_i x_(i+1)`
 /// (`V_ii` unit upper triangular), so `x_i = R_i y_i - F_i x_(i+1)` with
 /// `R_i = V_ii^-1 D_i^-1` and `F_i = V_ii^-1 G_i`. A node's `[P, E, R, F]` at `144 i ..`.
-fn node_matrices(lower_rows: &[f64], scaled_upper: &[f64], inverse_diagonal: &[f64]) -> Vec<f64> {
+fn node_matrices(
+    lower_rows: &[f64],
+    scaled_upper: &[f64],
+    inverse_diagonal: &[f64],
+    out: &mut Vec<f64>,
+) {
     const M: usize = 6;
     const KD: usize = 11;
     let nodes = inverse_diagonal.len() / M;
-    let mut out = vec![0.0; nodes * 4 * M * M];
+    // (Into the last factorisation's buffer: no new allocation of its some 300 kB.)
+    out.resize(nodes * 4 * M * M, 0.0);
     for (i, matrices) in out.chunks_exact_mut(4 * M * M).enumerate() {
         let (l, u) = (&lower_rows[i * M * KD..], &scaled_upper[i * M * KD..]);
         // Row r's weight of this node's column c < r, and of the node before's column c
@@ -781,7 +790,6 @@ fn node_matrices(lower_rows: &[f64], scaled_upper: &[f64], inverse_diagonal: &[f
             }
         }
     }
-    out
 }
 
 /// A triangular factor's rows `rows` (row `i`'s `kd` weights of the values 1 to `kd` rows
@@ -1009,11 +1017,13 @@ mod tests {
     /// border of `k` (random entries, `diagonal` added on the diagonal; symmetric if asked) and
     /// the `extra` entries, factorised at half-bandwidth `2 m - 1`; a random system with it is
     /// solved to round-off. Returns the factors, the band's size and the right-hand side.
+    /// A chain of `nodes` nodes of `m` unknowns with a border of `k`, factorised by `lu` (a
+    /// solver used before, or a new one) and its solution checked.
     fn node_chain(
         (m, nodes, k): (usize, usize, usize),
         (symmetric, diagonal): (bool, f64),
         extra: &[(usize, usize, f64)],
-        seed: &mut u64,
+        (mut lu, seed): (BandedLu, &mut u64),
     ) -> (BandedLu, usize, Vec<f64>) {
         let n = m * nodes;
         let mut a = Triplets::new();
@@ -1035,7 +1045,6 @@ mod tests {
         let x: Vec<f64> = (0..n + k).map(|_| noise(seed)).collect();
         let mut b = vec![0.0; n + k];
         a.mul_vec(&x, &mut b);
-        let mut lu = BandedLu::new();
         lu.factor(n + k, Band { half_bandwidth: 2 * m - 1, border: k }, &a, 0.0).unwrap();
         let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
         lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
@@ -1054,21 +1063,25 @@ mod tests {
         // pattern, half-bandwidth 11) with a border of three: the nodes' matrices give the
         // fixed-width substitution's result to round-off (other sums of the same factors: a
         // few ulps of the solution, entries of order one, on a diagonally dominant matrix), and
-        // `node_chain` checks the solution itself. One entry two nodes away (inside the band)
-        // turns them off, and the fixed path still solves.
+        // `node_chain` checks the solution itself; one node alone too (no node before or
+        // after). One entry two nodes away (inside the band) turns them off, and the fixed path
+        // still solves, with the solver of a chain used again.
         let mut seed = 11;
-        for far_entry in [false, true] {
+        let mut lu = BandedLu::new();
+        for (nodes, far_entry) in [(12, false), (1, false), (12, true)] {
             let extra = if far_entry { vec![(30, 30 - 11, 0.5)] } else { vec![] };
-            let (lu, n, b) = node_chain((6, 12, 3), (false, 60.0), &extra, &mut seed);
+            let chain = node_chain((6, nodes, 3), (false, 60.0), &extra, (lu, &mut seed));
+            let (n, b);
+            (lu, n, b) = chain;
             assert_eq!(lu.node_blocks, !far_entry);
             assert_eq!(lu.node_matrices.is_empty(), far_entry);
             // The band's substitution alone, both ways.
             let mut fixed = b[..n].to_vec();
             crate::fast::run(FixedSolve::<11, false> { lu: &lu, b: &mut fixed });
-            let mut nodes = b[..n].to_vec();
-            lu.solve_band(&mut nodes);
+            let mut by_nodes = b[..n].to_vec();
+            lu.solve_band(&mut by_nodes);
             let scale = fixed.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            for (a, b) in nodes.iter().zip(&fixed) {
+            for (a, b) in by_nodes.iter().zip(&fixed) {
                 assert!((a - b).abs() <= 1e-14 * scale, "far entry {far_entry}: {a} vs {b}");
             }
         }
@@ -1083,7 +1096,8 @@ mod tests {
         let mut seed = 5;
         for far_entry in [false, true] {
             let extra = if far_entry { vec![(30, 25, 0.5), (25, 30, 0.5)] } else { vec![] };
-            let (lu, n, b) = node_chain((3, 20, 2), (true, 40.0), &extra, &mut seed);
+            let (lu, n, b) =
+                node_chain((3, 20, 2), (true, 40.0), &extra, (BandedLu::new(), &mut seed));
             assert_eq!(lu.lower_ahead_nodes.is_empty(), far_entry);
             let mut full = b[..n].to_vec();
             crate::fast::run(FixedSolve::<5, true> { lu: &lu, b: &mut full });

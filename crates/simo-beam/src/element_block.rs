@@ -18,7 +18,7 @@ use crate::rotation::{inverse_series, jacobian_series, log_ratio_series, SERIES_
 use hht::fast::MulAdd;
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// Elements a block (the arrays live on the stack: 27 of them, 64 numbers each). Fewer cost
+/// Elements a block (the block's arrays, [`Scratch`], some 17 kB kept per thread). Fewer cost
 /// their setup a block: 8, 16, 32, 64 and 128 took 18, 10, 8.1, 7.5 and 7.5 us a pass over 256
 /// elements (the paper's tip in 3D, timers in the run).
 const BLOCK: usize = 64;
@@ -185,8 +185,9 @@ struct Gathered {
 }
 
 /// A block's arrays: its nodes, the results by lanes (12 force components and, if asked, 6
-/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range). Every entry a block
-/// reads it has written first.
+/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range). The lane loops run every lane
+/// of a block, past its elements too (on an earlier block's values, or zeros, which give
+/// NaN): what a block uses of them, its own elements' lanes, it has written first.
 pub(crate) struct Scratch {
     nodes: Gathered,
     lanes: [[f64; BLOCK]; 18],
@@ -204,18 +205,26 @@ impl Scratch {
 }
 
 thread_local! {
-    /// Each thread's block arrays, made once: made (zeroed) every pass, their 14 kB took 3 %
-    /// of the paper's tip in 3D.
+    /// Each thread's block arrays, made once: made (zeroed) every pass, they took 3 % of the
+    /// paper's tip in 3D.
     static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Scratch::boxed());
 }
 
 /// Runs `f` with this thread's block arrays; with arrays of its own where a pass runs inside
 /// another (a strain's callback of [`BlockStrains`] that evaluates forces).
 pub(crate) fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
-    SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut scratch) => f(&mut scratch),
-        Err(_) => f(&mut Scratch::boxed()),
-    })
+    // (A nested pass makes and zeroes its own arrays each time, as every pass once did; so
+    // does a pass from a thread's last moments, when its own arrays are gone.)
+    let mut f = Some(f);
+    let kept = SCRATCH.try_with(|cell| {
+        let mut scratch = cell.try_borrow_mut().ok()?;
+        f.take().map(|f| f(&mut scratch))
+    });
+    match (kept, f) {
+        (Ok(Some(result)), _) => result,
+        (_, Some(f)) => f(&mut Scratch::boxed()),
+        (_, None) => unreachable!("the pass ran or is still to run"),
+    }
 }
 
 /// Writes node `node`'s position and quaternion into entry `k` of the arrays of `end`.
@@ -368,23 +377,22 @@ fn whole_block(v: &[f64], start: usize) -> &[f64; BLOCK] {
     v[start..start + BLOCK].try_into().expect("a whole block")
 }
 
-/// The forces (and with `STRAINS` the strains) of the elements `range` of table `t` by the
-/// series, into the lanes `f` and their ranges into `chord2`, from their nodes `g`. A function
+/// The forces (and with `STRAINS` the strains) of table `t`'s block from element `start` by
+/// the series, into the lanes `f` and their ranges into `chord2`, from their nodes `g`. A function
 /// of its own: its `&mut` arguments tell the compiler that the lanes alias nothing it reads
 /// (inline, it checked that at run time, and ran part of the loop on one lane).
 #[inline(always)]
 fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
     fma: A,
-    (t, range): (&'t ElementTable, std::ops::Range<usize>),
+    (t, start): (&'t ElementTable, usize),
     g: (&Gathered, SecondEnds),
     f: &mut [[f64; BLOCK]; 18],
     chord2: &mut [f64; BLOCK],
 ) {
     // Every lane of the block, past its elements too (the table is padded to whole blocks,
     // the nodes' arrays hold an earlier block's): a loop of a fixed count that the compiler
-    // runs on whole vectors (up to `range.len()` it left the last one to four lanes to
-    // one-lane code: a fifth of the loop's time).
-    let start = range.start;
+    // runs on whole vectors (up to the block's element count it left the last one to four
+    // lanes to one-lane code: a fifth of the loop's time).
     let block = |v: &'t [f64]| -> &'t [f64; BLOCK] { whole_block(v, start) };
     let (length, inverse) = (block(&t.length), block(&t.inverse_length));
     let [g0, g1, g2] = t.gamma0.each_ref().map(|v| block(v));
@@ -450,12 +458,12 @@ impl BlockForces<'_> {
         let chain = t.chains[start / BLOCK];
         let Scratch { nodes: g, lanes: f, chord2 } = &mut *self.scratch;
         let second = gather(g, (&t.nodes[start..end], chain), self.positions, self.rotations);
-        forces_by_lanes::<STRAINS, A>(fma, (t, start..end), (g, second), f, chord2);
+        forces_by_lanes::<STRAINS, A>(fma, (t, start), (g, second), f, chord2);
         // The elements the series do not hold (or at a corner) again exactly, into the lanes
         // (looked for element by element only where the block has any).
         let beyond = chord2[..m].iter().fold(false, |b, &c| b | (c >= SERIES_BELOW) | c.is_nan());
-        let exact = if beyond || !t.straight_blocks[start / BLOCK] { 0..m } else { 0..0 };
-        for k in exact {
+        let looked = if beyond || !t.straight_blocks[start / BLOCK] { 0..m } else { 0..0 };
+        for k in looked {
             let e = start + k;
             if t.straight[e] && chord2[k] < SERIES_BELOW {
                 continue;
@@ -466,15 +474,15 @@ impl BlockForces<'_> {
                 [&self.rotations[a], &self.rotations[b]],
             );
             if STRAINS {
-                let exact = self.elements[e].strains(x, r);
+                let strains = self.elements[e].strains(x, r);
                 for c in 0..3 {
-                    f[12 + c][k] = exact.gamma[c];
-                    f[15 + c][k] = exact.kappa[c];
+                    f[12 + c][k] = strains.gamma[c];
+                    f[15 + c][k] = strains.kappa[c];
                 }
             }
-            let exact = self.elements[e].force(x, r);
+            let force = self.elements[e].force(x, r);
             for (i, lane) in f.iter_mut().take(12).enumerate() {
-                lane[k] = exact[i];
+                lane[k] = force[i];
             }
         }
         let (to, out) = ((self.rows, self.dofs), &mut *self.out);
@@ -566,24 +574,6 @@ impl<F: FnMut(usize, Strains<f64>)> hht::fast::Kernel for BlockStrains<'_, F> {
     }
 }
 
-/// The runs of nodes whose six unknowns follow each other node after node: (first node, its
-/// first unknown, nodes), node `first + k`'s unknowns from `unknown + 6 k`.
-pub(crate) fn node_runs(rows: &[Option<usize>]) -> Vec<(usize, usize, usize)> {
-    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
-    for (node, row) in rows.iter().enumerate() {
-        let Some(row) = *row else { continue };
-        match runs.last_mut() {
-            Some((first, unknown, count))
-                if *first + *count == node && *unknown + 6 * *count == row =>
-            {
-                *count += 1;
-            }
-            _ => runs.push((node, row, 1)),
-        }
-    }
-    runs
-}
-
 /// Each node's first unknown where its six are free and numbered in a row (the internal
 /// force then adds a node's six at once), `None` where any is held.
 pub(crate) fn rows(dofs: &[[Option<usize>; 6]]) -> Vec<Option<usize>> {
@@ -634,7 +624,9 @@ mod tests {
             let turn = Vector3::new(noise(), noise(), noise()) * 2e-3;
             q.rotations[node] *= UnitQuaternion::from_scaled_axis(turn);
         }
-        for node in [5, 60] {
+        // (Node 70 in the second block, all straight, no corner: only its own lanes past the
+        // series send it to the exact elements.)
+        for node in [5, 60, 70] {
             q.rotations[node] *= UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.2, 0.1));
         }
         // And node 30 turned from node 29 by 1.90882 rad, where the series of atan(x) / x in
@@ -701,9 +693,9 @@ mod tests {
             let phi = e.length * s.kappa + e.phi0;
             series += usize::from(e.straight() && phi.norm_squared() < SERIES_BELOW);
         }
-        // Both branches ran: the corner's element and the six beside the large turns not by
+        // Both branches ran: the corner's element and the eight beside the large turns not by
         // the series, the rest by it.
-        assert_eq!(series, elements.len() - 7);
+        assert_eq!(series, elements.len() - 9);
         // The force pass that writes the strains too: the same force and the same strains, to
         // the bit (the same formulas in the same order, on both branches).
         let mut lanes: [Vec<f64>; 6] = Default::default();

@@ -136,7 +136,7 @@ pub struct BeamModel {
     /// Each node's first unknown where its six are free and in a row.
     rows: Vec<Option<usize>>,
     /// The runs of nodes with their six unknowns in a row, node after node
-    /// ([`crate::element_block::node_runs`]).
+    /// ([`node_runs`]).
     node_runs: Vec<(usize, usize, usize)>,
     dofs: Vec<[Option<usize>; 6]>,
     ndof: usize,
@@ -213,7 +213,7 @@ impl BeamModel {
     fn number(&mut self, supports: &[Support]) {
         (self.dofs, self.ndof) = number_unknowns(supports, 3);
         self.rows = rows(&self.dofs);
-        self.node_runs = crate::element_block::node_runs(&self.rows);
+        self.node_runs = node_runs(&self.rows);
         self.inertia_plan = InertiaPlan::new(self);
     }
 
@@ -279,7 +279,7 @@ impl BeamModel {
             .collect();
         self.ndof = n;
         self.rows = rows(&self.dofs);
-        self.node_runs = crate::element_block::node_runs(&self.rows);
+        self.node_runs = node_runs(&self.rows);
         self.inertia_plan = InertiaPlan::new(self);
     }
 
@@ -595,7 +595,8 @@ impl BeamModel {
             (0..3).map(|c| va[c] * va[c] + va[c] * vb[c] + vb[c] * vb[c]).sum::<f64>()
         };
         let mut energy = 0.0;
-        // The terms in the order of the element and node lists they come from.
+        // The terms in the order of the element and node lists they come from (where no
+        // element outside a run reaches its nodes; else to round-off).
         for run in &plan.runs {
             for (j, m) in run.masses.iter().enumerate() {
                 let i = run.first + 6 * j;
@@ -768,6 +769,24 @@ impl BeamModel {
     }
 }
 
+/// The runs of nodes whose six unknowns follow each other node after node: (first node, its
+/// first unknown, nodes), node `first + k`'s unknowns from `unknown + 6 k`.
+fn node_runs(rows: &[Option<usize>]) -> Vec<(usize, usize, usize)> {
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    for (node, row) in rows.iter().enumerate() {
+        let Some(row) = *row else { continue };
+        match runs.last_mut() {
+            Some((first, unknown, count))
+                if *first + *count == node && *unknown + 6 * *count == row =>
+            {
+                *count += 1;
+            }
+            _ => runs.push((node, row, 1)),
+        }
+    }
+    runs
+}
+
 /// Whether `j`'s off-diagonal entries are all zero.
 fn is_diagonal(j: &Matrix3<f64>) -> bool {
     (0..3).all(|r| (0..3).all(|c| r == c || j[(r, c)] == 0.0))
@@ -801,7 +820,7 @@ struct InertiaPlan {
     unwritten: Vec<std::ops::Range<usize>>,
     /// (first unknown of node a, of node b, `rho A l0 / 6` (kg)), elements in no run.
     chain: Vec<(usize, usize, f64)>,
-    /// The elements not in `chain`.
+    /// The elements with a node whose six unknowns are not all free and in a row.
     other_elements: Vec<usize>,
     /// (first unknown of the node, its rotary inertia's diagonal (kg m^2)), nodes in no run.
     spinning: Vec<(usize, [f64; 3])>,
@@ -894,7 +913,7 @@ impl InertiaRun {
     /// Writes the run's inertial force into `out` for velocity `v` and acceleration `a`. A
     /// node's translation: its element to the next node's term `m (2 a_j + a_(j+1))`, then
     /// the element from the last node's `m (a_(j-1) + 2 a_j)` (the sum in the element loops'
-    /// order).
+    /// order, where no element outside the run reaches the node).
     #[inline(always)]
     fn write(&self, v: &[f64], a: &[f64], out: &mut [f64]) {
         let n = self.spin.len();
@@ -938,32 +957,38 @@ impl hht::fast::Kernel for Displace<'_> {
 
     #[inline(always)]
     fn run<A: hht::fast::MulAdd>(self, m: A) {
-        let model = self.model;
+        let (model, q, dq) = (self.model, self.q, self.dq);
+        let (positions, rotations) = (&mut self.out.positions, &mut self.out.rotations);
+        // A node by its exact update (nalgebra's exponential), one at a time.
+        let exact =
+            |node: usize| model.displaced_node((&q.positions[node], &q.rotations[node]), dq, node);
+        // (Only the nodes the state has: the caller's `out` is sized to them.)
+        let nodes = q.positions.len().min(model.rows.len());
         let mut done = 0;
         for &(first, unknown, count) in &model.node_runs {
-            // The nodes before this run (none with all six unknowns in a row) one at a time.
-            for node in done..first {
-                (self.out.positions[node], self.out.rotations[node]) = model.displaced_node(
-                    (&self.q.positions[node], &self.q.rotations[node]),
-                    self.dq,
-                    node,
-                );
+            let end = (first + count).min(nodes);
+            // The nodes before this run (none with all six unknowns in a row).
+            for node in done..first.min(nodes) {
+                (positions[node], rotations[node]) = exact(node);
             }
-            done = first + count;
-            let nodes = first..done;
-            let from = self.q.positions[nodes.clone()].iter().zip(&self.q.rotations[nodes.clone()]);
-            let to = self.out.positions[nodes.clone()].iter_mut();
-            let to = to.zip(self.out.rotations[nodes].iter_mut());
-            let rows = self.dq[unknown..unknown + 6 * count].chunks_exact(6);
+            done = end.max(first.min(nodes));
+            if first >= end {
+                break;
+            }
+            let from = q.positions[first..end].iter().zip(&q.rotations[first..end]);
+            let to = positions[first..end].iter_mut().zip(rotations[first..end].iter_mut());
+            let rows = dq[unknown..unknown + 6 * (end - first)].chunks_exact(6);
             // Every node by the series of `rotation::exp` and the product `r0 exp(th)` written
             // out with multiply-adds, in one loop without branches (node by node through
             // nalgebra's types a node took 7 ns, the paper's strip in 3D; with a branch a node
-            // on the turn's size, 5.3 ns); then the nodes turned past the series again exactly.
+            // on the turn's size, 5.3 ns); then the nodes turned past it again exactly.
+            let turn2 = |d: &[f64]| m.mul_add(d[3], d[3], m.mul_add(d[4], d[4], d[5] * d[5]));
+            let past = |a2: f64| a2 >= crate::rotation::SERIES_BELOW || a2.is_nan();
             let mut beyond = false;
-            for ((d, (x0, r0)), (x, r)) in rows.zip(from).zip(to) {
+            for ((d, (x0, r0)), (x, r)) in rows.clone().zip(from).zip(to) {
                 let th = [d[3], d[4], d[5]];
-                let a2 = m.mul_add(th[0], th[0], m.mul_add(th[1], th[1], th[2] * th[2]));
-                beyond |= (a2 >= crate::rotation::SERIES_BELOW) | a2.is_nan();
+                let a2 = turn2(d);
+                beyond |= past(a2);
                 let (w, s) = crate::rotation::exp_series_coefficients(m, a2);
                 let v = th.map(|t| t * s);
                 let q0 = r0.quaternion();
@@ -977,26 +1002,15 @@ impl hht::fast::Kernel for Displace<'_> {
                 *r = UnitQuaternion::new_unchecked(turned);
             }
             if beyond {
-                for node in first..done {
-                    let d = &self.dq[unknown + 6 * (node - first)..];
-                    let a2 = m.mul_add(d[3], d[3], m.mul_add(d[4], d[4], d[5] * d[5]));
-                    if a2 >= crate::rotation::SERIES_BELOW || a2.is_nan() {
-                        (self.out.positions[node], self.out.rotations[node]) = model
-                            .displaced_node(
-                                (&self.q.positions[node], &self.q.rotations[node]),
-                                self.dq,
-                                node,
-                            );
+                for (k, d) in rows.enumerate() {
+                    if past(turn2(d)) {
+                        (positions[first + k], rotations[first + k]) = exact(first + k);
                     }
                 }
             }
         }
-        for node in done..model.rows.len() {
-            (self.out.positions[node], self.out.rotations[node]) = model.displaced_node(
-                (&self.q.positions[node], &self.q.rotations[node]),
-                self.dq,
-                node,
-            );
+        for node in done..nodes {
+            (positions[node], rotations[node]) = exact(node);
         }
     }
 }
