@@ -185,9 +185,9 @@ struct Gathered {
 }
 
 /// A block's arrays: its nodes, the results by lanes (12 force components and, if asked, 6
-/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range). The lane loops run every lane
-/// of a block, past its elements too (on an earlier block's values, or zeros, which give
-/// NaN): what a block uses of them, its own elements' lanes, it has written first.
+/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range). The lane loops run
+/// every lane of a block, past its elements too (on an earlier block's values, or zeros,
+/// which give NaN): what a block uses of them, its own elements' lanes, it has written first.
 pub(crate) struct Scratch {
     nodes: Gathered,
     lanes: [[f64; BLOCK]; 18],
@@ -207,24 +207,19 @@ impl Scratch {
 thread_local! {
     /// Each thread's block arrays, made once: made (zeroed) every pass, they took 3 % of the
     /// paper's tip in 3D.
-    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Scratch::boxed());
+    static SCRATCH: std::cell::Cell<Option<Box<Scratch>>> = const { std::cell::Cell::new(None) };
 }
 
-/// Runs `f` with this thread's block arrays; with arrays of its own where a pass runs inside
-/// another (a strain's callback of [`BlockStrains`] that evaluates forces).
+/// Runs `f` with this thread's block arrays, taken while it runs: a pass inside another (a
+/// strain's callback of [`BlockStrains`] that evaluates forces) makes and zeroes arrays of its
+/// own, as every pass once did.
 pub(crate) fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
-    // (A nested pass makes and zeroes its own arrays each time, as every pass once did; so
-    // does a pass from a thread's last moments, when its own arrays are gone.)
-    let mut f = Some(f);
-    let kept = SCRATCH.try_with(|cell| {
-        let mut scratch = cell.try_borrow_mut().ok()?;
-        f.take().map(|f| f(&mut scratch))
-    });
-    match (kept, f) {
-        (Ok(Some(result)), _) => result,
-        (_, Some(f)) => f(&mut Scratch::boxed()),
-        (_, None) => unreachable!("the pass ran or is still to run"),
-    }
+    let kept = SCRATCH.try_with(std::cell::Cell::take).ok().flatten();
+    let mut scratch = kept.unwrap_or_else(Scratch::boxed);
+    let result = f(&mut scratch);
+    // (Not kept where the thread's storage is already gone, in its last moments.)
+    let _ = SCRATCH.try_with(|cell| cell.set(Some(scratch)));
+    result
 }
 
 /// Writes node `node`'s position and quaternion into entry `k` of the arrays of `end`.
