@@ -35,9 +35,11 @@ impl NewtonWeights {
     }
 }
 
-/// Entries of a sparse matrix in coordinate form. Duplicates are summed. A model must push the
-/// same (row, column) sequence at every call (only the values change): the integrator keeps the
-/// symbolic factorisation of the first pattern and rebuilds it only if the pattern changes.
+/// Entries of a sparse matrix in coordinate form. Duplicates are summed. A model should push
+/// the same (row, column) sequence at every call with weights of the same kind (only the values
+/// change): the sparse LU keeps the symbolic factorisation of the last pattern and rebuilds it
+/// only if the pattern changes. A call without stiffness (`dq = 0`: a mass matrix, or a Newton
+/// matrix's change with the step size) may push only its own entries.
 #[derive(Debug, Clone, Default)]
 pub struct Triplets {
     pub(crate) rows: Vec<usize>,

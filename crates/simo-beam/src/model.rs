@@ -7,7 +7,7 @@ use crate::mesh::Mesh;
 use crate::rotation::skew;
 use faer::{Col, ColMut, ColRef};
 use hht::{NewtonWeights, Triplets};
-use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// How a node is held. A beam scene's `[[support]]` (and an impact scene's
 /// `[[structure.support]]`) names it `kind = "clamped" | "pinned"`; an impact scene's `[beam]`
@@ -1101,19 +1101,31 @@ impl hht::Model for BeamModel {
         let mass = w.inertia * w.da;
         for e in &self.mesh.elements {
             let [na, nb] = e.nodes;
-            // The mass alone (the eigen-solver's M) needs no element force: the same entries
-            // are pushed (the pattern stays), the stiffness' zero.
-            let k = if stiffness == 0.0 {
-                SMatrix::<f64, 12, 12>::zeros()
-            } else {
-                e.force_and_tangent(
+            let m = e.section.rho_a * e.length / 6.0 * mass;
+            let nodes = [na, nb];
+            if stiffness == 0.0 {
+                // The mass alone (the eigen-solver's M, or a Newton matrix's change with the
+                // step size) needs no element stiffness: only the translational mass's own
+                // entries, the diagonals of the four displacement blocks (pushing the whole
+                // 12 x 12 with zeros took 60 % of an event's re-weighted matrix in 3D).
+                for (bi, &ni) in nodes.iter().enumerate() {
+                    for (bj, &nj) in nodes.iter().enumerate() {
+                        let factor = if bi == bj { 2.0 } else { 1.0 };
+                        for c in 0..3 {
+                            if let (Some(row), Some(col)) = (self.dofs[ni][c], self.dofs[nj][c]) {
+                                out.push(row, col, m * factor);
+                            }
+                        }
+                    }
+                }
+                continue;
+            }
+            let k = e
+                .force_and_tangent(
                     [&q.positions[na], &q.positions[nb]],
                     [&q.rotations[na], &q.rotations[nb]],
                 )
-                .1
-            };
-            let m = e.section.rho_a * e.length / 6.0 * mass;
-            let nodes = [na, nb];
+                .1;
             for (bi, &ni) in nodes.iter().enumerate() {
                 for (bj, &nj) in nodes.iter().enumerate() {
                     for (oi, oj) in [(0, 0), (0, 3), (3, 0), (3, 3)] {
@@ -1150,7 +1162,9 @@ impl hht::Model for BeamModel {
         }
         for node in 0..self.node_inertia.len() {
             self.push_block(out, node, 3, node, 3, &node_blocks[node]);
-            self.push_block(out, node, 0, node, 3, &node_force_blocks[node]);
+            if stiffness != 0.0 {
+                self.push_block(out, node, 0, node, 3, &node_force_blocks[node]);
+            }
         }
         for (node, m) in &self.point_masses {
             self.push_block(out, *node, 0, *node, 0, &(Matrix3::identity() * (m * mass)));
