@@ -157,6 +157,9 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     /// Per element, which of the struck faces' pair faces the ball: +1 where the face on the
     /// + side of its normal axis (E3, or E2 on a width face) does, -1 where the - side's does.
     sides: Vec<f64>,
+    /// Per element, the strain energy's weights of the squares of its struck face's strains
+    /// ([`struck_strains`]'s order): `l0 / 2` times the section's stiffness for each.
+    energy_weights: Vec<[f64; 6]>,
     /// Every element's strains (Gamma1..3, K1..3, an array each) at the last net force, from
     /// the same pass, and how many net forces have been evaluated (see
     /// [`super::struck::Struck::force_passes`]).
@@ -238,20 +241,6 @@ pub(crate) fn struck_strains(
     match face {
         Face::Thickness => ((g0, g2, -side * k1), (k2, k0, g1)),
         Face::Width => ((g0, g1, side * k2), (k1, k0, g2)),
-    }
-}
-
-/// The strains (Gamma1..3, K1..3) from [`struck_strains`]'s.
-#[inline(always)]
-pub(crate) fn strains_from_struck(
-    face: Face,
-    side: f64,
-    (planar, out_of_plane): ((f64, f64, f64), OutOfPlane),
-) -> [f64; 6] {
-    let ((g0, shear, curvature), (lateral, k0, other)) = (planar, out_of_plane);
-    match face {
-        Face::Thickness => [g0, other, shear, k0, -side * curvature, lateral],
-        Face::Width => [g0, shear, other, k0, lateral, side * curvature],
     }
 }
 
@@ -488,9 +477,23 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         let up = up.normalize();
         let sides =
             (0..beam.mesh().elements.len()).map(|e| struck_side(&beam, (up, face), e)).collect();
+        // Each element's `l0 / 2` times its EA, GA2, GA3, GJ, EI2, EI3 in the order of the
+        // struck face's strains (the order alone: the signs are the side's).
+        let energy_weights = beam
+            .mesh()
+            .elements
+            .iter()
+            .map(|e| {
+                let c = &e.section;
+                let w = [c.ea, c.ga2, c.ga3, c.gj, c.ei2, c.ei3].map(|c| 0.5 * e.length * c);
+                let ((a, b, c), (d, f, g)) = struck_strains(face, 1.0, w);
+                [a, b, c, d, f, g].map(f64::abs)
+            })
+            .collect();
         Self {
             corner_ends,
             sides,
+            energy_weights,
             beam,
             nb,
             mass,
@@ -559,6 +562,11 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// Per element, which of the struck faces' pair meets the ball ([`struck_side`]).
     pub(crate) fn sides(&self) -> &[f64] {
         &self.sides
+    }
+
+    /// Per element, its strain energy's weights of its struck strains' squares.
+    pub(crate) fn energy_weights(&self) -> &[[f64; 6]] {
+        &self.energy_weights
     }
 
     /// Node `node`'s section rotation about its axis from its reference frame (rad): the
