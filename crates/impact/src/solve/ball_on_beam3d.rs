@@ -721,8 +721,12 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
 
     /// The contact point with its derivatives if the ball touches (`None` otherwise).
     fn touching(&self, q: &BallOnBeam3dConfig, order: Order) -> Option<ContactPoint3d> {
-        let p = self.contact_point(q, Order::Value);
-        (p.delta > self.law.release_approach(&self.law_state)).then(|| self.contact_point(q, order))
+        let release = self.law.release_approach(&self.law_state);
+        // In contact (the last point computed touched), the derivatives at once: the value
+        // first and then the point again with them cost two evaluations a pass in contact.
+        let was = self.last_contact.borrow().as_ref().is_some_and(|(.., p)| p.delta > release);
+        let p = self.contact_point(q, if was { order } else { Order::Value });
+        (p.delta > release).then(|| if was { p } else { self.contact_point(q, order) })
     }
 
     /// delta-dot = grad(delta) . local velocities.
