@@ -14,7 +14,7 @@
 //! [`Element::force`]. Both give the same force to round-off (a test holds them equal).
 
 use crate::element::{Element, Strains};
-use crate::rotation::{inverse_series, jacobian_series, log_ratio_series, SERIES_BELOW};
+use crate::rotation::{inverse_series, log_ratio_series, SERIES_BELOW};
 use hht::fast::MulAdd;
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -32,8 +32,8 @@ pub(crate) struct ElementTable {
     phi0: [Vec<f64>; 3],
     /// EA, GA2, GA3 (N).
     force_stiffness: [Vec<f64>; 3],
-    /// GJ, EI2, EI3 (N m^2).
-    moment_stiffness: [Vec<f64>; 3],
+    /// GJ, EI2, EI3 over the length (N m): the moment from the relative rotation.
+    moment_per_length: [Vec<f64>; 3],
     /// Whether both end frames are the nodes' own (no corner offset).
     straight: Vec<bool>,
     /// Whether each block's elements are all straight.
@@ -61,7 +61,7 @@ impl ElementTable {
                 table.gamma0[k].push(e.gamma0[k]);
                 table.phi0[k].push(e.phi0[k]);
                 table.force_stiffness[k].push(cn[k]);
-                table.moment_stiffness[k].push(cm[k]);
+                table.moment_per_length[k].push(cm[k] / e.length);
             }
             table.straight.push(e.straight());
             table.nodes.push(e.nodes);
@@ -76,7 +76,7 @@ impl ElementTable {
                     &mut table.gamma0,
                     &mut table.phi0,
                     &mut table.force_stiffness,
-                    &mut table.moment_stiffness,
+                    &mut table.moment_per_length,
                 ]
                 .into_iter()
                 .flatten()
@@ -168,12 +168,51 @@ pub(crate) fn dot<A: MulAdd>(m: A, a: [f64; 3], b: [f64; 3]) -> f64 {
     m.mul_add(a[0], b[0], m.mul_add(a[1], b[1], a[2] * b[2]))
 }
 
-/// The vector `v` turned by the unit quaternion `(w, u)`: `v + 2 w u x v + 2 u x (u x v)`.
+/// A unit quaternion `(w, u)` with `2 u` (its turns take it: the multiply by two once, not
+/// once a turn; the element's loop is bound by its multiplies).
+#[derive(Clone, Copy)]
+struct Turn {
+    w: f64,
+    u: [f64; 3],
+    twice_u: [f64; 3],
+}
+
+impl Turn {
+    #[inline(always)]
+    fn new(w: f64, u: [f64; 3]) -> Self {
+        Self { w, u, twice_u: u.map(|u| u + u) }
+    }
+
+    /// `v` turned: `v + 2 w u x v + 2 u x (u x v)`, or by the inverse `(w, -u)` with
+    /// `INVERSE`: `v - 2 w u x v + 2 u x (u x v)`.
+    #[inline(always)]
+    fn apply<const INVERSE: bool, A: MulAdd>(self, m: A, v: [f64; 3]) -> [f64; 3] {
+        let t = cross(m, self.twice_u, v);
+        let ut = cross(m, self.u, t);
+        let w = if INVERSE { -self.w } else { self.w };
+        std::array::from_fn(|c| m.mul_add(w, t[c], v[c] + ut[c]))
+    }
+}
+
+/// The sign bit of an `f64`.
+const SIGN_BIT: u64 = 1 << 63;
+
+/// `x` with its sign flipped where `sign` is [`SIGN_BIT`] (a bit operation, not a multiply).
 #[inline(always)]
-fn turn<A: MulAdd>(m: A, w: f64, u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
-    let t = cross(m, u, v).map(|t| 2.0 * t);
-    let ut = cross(m, u, t);
-    std::array::from_fn(|c| m.mul_add(w, t[c], v[c] + ut[c]))
+fn flipped(x: f64, sign: u64) -> f64 {
+    f64::from_bits(x.to_bits() ^ sign)
+}
+
+/// `(1 - cos(a/2)) / a^2` and `(a/2 - sin(a/2)) / a^3`, the right Jacobian's coefficients at
+/// `phi / 2` over 4 and 8 (`rotation::jacobian_series` at `a^2 / 4`), by their series in
+/// `a2 = a^2`: `1/8 - a^2/384 + a^4/46080` and `1/48 - a^2/3840 + a^4/645120` (the terms left
+/// out, `a^6/1.2e7` and `a^6/2.4e8`, below 1e-19 where the lanes' series hold).
+#[inline(always)]
+fn half_jacobian_series<A: MulAdd>(m: A, a2: f64) -> (f64, f64) {
+    (
+        m.mul_add(a2, m.mul_add(a2, 1.0 / 46080.0, -1.0 / 384.0), 1.0 / 8.0),
+        m.mul_add(a2, m.mul_add(a2, 1.0 / 645_120.0, -1.0 / 3840.0), 1.0 / 48.0),
+    )
 }
 
 /// A block's nodes: positions `x[end][component][element]` and quaternions
@@ -285,10 +324,10 @@ struct Lane {
     /// relative rotation itself: `|phi|^2` from the series would not (past a = 1.9 rad the
     /// series of atan crosses zero, and a large turn would look small).
     chord2: f64,
-    /// The half rotation `exp(phi^ / 2)`, `(w, v)`.
-    half: (f64, [f64; 3]),
-    /// The midpoint rotation `Lambda_1 exp(phi^ / 2)`, `(w, v)`.
-    midpoint: (f64, [f64; 3]),
+    /// The half rotation `exp(phi^ / 2)`.
+    half: Turn,
+    /// The midpoint rotation `Lambda_1 exp(phi^ / 2)`.
+    midpoint: Turn,
     /// `Lambda_m^T d / l0`.
     gamma_full: [f64; 3],
 }
@@ -305,13 +344,14 @@ fn lane<A: MulAdd>(
     let (w1, u1) = (g.q[0][0][k], [g.q[0][1][k], g.q[0][2][k], g.q[0][3][k]]);
     let (w2, u2) = (g.q[e2][0][k2], [g.q[e2][1][k2], g.q[e2][2][k2], g.q[e2][3][k2]]);
     // The relative rotation conj(q1) q2 = (w1 w2 + u1.u2, w1 u2 - w2 u1 - u1 x u2), turned to
-    // w >= 0 (q and -q are one rotation).
+    // w >= 0 (q and -q are one rotation): its w's sign bit, where set, flips the two
+    // coefficients its vector part is taken with below (a bit operation each, not a multiply
+    // of the four parts).
     let c12 = cross(m, u1, u2);
     let rw = m.mul_add(w1, w2, dot(m, u1, u2));
-    let sign = 1.0_f64.copysign(rw);
-    let rw = rw * sign;
-    let rv: [f64; 3] =
-        std::array::from_fn(|c| m.mul_add(w1, u2[c], -m.mul_add(w2, u1[c], c12[c])) * sign);
+    let sign = rw.to_bits() & SIGN_BIT;
+    let rw = rw.abs();
+    let rv: [f64; 3] = std::array::from_fn(|c| m.mul_add(w1, u2[c], -m.mul_add(w2, u1[c], c12[c])));
     // log: phi = v 2 atan(|v| / w) / |v|, by its series in |v|^2 / w^2.
     let s2 = dot(m, rv, rv);
     // 1 / w and 1 / sqrt(2 (1 + w)) by their series in d = 1 - w (below the series bound
@@ -320,26 +360,28 @@ fn lane<A: MulAdd>(
     // x = d / 2, 1 + x / 2 + 3 x^2 / 8 + 5 x^3 / 16.
     let d = 1.0 - rw;
     let inverse_w = m.mul_add(d, m.mul_add(d, m.mul_add(d, 1.0, 1.0), 1.0), 1.0);
-    let ratio = log_ratio_series(s2, inverse_w);
+    let ratio = flipped(log_ratio_series(s2, inverse_w), sign);
     let phi = [rv[0] * ratio, rv[1] * ratio, rv[2] * ratio];
     // The half rotation: the normalised mean of the identity and the relative one.
     let one_plus_w = 1.0 + rw;
     let x = 0.5 * d;
     let inverse_norm =
         0.5 * m.mul_add(x, m.mul_add(x, m.mul_add(x, 5.0 / 16.0, 3.0 / 8.0), 0.5), 1.0);
-    let (hw, hv) = (one_plus_w * inverse_norm, rv.map(|v| v * inverse_norm));
+    let signed_norm = flipped(inverse_norm, sign);
+    let (hw, hv) = (one_plus_w * inverse_norm, rv.map(|v| v * signed_norm));
     // The midpoint rotation q1 half.
     let c1h = cross(m, u1, hv);
     let mw = m.mul_add(w1, hw, -dot(m, u1, hv));
     let mv: [f64; 3] = std::array::from_fn(|c| m.mul_add(w1, hv[c], m.mul_add(hw, u1[c], c1h[c])));
     let d: [f64; 3] = std::array::from_fn(|c| (g.x[e2][c][k2] - g.x[0][c][k]) * inverse_length);
+    let midpoint = Turn::new(mw, mv);
     Lane {
         phi,
         angle2: dot(m, phi, phi),
         chord2: 4.0 * s2,
-        half: (hw, hv),
-        midpoint: (mw, mv),
-        gamma_full: turn(m, mw, mv.map(|v| -v), d),
+        half: Turn::new(hw, hv),
+        midpoint,
+        gamma_full: midpoint.apply::<true, A>(m, d),
     }
 }
 
@@ -401,37 +443,33 @@ fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
     let [g0, g1, g2] = t.gamma0.each_ref().map(|v| block(v));
     let [p0, p1, p2] = t.phi0.each_ref().map(|v| block(v));
     let [n0, n1, n2] = t.force_stiffness.each_ref().map(|v| block(v));
-    let [m0, m1, m2] = t.moment_stiffness.each_ref().map(|v| block(v));
+    let [m0, m1, m2] = t.moment_per_length.each_ref().map(|v| block(v));
     for k in 0..BLOCK {
-        let Lane { phi, angle2: a2, chord2: range, half: (hw, hv), midpoint: (mw, mv), gamma_full } =
+        let Lane { phi, angle2: a2, chord2: range, half, midpoint, gamma_full } =
             lane(fma, g, k, inverse[k]);
         chord2[k] = range;
         let strain = [gamma_full[0] - g0[k], gamma_full[1] - g1[k], gamma_full[2] - g2[k]];
-        let curvature = [
-            (phi[0] - p0[k]) * inverse[k],
-            (phi[1] - p1[k]) * inverse[k],
-            (phi[2] - p2[k]) * inverse[k],
-        ];
+        let turn = [phi[0] - p0[k], phi[1] - p1[k], phi[2] - p2[k]];
         // Into the block's own lanes (a branch on the caller's arrays here kept the loop
         // from the vector lanes: the 3D run took 37 % longer).
         if STRAINS {
             for c in 0..3 {
                 f[12 + c][k] = strain[c];
-                f[15 + c][k] = curvature[c];
+                f[15 + c][k] = turn[c] * inverse[k];
             }
         }
-        // N = C_N Gamma, M = C_M K.
+        // N = C_N Gamma, M = C_M K = (C_M / l0) (phi - phi0).
         let n = [strain[0] * n0[k], strain[1] * n1[k], strain[2] * n2[k]];
-        let moment = [curvature[0] * m0[k], curvature[1] * m1[k], curvature[2] * m2[k]];
-        let n_spatial = turn(fma, mw, mv, n);
+        let moment = [turn[0] * m0[k], turn[1] * m1[k], turn[2] * m2[k]];
+        let n_spatial = midpoint.apply::<false, A>(fma, n);
         let c = cross(fma, n, gamma_full).map(|c| c * length[k]);
-        // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + c1 p x v + c2 p x (p x v).
-        let (j1, j2) = jacobian_series(0.25 * a2);
-        let (hp, ch) = (phi.map(|p| 0.5 * p), c.map(|c| 0.5 * c));
-        let pc = cross(fma, hp, ch);
-        let ppc = cross(fma, hp, pc);
+        // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + j1 p x v + j2 p x (p x v): with p and
+        // v the halves of phi and c, M + c / 2 + (j1 / 4) phi x c + (j2 / 8) phi x (phi x c).
+        let (k1, k2) = half_jacobian_series(fma, a2);
+        let pc = cross(fma, phi, c);
+        let ppc = cross(fma, phi, pc);
         let mt: [f64; 3] = std::array::from_fn(|i| {
-            fma.mul_add(j1, pc[i], fma.mul_add(j2, ppc[i], moment[i] + ch[i]))
+            fma.mul_add(k1, pc[i], fma.mul_add(k2, ppc[i], fma.mul_add(0.5, c[i], moment[i])))
         });
         // f_th2 = J_r(phi)^-T m~ = m~ - phi x m~ / 2 + coefficient phi x (phi x m~).
         let coefficient = inverse_series(a2);
@@ -441,8 +479,9 @@ fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
             fma.mul_add(coefficient, ppm[i], fma.mul_add(-0.5, pm[i], mt[i]))
         });
         // f_th1 = half (c - half f_th2).
-        let turned = turn(fma, hw, hv, f_th2);
-        let f_th1 = turn(fma, hw, hv, [c[0] - turned[0], c[1] - turned[1], c[2] - turned[2]]);
+        let turned = half.apply::<false, A>(fma, f_th2);
+        let f_th1 =
+            half.apply::<false, A>(fma, [c[0] - turned[0], c[1] - turned[1], c[2] - turned[2]]);
         for i in 0..3 {
             f[i][k] = -n_spatial[i];
             f[3 + i][k] = f_th1[i];

@@ -49,26 +49,27 @@ pub fn log_and_half<T: RealField + Copy>(q: &Quaternion<T>) -> (Vector3<T>, Quat
 }
 
 /// `2 atan2(|v|, w) / |v|` by its series in `x = |v|^2 / w^2` (from `s2 = |v|^2` and `1 / w`):
-/// `2 / w (1 - x / 3 + x^2 / 5 - x^3 / 7)`, for `s2` below [`SERIES_BELOW`].
+/// `2 / w (1 - x / 3 + x^2 / 5 - x^3 / 7)` by Horner's rule, for `s2` below [`SERIES_BELOW`].
 #[inline(always)]
 pub(crate) fn log_ratio_series<T: RealField + Copy>(s2: T, inverse_w: T) -> T {
     let x = s2 * inverse_w * inverse_w;
-    (c::<T>(2.0) * inverse_w)
-        * (T::one() - x * c(1.0 / 3.0) + x * x * c(1.0 / 5.0) - x * x * x * c(1.0 / 7.0))
+    let series = T::one() + x * (c::<T>(-1.0 / 3.0) + x * (c::<T>(1.0 / 5.0) - x * c(1.0 / 7.0)));
+    (inverse_w + inverse_w) * series
 }
 
-/// [`inverse_coefficient`]'s series below [`SERIES_BELOW`].
+/// [`inverse_coefficient`]'s series below [`SERIES_BELOW`]: `1/12 + a^2/720 + a^4/30240`.
 #[inline(always)]
 pub(crate) fn inverse_series<T: RealField + Copy>(a2: T) -> T {
-    c::<T>(1.0 / 12.0) + a2 * c(1.0 / 720.0) + a2 * a2 * c(1.0 / 30240.0)
+    c::<T>(1.0 / 12.0) + a2 * (c::<T>(1.0 / 720.0) + a2 * c(1.0 / 30240.0))
 }
 
-/// [`jacobian_coefficients`]' series below [`SERIES_BELOW`].
+/// [`jacobian_coefficients`]' series below [`SERIES_BELOW`]: `1/2 - a^2/24 + a^4/720` and
+/// `1/6 - a^2/120 + a^4/5040`.
 #[inline(always)]
 pub(crate) fn jacobian_series<T: RealField + Copy>(a2: T) -> (T, T) {
     (
-        c::<T>(0.5) - a2 * c(1.0 / 24.0) + a2 * a2 * c(1.0 / 720.0),
-        c::<T>(1.0 / 6.0) - a2 * c(1.0 / 120.0) + a2 * a2 * c(1.0 / 5040.0),
+        c::<T>(0.5) + a2 * (c::<T>(-1.0 / 24.0) + a2 * c(1.0 / 720.0)),
+        c::<T>(1.0 / 6.0) + a2 * (c::<T>(-1.0 / 120.0) + a2 * c(1.0 / 5040.0)),
     )
 }
 
