@@ -457,12 +457,16 @@ impl BandedLu {
         let matrices = self.node_matrices.chunks_exact(4 * M * M);
         let mut last = [0.0; M];
         for (node, m) in b.chunks_exact_mut(M).zip(matrices.clone()) {
-            last = node_step(arith, (&m[..M * M], node), (&m[M * M..2 * M * M], &last));
+            last = node_step::<true, A>(arith, (&m[..M * M], node), (&m[M * M..2 * M * M], &last));
             node.copy_from_slice(&last);
         }
         let mut last = [0.0; M];
         for (node, m) in b.chunks_exact_mut(M).zip(matrices).rev() {
-            last = node_step(arith, (&m[2 * M * M..3 * M * M], node), (&m[3 * M * M..], &last));
+            last = node_step::<false, A>(
+                arith,
+                (&m[2 * M * M..3 * M * M], node),
+                (&m[3 * M * M..], &last),
+            );
             node.copy_from_slice(&last);
         }
     }
@@ -710,9 +714,13 @@ impl crate::fast::Kernel for NodeMatrices<'_> {
 
 /// `own x - other last` for 6 x 6 matrices column by column, the product with `last` in two
 /// partial sums (a function, not a closure: a closure's body was not compiled into the
-/// kernel's copy with the fused multiply-add, and called the library's).
+/// kernel's copy with the fused multiply-add, and called the library's). `own` is triangular,
+/// lower with `OWN_LOWER` (`P_i`), else upper (`R_i`): its rows 0..4 and 4..6 (a vector and a
+/// half) are taken apart, each from the columns not zero in it (the lower's rows 0..4 from
+/// columns 0..4, the upper's rows 4..6 from columns 4..6: 10 and 8 of the 12 products, the
+/// same sums, since the terms left out are zeros).
 #[inline(always)]
-fn node_step<A: MulAdd>(
+fn node_step<const OWN_LOWER: bool, A: MulAdd>(
     arith: A,
     (own, x): (&[f64], &[f64]),
     (other, last): (&[f64], &[f64; 6]),
@@ -720,8 +728,14 @@ fn node_step<A: MulAdd>(
     const M: usize = 6;
     let (own, other) = (&own[..M * M], &other[..M * M]);
     let mut t = [0.0; M];
-    for c in 0..M {
-        for r in 0..M {
+    let (top, bottom) = if OWN_LOWER { (0..4, 0..M) } else { (0..M, 4..M) };
+    for c in top {
+        for r in 0..4 {
+            t[r] = arith.mul_add(own[c * M + r], x[c], t[r]);
+        }
+    }
+    for c in bottom {
+        for r in 4..M {
             t[r] = arith.mul_add(own[c * M + r], x[c], t[r]);
         }
     }
