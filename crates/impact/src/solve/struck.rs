@@ -314,12 +314,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
         last_pass: bool,
     ) {
         let (face, sides) = (self.face(), self.sides());
-        let taken = last_pass
-            && self.last_pass_strains(|e, strains| {
-                (out[e], out_of_plane[e]) =
-                    super::ball_on_beam3d::struck_strains(face, sides[e], strains);
-            });
-        if !taken {
+        if !(last_pass && self.last_pass_strains(out, out_of_plane)) {
             self.beam().each_strain(&q.beam, |e, s| {
                 let (g, k) = (s.gamma, s.kappa);
                 (out[e], out_of_plane[e]) = super::ball_on_beam3d::struck_strains(
