@@ -26,7 +26,6 @@ const BLOCK: usize = 64;
 /// Each element's constants as arrays (one entry an element), for the block loops.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ElementTable {
-    length: Vec<f64>,
     inverse_length: Vec<f64>,
     gamma0: [Vec<f64>; 3],
     phi0: [Vec<f64>; 3],
@@ -54,7 +53,6 @@ impl ElementTable {
     pub(crate) fn new(elements: &[Element]) -> Self {
         let mut table = Self::default();
         for e in elements {
-            table.length.push(e.length);
             table.inverse_length.push(1.0 / e.length);
             let (cn, cm) = (e.section.force_stiffness(), e.section.moment_stiffness());
             for k in 0..3 {
@@ -69,20 +67,18 @@ impl ElementTable {
         }
         // The lanes' arrays padded to whole blocks (a unit length, no stiffness): the block
         // loop runs every lane.
-        let whole = table.length.len().next_multiple_of(BLOCK);
-        for (v, pad) in
-            [(&mut table.length, 1.0), (&mut table.inverse_length, 1.0)].into_iter().chain(
-                [
-                    &mut table.gamma0,
-                    &mut table.phi0,
-                    &mut table.force_stiffness,
-                    &mut table.moment_per_length,
-                ]
-                .into_iter()
-                .flatten()
-                .map(|v| (v, 0.0)),
-            )
-        {
+        let whole = table.inverse_length.len().next_multiple_of(BLOCK);
+        for (v, pad) in [(&mut table.inverse_length, 1.0)].into_iter().chain(
+            [
+                &mut table.gamma0,
+                &mut table.phi0,
+                &mut table.force_stiffness,
+                &mut table.moment_per_length,
+            ]
+            .into_iter()
+            .flatten()
+            .map(|v| (v, 0.0)),
+        ) {
             v.resize(whole, pad);
         }
         table.straight_blocks =
@@ -328,6 +324,8 @@ struct Lane {
     half: Turn,
     /// The midpoint rotation `Lambda_1 exp(phi^ / 2)`.
     midpoint: Turn,
+    /// `Lambda_m^T d` (m), `d` the chord between the nodes.
+    chord: [f64; 3],
     /// `Lambda_m^T d / l0`.
     gamma_full: [f64; 3],
 }
@@ -373,15 +371,18 @@ fn lane<A: MulAdd>(
     let c1h = cross(m, u1, hv);
     let mw = m.mul_add(w1, hw, -dot(m, u1, hv));
     let mv: [f64; 3] = std::array::from_fn(|c| m.mul_add(w1, hv[c], m.mul_add(hw, u1[c], c1h[c])));
-    let d: [f64; 3] = std::array::from_fn(|c| (g.x[e2][c][k2] - g.x[0][c][k]) * inverse_length);
+    let d: [f64; 3] = std::array::from_fn(|c| g.x[e2][c][k2] - g.x[0][c][k]);
     let midpoint = Turn::new(mw, mv);
+    let chord = midpoint.apply::<true, A>(m, d);
     Lane {
         phi,
-        angle2: dot(m, phi, phi),
+        // |phi|^2 = |v|^2 ratio^2 (two multiplies, not three).
+        angle2: s2 * (ratio * ratio),
         chord2: 4.0 * s2,
         half: Turn::new(hw, hv),
         midpoint,
-        gamma_full: midpoint.apply::<true, A>(m, d),
+        chord,
+        gamma_full: chord.map(|c| c * inverse_length),
     }
 }
 
@@ -439,13 +440,13 @@ fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
     // runs on whole vectors (up to the block's element count it left the last one to four
     // lanes to one-lane code: a fifth of the loop's time).
     let block = |v: &'t [f64]| -> &'t [f64; BLOCK] { whole_block(v, start) };
-    let (length, inverse) = (block(&t.length), block(&t.inverse_length));
+    let inverse = block(&t.inverse_length);
     let [g0, g1, g2] = t.gamma0.each_ref().map(|v| block(v));
     let [p0, p1, p2] = t.phi0.each_ref().map(|v| block(v));
     let [n0, n1, n2] = t.force_stiffness.each_ref().map(|v| block(v));
     let [m0, m1, m2] = t.moment_per_length.each_ref().map(|v| block(v));
     for k in 0..BLOCK {
-        let Lane { phi, angle2: a2, chord2: range, half, midpoint, gamma_full } =
+        let Lane { phi, angle2: a2, chord2: range, half, midpoint, chord, gamma_full } =
             lane(fma, g, k, inverse[k]);
         chord2[k] = range;
         let strain = [gamma_full[0] - g0[k], gamma_full[1] - g1[k], gamma_full[2] - g2[k]];
@@ -462,7 +463,8 @@ fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
         let n = [strain[0] * n0[k], strain[1] * n1[k], strain[2] * n2[k]];
         let moment = [turn[0] * m0[k], turn[1] * m1[k], turn[2] * m2[k]];
         let n_spatial = midpoint.apply::<false, A>(fma, n);
-        let c = cross(fma, n, gamma_full).map(|c| c * length[k]);
+        // c = l0 N x Gamma_full = N x Lambda_m^T d.
+        let c = cross(fma, n, chord);
         // m~ = M + J_r(phi / 2)^T c / 2, J_r(p)^T v = v + j1 p x v + j2 p x (p x v): with p and
         // v the halves of phi and c, M + c / 2 + (j1 / 4) phi x c + (j2 / 8) phi x (phi x c).
         let (k1, k2) = half_jacobian_series(fma, a2);
