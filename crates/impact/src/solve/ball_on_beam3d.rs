@@ -58,22 +58,27 @@ fn turned_width_axis(frame: &UnitQuaternion<f64>, r: &UnitQuaternion<f64>) -> (f
     (1.0 - 2.0 * (i * i + k * k), 2.0 * (j * k + w * i))
 }
 
-/// The node whose section is twisted most (the last of equals; `None` without nodes): the
-/// largest [`pseudo_angle`] of the width axis [`turned_width_axis`] of `rotations` from their
-/// reference `frames`, the same numbers by the same operations, a block of nodes at a time in
-/// plain arithmetic that the vector lanes run (node by node through nalgebra's quaternions it
-/// took 3.5 % of a 3D run: every accepted step asks).
+/// The node whose section is twisted most (the last of equals), if its rank is above `floor`
+/// (`None` otherwise, or without nodes): the largest [`pseudo_angle`] of the width axis
+/// [`turned_width_axis`] of `rotations` from their reference `frames`, the same numbers by the
+/// same operations, a block of nodes at a time in plain arithmetic that the vector lanes run
+/// (node by node through nalgebra's quaternions it took 3.5 % of a 3D run: every accepted step
+/// asks). A block's largest rank is taken without branches, and its node looked for only where
+/// it is above the floor and the blocks' before (a node at a time, the ranks' comparisons took
+/// 1 % of the run).
 pub(crate) fn most_twisted_node(
     frames: &[UnitQuaternion<f64>],
     rotations: &[UnitQuaternion<f64>],
+    floor: f64,
 ) -> Option<usize> {
-    hht::fast::run(MostTwisted { frames, rotations })
+    hht::fast::run(MostTwisted { frames, rotations, floor })
 }
 
 /// [`most_twisted_node`] as a [`hht::fast::Kernel`].
 struct MostTwisted<'a> {
     frames: &'a [UnitQuaternion<f64>],
     rotations: &'a [UnitQuaternion<f64>],
+    floor: f64,
 }
 
 impl hht::fast::Kernel for MostTwisted<'_> {
@@ -96,10 +101,11 @@ impl hht::fast::Kernel for MostTwisted<'_> {
                 let k = s[3] * r[2] + s[0] * r[1] - s[1] * r[0] + s[2] * r[3];
                 *rank = pseudo_angle((1.0 - 2.0 * (i * i + k * k), 2.0 * (j * k + w * i)));
             }
-            for (k, &rank) in ranks[..frames.len()].iter().enumerate() {
-                if best.is_none_or(|b| rank >= b.1) {
-                    best = Some((b * BLOCK + k, rank));
-                }
+            let ranks = &ranks[..frames.len()];
+            let largest = hht::fast::largest_magnitude(ranks);
+            if largest > self.floor && best.is_none_or(|b| largest >= b.1) {
+                let k = ranks.iter().rposition(|&r| r >= largest).unwrap_or(0);
+                best = Some((b * BLOCK + k, largest));
             }
         }
         best.map(|(node, _)| node)
@@ -601,17 +607,28 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     /// The node whose section is twisted most about its own member's axis, and the twist's
     /// size (rad): every node about its own frame's axis, and at a corner also the other
     /// member's end section about that member's axis ([`Self::end_twist`]).
-    pub(crate) fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
-        // Ranked without an arc tangent a node (every accepted step asks): one for the node.
+    pub(crate) fn largest_twist(
+        &self,
+        q: &BallOnBeam3dConfig,
+        beyond: f64,
+    ) -> Option<(usize, f64)> {
+        // Ranked without an arc tangent a node (every accepted step asks): one for the node,
+        // and none where no node's rank is above the rank of a twist `beyond`.
+        let floor = if beyond >= 0.0 { pseudo_angle((beyond.cos(), beyond.sin())) } else { -1.0 };
         let frames = &self.beam.mesh().frames;
-        let node = most_twisted_node(frames, &q.beam.rotations)?;
-        let nodes = self.corner_ends.iter().map(|&(e, end)| {
+        let node = most_twisted_node(frames, &q.beam.rotations, floor)
+            .map(|node| (node, self.node_twist(q, node).abs()));
+        let ends = self.corner_ends.iter().map(|&(e, end)| {
             (self.beam.mesh().elements[e].nodes[end], self.end_twist(q, e, end).abs())
         });
-        Some(
-            nodes
-                .fold((node, self.node_twist(q, node).abs()), |a, b| if b.1 > a.1 { b } else { a }),
-        )
+        let largest = node.into_iter().chain(ends).fold(None, |a: Option<(usize, f64)>, b| {
+            if a.is_none_or(|a| b.1 > a.1) {
+                Some(b)
+            } else {
+                a
+            }
+        })?;
+        (largest.1 > beyond).then_some(largest)
     }
 
     /// Keeps the contact element of configuration `q` (an accepted step) for the next steps.
@@ -962,10 +979,15 @@ mod tests {
                     best
                 }
             });
-            assert_eq!(most_twisted_node(&frames, &rotations), scalar.map(|b| b.0));
-            assert_eq!(most_twisted_node(&frames, &rotations), Some(largest.max(largest / 2)));
+            assert_eq!(most_twisted_node(&frames, &rotations, -1.0), scalar.map(|b| b.0));
+            let node = Some(largest.max(largest / 2));
+            assert_eq!(most_twisted_node(&frames, &rotations, -1.0), node);
+            // None at or above the largest rank's floor, the node just below it.
+            let rank = scalar.map_or(0.0, |b| b.1);
+            assert_eq!(most_twisted_node(&frames, &rotations, rank), None);
+            assert_eq!(most_twisted_node(&frames, &rotations, rank * (1.0 - 1e-12)), node);
         }
-        assert_eq!(most_twisted_node(&[], &[]), None);
+        assert_eq!(most_twisted_node(&[], &[], -1.0), None);
         // The rank of a turn is its pseudo-angle.
         let frame = UnitQuaternion::from_scaled_axis(Vector3::new(0.1, 0.2, 0.3));
         let turned = frame * UnitQuaternion::from_scaled_axis(Vector3::new(-0.4, 0.0, 0.0));
@@ -1165,7 +1187,7 @@ mod tests {
         assert!(first.abs() < 1e-12, "{first}");
         assert!(model.node_twist(&q, 4).abs() < 1e-12);
         // The largest anywhere is the corner's, read about the second member's axis.
-        let (node, largest) = model.largest_twist(&q).unwrap();
+        let (node, largest) = model.largest_twist(&q, -1.0).unwrap();
         assert_eq!(node, 4);
         assert!((largest - 0.01).abs() < 1e-12, "{largest}");
     }

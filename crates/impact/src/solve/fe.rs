@@ -355,7 +355,9 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
         if twist > self.max_twist.0 {
             self.max_twist = (twist, self.state.t);
         }
-        if let Some((node, value)) = self.model.largest_twist(&self.state.q) {
+        // (Asked only for a twist beyond the largest so far: at most steps no node has one.)
+        let beyond = self.largest_twist.map_or(-1.0, |l| l.0);
+        if let Some((node, value)) = self.model.largest_twist(&self.state.q, beyond) {
             if self.largest_twist.is_none_or(|l| value > l.0) {
                 self.largest_twist = Some((value, node, self.state.t));
             }

@@ -41,9 +41,10 @@ pub(crate) trait Struck<L: ContactLaw>: Model {
     fn face_rows(&self, impact: (usize, f64)) -> Vec<(usize, f64)>;
     /// The struck section's rotation about the beam's axis (rad; 0 in the plane).
     fn twist(&self, q: &Self::Config, impact: (usize, f64)) -> f64;
-    /// The node whose section is turned most about its own axis, and by how much (rad);
-    /// `None` in the plane.
-    fn largest_twist(&self, q: &Self::Config) -> Option<(usize, f64)>;
+    /// The node whose section is turned most about its own axis, and by how much (rad), if
+    /// by more than `beyond` (rad; the largest so far, a negative number for any); `None`
+    /// otherwise and in the plane.
+    fn largest_twist(&self, q: &Self::Config, beyond: f64) -> Option<(usize, f64)>;
     /// How many net forces the model has evaluated. A state returned by an integrator step is
     /// the configuration of the step's last net force (`hht`'s Newton iteration evaluates the
     /// balance at its last iterate and returns that iterate), so while this count has not
@@ -198,7 +199,7 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam<'_, L> {
     fn twist(&self, _q: &BallOnBeamConfig, _impact: (usize, f64)) -> f64 {
         0.0
     }
-    fn largest_twist(&self, _q: &BallOnBeamConfig) -> Option<(usize, f64)> {
+    fn largest_twist(&self, _q: &BallOnBeamConfig, _beyond: f64) -> Option<(usize, f64)> {
         None
     }
     fn force_passes(&self) -> u64 {
@@ -296,8 +297,8 @@ impl<L: ContactLaw> Struck<L> for BallOnBeam3d<'_, L> {
     fn twist(&self, q: &BallOnBeam3dConfig, (i, xi): (usize, f64)) -> f64 {
         between((self.end_twist(q, i, 0), self.end_twist(q, i, 1)), xi)
     }
-    fn largest_twist(&self, q: &BallOnBeam3dConfig) -> Option<(usize, f64)> {
-        BallOnBeam3d::largest_twist(self, q)
+    fn largest_twist(&self, q: &BallOnBeam3dConfig, beyond: f64) -> Option<(usize, f64)> {
+        BallOnBeam3d::largest_twist(self, q, beyond)
     }
     /// The struck face's strains ([`super::ball_on_beam3d::struck_strains`]): on a `[beam]`'s thickness
     /// face (Gamma1, Gamma3, -K2), extension, the shear along the thickness and the bending
