@@ -98,6 +98,11 @@ impl ElementTable {
         table
     }
 
+    /// The lanes' arrays' length: the elements padded to a whole number of blocks.
+    pub(crate) fn padded(&self) -> usize {
+        self.inverse_length.len()
+    }
+
     /// Each element's nodes.
     pub(crate) fn nodes(&self) -> &[[usize; 2]] {
         &self.nodes
@@ -122,8 +127,8 @@ pub(crate) struct BlockForces<'a> {
     /// Each node's first unknown where all six are free and in a row.
     pub rows: &'a [Option<usize>],
     pub out: &'a mut [f64],
-    /// Each element's strains (Gamma1..3, K1..3, one array each, an entry an element), written
-    /// too if given.
+    /// Each element's strains (Gamma1..3, K1..3, one array each, an entry an element, padded
+    /// past the last to a whole number of blocks), written too if given.
     pub strains: Option<&'a mut [Vec<f64>; 6]>,
     /// The block's arrays ([`with_scratch`]).
     pub scratch: &'a mut Scratch,
@@ -423,16 +428,25 @@ fn whole_block(v: &[f64], start: usize) -> &[f64; BLOCK] {
     v[start..start + BLOCK].try_into().expect("a whole block")
 }
 
-/// The forces (and with `STRAINS` the strains) of table `t`'s block from element `start` by
-/// the series, into the lanes `f` and their ranges into `chord2`, from their nodes `g`. A function
-/// of its own: its `&mut` arguments tell the compiler that the lanes alias nothing it reads
-/// (inline, it checked that at run time, and ran part of the loop on one lane).
+/// [`whole_block`] to write (the strains' arrays, padded to whole blocks by the model).
+#[inline(always)]
+fn whole_block_mut(v: &mut [f64], start: usize) -> &mut [f64; BLOCK] {
+    #[allow(clippy::expect_used)] // padded to whole blocks
+    (&mut v[start..start + BLOCK]).try_into().expect("a whole block")
+}
+
+/// The forces (and with `STRAINS` the strains, into `strains`) of table `t`'s block from
+/// element `start` by the series, into the lanes `f` and their ranges into `chord2`, from their
+/// nodes `g`. A function of its own: its `&mut` arguments tell the compiler that the lanes
+/// alias nothing it reads (inline, it checked that at run time, and ran part of the loop on one
+/// lane).
 #[inline(always)]
 fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
     fma: A,
     (t, start): (&'t ElementTable, usize),
     g: (&Gathered, SecondEnds),
-    f: &mut [[f64; BLOCK]; 18],
+    f: &mut [[f64; BLOCK]; 12],
+    [s0, s1, s2, s3, s4, s5]: [&mut [f64; BLOCK]; 6],
     chord2: &mut [f64; BLOCK],
 ) {
     // Every lane of the block, past its elements too (the table is padded to whole blocks,
@@ -451,13 +465,12 @@ fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
         chord2[k] = range;
         let strain = [gamma_full[0] - g0[k], gamma_full[1] - g1[k], gamma_full[2] - g2[k]];
         let turn = [phi[0] - p0[k], phi[1] - p1[k], phi[2] - p2[k]];
-        // Into the block's own lanes (a branch on the caller's arrays here kept the loop
-        // from the vector lanes: the 3D run took 37 % longer).
+        // (A branch on whether to write them here, not a constant, kept the loop from the
+        // vector lanes: the 3D run took 37 % longer.)
         if STRAINS {
-            for c in 0..3 {
-                f[12 + c][k] = strain[c];
-                f[15 + c][k] = turn[c] * inverse[k];
-            }
+            (s0[k], s1[k], s2[k]) = (strain[0], strain[1], strain[2]);
+            (s3[k], s4[k], s5[k]) =
+                (turn[0] * inverse[k], turn[1] * inverse[k], turn[2] * inverse[k]);
         }
         // N = C_N Gamma, M = C_M K = (C_M / l0) (phi - phi0).
         let n = [strain[0] * n0[k], strain[1] * n1[k], strain[2] * n2[k]];
@@ -500,9 +513,20 @@ impl BlockForces<'_> {
         let m = end - start;
         let t = self.table;
         let chain = t.chains[start / BLOCK];
-        let Scratch { nodes: g, lanes: f, chord2 } = &mut *self.scratch;
+        let Scratch { nodes: g, lanes, chord2 } = &mut *self.scratch;
+        let (f, own) = lanes.split_at_mut(12);
+        #[allow(clippy::expect_used)] // 18 lanes: 12 and 6
+        let (f, own): (&mut [[f64; BLOCK]; 12], &mut [[f64; BLOCK]; 6]) =
+            (f.try_into().expect("12 lanes"), own.try_into().expect("6 lanes"));
+        // The strains straight into the caller's arrays (padded to whole blocks), not into
+        // the block's lanes and copied (2 % of the paper's tip in 3D); without them, into the
+        // block's own, unwritten.
+        let strains = match self.strains.as_deref_mut() {
+            Some(s) => s.each_mut().map(|s| whole_block_mut(s, start)),
+            None => own.each_mut(),
+        };
         let second = gather(g, (&t.nodes[start..end], chain), self.positions, self.rotations);
-        forces_by_lanes::<STRAINS, A>(fma, (t, start), (g, second), f, chord2);
+        forces_by_lanes::<STRAINS, A>(fma, (t, start), (g, second), f, strains, chord2);
         // The elements the series do not hold (or at a corner) again exactly, into the lanes
         // (looked for element by element only where the block has any).
         let beyond = chord2[..m].iter().fold(false, |b, &c| b | (c >= SERIES_BELOW) | c.is_nan());
@@ -517,15 +541,15 @@ impl BlockForces<'_> {
                 [&self.positions[a], &self.positions[b]],
                 [&self.rotations[a], &self.rotations[b]],
             );
-            if STRAINS {
+            if let (true, Some(out)) = (STRAINS, self.strains.as_deref_mut()) {
                 let strains = self.elements[e].strains(x, r);
                 for c in 0..3 {
-                    f[12 + c][k] = strains.gamma[c];
-                    f[15 + c][k] = strains.kappa[c];
+                    out[c][e] = strains.gamma[c];
+                    out[3 + c][e] = strains.kappa[c];
                 }
             }
             let force = self.elements[e].force(x, r);
-            for (i, lane) in f.iter_mut().take(12).enumerate() {
+            for (i, lane) in f.iter_mut().enumerate() {
                 lane[k] = force[i];
             }
         }
@@ -547,15 +571,6 @@ impl BlockForces<'_> {
                     add_to_node(to, out, a, [end_force(0, k)]);
                     add_to_node(to, out, b, [end_force(1, k)]);
                 }
-            }
-        }
-        if let (true, Some(strains)) = (STRAINS, self.strains.as_deref_mut()) {
-            // Element by element, the six at once (a copy a strain called the library's
-            // memmove six times a block: 1.6 % of the paper's tip in 3D).
-            let [s0, s1, s2, s3, s4, s5] = strains.each_mut().map(|s| &mut s[start..end]);
-            for k in 0..m {
-                (s0[k], s1[k], s2[k]) = (f[12][k], f[13][k], f[14][k]);
-                (s3[k], s4[k], s5[k]) = (f[15][k], f[16][k], f[17][k]);
             }
         }
     }

@@ -556,7 +556,8 @@ impl BeamModel {
 
     /// [`hht::Model::net_force`] that also writes every element's strains at `q` into
     /// `strains` (Gamma1, Gamma2, Gamma3, K1, K2, K3: an array each, an entry an element,
-    /// resized to the elements), from the same pass: a step's last force evaluation then
+    /// resized to the elements padded to whole blocks of the element pass: the entries past
+    /// the last element are not strains), from the same pass: a step's last force evaluation then
     /// gives its state's strains without a second pass over the elements' rotations.
     pub fn net_force_and_strains(
         &self,
@@ -565,8 +566,10 @@ impl BeamModel {
         out: ColMut<'_, f64>,
         strains: &mut [Vec<f64>; 6],
     ) {
+        // (Padded past the last element to whole blocks: the element pass writes a block's
+        // strains where it computes them.)
         for s in strains.iter_mut() {
-            s.resize(self.mesh.elements.len(), 0.0);
+            s.resize(self.table.padded(), 0.0);
         }
         write_to(out, |out| self.net_force_into(t, q, out, Some(strains)));
     }
