@@ -72,9 +72,13 @@ pub struct BandedLu {
     /// envelope): each node's rows are then a few small matrices ([`node_matrices`]).
     node_blocks: bool,
     /// With [`BandedLu::node_blocks`] at half-bandwidth 11 (the 3D beam's nodes of six), each
-    /// node's substitution as matrices ([`node_matrices`]), 4 x 36 numbers a node; empty
+    /// node's substitution as matrices ([`node_matrices`]), 4 x 36 numbers a node, made at the
+    /// factorisation's [`NODE_MATRICES_AFTER`]th solve (`node_matrices_due` until then); empty
     /// otherwise.
     node_matrices: Vec<f64>,
+    node_matrices_due: bool,
+    /// Solves with the current factors.
+    solves: usize,
     /// Super-diagonals of U that may hold non-zeros: kd without a row interchange (a
     /// diagonally dominant Newton matrix, the usual case), 2 kd with.
     upper: usize,
@@ -168,10 +172,8 @@ impl BandedLu {
             beyond(&self.lower_rows, &|r| m + r) && beyond(&self.scaled_upper, &|r| kd - r)
         };
         self.node_matrices.clear();
-        if self.node_blocks && kd == 11 {
-            let (l, u, d) = (&self.lower_rows, &self.scaled_upper, &self.inverse_diagonal);
-            node_matrices(l, u, d, &mut self.node_matrices);
-        }
+        self.node_matrices_due = self.node_blocks && kd == 11;
+        self.solves = 0;
         self.lower_ahead_nodes.clear();
         self.upper_ahead_nodes.clear();
         if self.node_blocks && kd == 5 {
@@ -443,6 +445,14 @@ impl BandedLu {
         }
     }
 
+    /// Makes the factors' [`node_matrices`] where they are due.
+    fn make_node_matrices(&mut self) {
+        if std::mem::take(&mut self.node_matrices_due) {
+            let (l, u, d) = (&self.lower_rows, &self.scaled_upper, &self.inverse_diagonal);
+            node_matrices(l, u, d, &mut self.node_matrices);
+        }
+    }
+
     /// The substitutions by [`node_matrices`]: forward `y_i = P_i b_i - E_i y_(i-1)`, backward
     /// `x_i = R_i y_i - F_i x_(i+1)`, each node's six rows at once. From one node to the next
     /// the chain is the product with the last node's values, summed in two halves (three
@@ -520,6 +530,10 @@ impl BandedLu {
     /// [`HhtError::Model`] for a right-hand side of the wrong length, [`HhtError::Singular`]
     /// if the solution is not finite.
     pub fn solve_in_place(&mut self, mut rhs: ColMut<'_, f64>, t: f64) -> Result<(), HhtError> {
+        self.solves += 1;
+        if self.node_matrices_due && self.solves >= NODE_MATRICES_AFTER {
+            self.make_node_matrices();
+        }
         let (n, k) = (self.n, self.k);
         if rhs.nrows() != n + k {
             return Err(HhtError::Model(format!(
@@ -748,6 +762,12 @@ fn node_step<const OWN_LOWER: bool, A: MulAdd>(
     }
     std::array::from_fn(|r| (t[r] - s0[r]) - s1[r])
 }
+
+/// The solve with a factorisation at which its [`node_matrices`] are made: until then the
+/// fixed-width path solves. They take some 70 us to make at 256 nodes and save some 3 us a
+/// solve: the one-off factorisation of an event's re-step is solved two to five times, a kept
+/// one hundreds (the paper's tip in 3D made 16 of the first kind and 2 of the second in 1 ms).
+const NODE_MATRICES_AFTER: usize = 8;
 
 /// The substitutions of factors with [`BandedLu::node_blocks`] at half-bandwidth 11 (nodes of
 /// six coupled to their neighbours only) as each node's matrices, 6 x 6 column by column:
@@ -1088,6 +1108,8 @@ mod tests {
             let (n, b);
             (lu, n, b) = chain;
             assert_eq!(lu.node_blocks, !far_entry);
+            assert_eq!(lu.node_matrices_due, !far_entry);
+            lu.make_node_matrices();
             assert_eq!(lu.node_matrices.is_empty(), far_entry);
             // The band's substitution alone, both ways.
             let mut fixed = b[..n].to_vec();
