@@ -324,10 +324,11 @@ impl BandedLu {
         // paper's tip at 256 elements), and without the weights a chain of nodes of three
         // leaves zero where its factors are a chain's (`lower_ahead_nodes`: 1.75 -> 1.64 us).
         // The 3D beam (six unknowns a node, kd = 11) takes each node's matrices where its
-        // factors are a chain's (`node_matrices`; row by row, skipping the zeros of a chain's
-        // factors, 6.1 -> 5.0 us a solve at 256 elements; by the matrices 3.4 us), else the
-        // fixed-width path one row ahead: its instructions set its time, and the weight more a
-        // row made it slower two rows ahead. (The planar beam a node of three at a time took
+        // factors are a chain's, from the factorisation's `NODE_MATRICES_AFTER`th solve
+        // (`node_matrices`; row by row, skipping the zeros of a chain's factors, 6.1 -> 5.0
+        // us a solve at 256 elements; by the matrices 3.4 us), else the fixed-width path one
+        // row ahead: its instructions set its time, and the weight more a row made it slower
+        // two rows ahead. (The planar beam a node of three at a time took
         // 1.94 us against 1.77 two rows ahead: its chain, not its instructions, sets its time.)
         match (self.kd, self.upper) {
             (5, 5) if !self.lower_ahead_nodes.is_empty() => {
@@ -530,10 +531,6 @@ impl BandedLu {
     /// [`HhtError::Model`] for a right-hand side of the wrong length, [`HhtError::Singular`]
     /// if the solution is not finite.
     pub fn solve_in_place(&mut self, mut rhs: ColMut<'_, f64>, t: f64) -> Result<(), HhtError> {
-        self.solves += 1;
-        if self.node_matrices_due && self.solves >= NODE_MATRICES_AFTER {
-            self.make_node_matrices();
-        }
         let (n, k) = (self.n, self.k);
         if rhs.nrows() != n + k {
             return Err(HhtError::Model(format!(
@@ -542,6 +539,10 @@ impl BandedLu {
                 n + k,
                 n + k
             )));
+        }
+        self.solves += 1;
+        if self.node_matrices_due && self.solves >= NODE_MATRICES_AFTER {
+            self.make_node_matrices();
         }
         // A contiguous right-hand side is solved where it lies; another is copied.
         if let Some(slice) = rhs.as_mut().try_as_col_major_mut() {
@@ -1080,10 +1081,17 @@ mod tests {
         let mut b = vec![0.0; n + k];
         a.mul_vec(&x, &mut b);
         lu.factor(n + k, Band { half_bandwidth: 2 * m - 1, border: k }, &a, 0.0).unwrap();
-        let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
-        lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
-        let err = (0..n + k).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
-        assert!(err < 1e-13, "extra entries {extra:?}: error {err:e}");
+        // Solved again and again: a chain of nodes of six by the fixed-width path, then from
+        // the factorisation's eighth solve by its nodes' matrices; both to round-off.
+        assert!(lu.node_matrices.is_empty());
+        let due = lu.node_matrices_due;
+        for solve in 1..=NODE_MATRICES_AFTER + 2 {
+            let mut rhs = Col::<f64>::from_fn(n + k, |i| b[i]);
+            lu.solve_in_place(rhs.as_mut(), 0.0).unwrap();
+            let err = (0..n + k).map(|i| (rhs[i] - x[i]).abs()).fold(0.0, f64::max);
+            assert!(err < 1e-13, "extra entries {extra:?}, solve {solve}: error {err:e}");
+            assert_eq!(lu.node_matrices.is_empty(), !(due && solve >= NODE_MATRICES_AFTER));
+        }
         (lu, n, b)
     }
 
@@ -1097,9 +1105,10 @@ mod tests {
         // pattern, half-bandwidth 11) with a border of three: the nodes' matrices give the
         // fixed-width substitution's result to round-off (other sums of the same factors: a
         // few ulps of the solution, entries of order one, on a diagonally dominant matrix), and
-        // `node_chain` checks the solution itself; one node alone too (no node before or
-        // after). One entry two nodes away (inside the band) turns them off, and the fixed path
-        // still solves, with the solver of a chain used again.
+        // `node_chain` checks the solution itself by both, before and after the matrices are
+        // made (and that a factorisation makes them anew); one node alone too (no node before
+        // or after). One entry two nodes away (inside the band) turns them off, and the fixed
+        // path still solves, with the solver of a chain used again.
         let mut seed = 11;
         let mut lu = BandedLu::new();
         for (nodes, far_entry) in [(12, false), (1, false), (12, true)] {
@@ -1108,8 +1117,6 @@ mod tests {
             let (n, b);
             (lu, n, b) = chain;
             assert_eq!(lu.node_blocks, !far_entry);
-            assert_eq!(lu.node_matrices_due, !far_entry);
-            lu.make_node_matrices();
             assert_eq!(lu.node_matrices.is_empty(), far_entry);
             // The band's substitution alone, both ways.
             let mut fixed = b[..n].to_vec();

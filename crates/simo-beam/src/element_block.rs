@@ -207,12 +207,27 @@ fn flipped(x: f64, sign: u64) -> f64 {
 /// `(1 - cos(a/2)) / a^2` and `(a/2 - sin(a/2)) / a^3`, the right Jacobian's coefficients at
 /// `phi / 2` over 4 and 8 (`rotation::jacobian_series` at `a^2 / 4`), by their series in
 /// `a2 = a^2`: `1/8 - a^2/384 + a^4/46080` and `1/48 - a^2/3840 + a^4/645120` (the terms left
-/// out, `a^6/1.2e7` and `a^6/2.4e8`, below 1e-19 where the lanes' series hold).
+/// out, `a^6/1.03e7` and `a^6/1.86e8`, below 1e-19 where the lanes' series hold: a test holds
+/// them to their closed forms).
 #[inline(always)]
 fn half_jacobian_series<A: MulAdd>(m: A, a2: f64) -> (f64, f64) {
     (
         m.mul_add(a2, m.mul_add(a2, 1.0 / 46080.0, -1.0 / 384.0), 1.0 / 8.0),
         m.mul_add(a2, m.mul_add(a2, 1.0 / 645_120.0, -1.0 / 3840.0), 1.0 / 48.0),
+    )
+}
+
+/// `1 / w` and `1 / sqrt(2 (1 + w))` by their series in `d = 1 - w`, not by a division and a
+/// square root: `1 / (1 - d) = 1 + d + d^2 + d^3`, and `1 / sqrt(4 - 2 d) = (1 - x)^(-1/2) / 2`
+/// with `x = d / 2`, `(1 + x / 2 + 3 x^2 / 8 + 5 x^3 / 16) / 2` (the terms left out are
+/// `d^4 < 3e-20` where the lanes' series hold, `d < 1.3e-5`: a test holds them to their
+/// closed forms).
+#[inline(always)]
+fn inverse_series_in_w<A: MulAdd>(m: A, d: f64) -> (f64, f64) {
+    let x = 0.5 * d;
+    (
+        m.mul_add(d, m.mul_add(d, m.mul_add(d, 1.0, 1.0), 1.0), 1.0),
+        0.5 * m.mul_add(x, m.mul_add(x, m.mul_add(x, 5.0 / 16.0, 3.0 / 8.0), 0.5), 1.0),
     )
 }
 
@@ -224,10 +239,11 @@ struct Gathered {
     q: [[[f64; BLOCK + 1]; 4]; 2],
 }
 
-/// A block's arrays: its nodes, the results by lanes (12 force components and, if asked, 6
-/// strains; or 6 strains), each element's `4 sin^2(a/2)` (its range). The lane loops run
-/// every lane of a block, past its elements too (on an earlier block's values, or zeros,
-/// which give NaN): what a block uses of them, its own elements' lanes, it has written first.
+/// A block's arrays: its nodes, the results by lanes (12 force components, and 6 more: the
+/// strains of [`BlockStrains`], or where [`BlockForces`] writes none), each element's
+/// `4 sin^2(a/2)` (its range). The lane loops run every lane of a block, past its elements
+/// too (on an earlier block's values, or zeros): what a block uses of them, its own elements'
+/// lanes, it has written first.
 pub(crate) struct Scratch {
     nodes: Gathered,
     lanes: [[f64; BLOCK]; 18],
@@ -357,28 +373,20 @@ fn lane<A: MulAdd>(
     let rv: [f64; 3] = std::array::from_fn(|c| m.mul_add(w1, u2[c], -m.mul_add(w2, u1[c], c12[c])));
     // log: phi = v 2 atan(|v| / w) / |v|, by its series in |v|^2 / w^2.
     let s2 = dot(m, rv, rv);
-    // 1 / w and 1 / sqrt(2 (1 + w)) by their series in d = 1 - w (below the series bound
-    // d < 1.3e-5: the terms left out are d^4 < 3e-20), not by a division and a square root:
-    // 1 / (1 - d) = 1 + d + d^2 + d^3, and 1 / sqrt(4 - 2 d) = (1 - x)^(-1/2) / 2 with
-    // x = d / 2, 1 + x / 2 + 3 x^2 / 8 + 5 x^3 / 16.
-    let d = 1.0 - rw;
-    let inverse_w = m.mul_add(d, m.mul_add(d, m.mul_add(d, 1.0, 1.0), 1.0), 1.0);
+    let (inverse_w, inverse_norm) = inverse_series_in_w(m, 1.0 - rw);
     let ratio = flipped(log_ratio_series(s2, inverse_w), sign);
     let phi = [rv[0] * ratio, rv[1] * ratio, rv[2] * ratio];
     // The half rotation: the normalised mean of the identity and the relative one.
     let one_plus_w = 1.0 + rw;
-    let x = 0.5 * d;
-    let inverse_norm =
-        0.5 * m.mul_add(x, m.mul_add(x, m.mul_add(x, 5.0 / 16.0, 3.0 / 8.0), 0.5), 1.0);
     let signed_norm = flipped(inverse_norm, sign);
     let (hw, hv) = (one_plus_w * inverse_norm, rv.map(|v| v * signed_norm));
     // The midpoint rotation q1 half.
     let c1h = cross(m, u1, hv);
     let mw = m.mul_add(w1, hw, -dot(m, u1, hv));
     let mv: [f64; 3] = std::array::from_fn(|c| m.mul_add(w1, hv[c], m.mul_add(hw, u1[c], c1h[c])));
-    let d: [f64; 3] = std::array::from_fn(|c| g.x[e2][c][k2] - g.x[0][c][k]);
+    let span: [f64; 3] = std::array::from_fn(|c| g.x[e2][c][k2] - g.x[0][c][k]);
     let midpoint = Turn::new(mw, mv);
-    let chord = midpoint.apply::<true, A>(m, d);
+    let chord = midpoint.apply::<true, A>(m, span);
     Lane {
         phi,
         // |phi|^2 = |v|^2 ratio^2 (two multiplies, not three).
@@ -464,17 +472,17 @@ fn forces_by_lanes<'t, const STRAINS: bool, A: MulAdd>(
             lane(fma, g, k, inverse[k]);
         chord2[k] = range;
         let strain = [gamma_full[0] - g0[k], gamma_full[1] - g1[k], gamma_full[2] - g2[k]];
-        let turn = [phi[0] - p0[k], phi[1] - p1[k], phi[2] - p2[k]];
+        let relative = [phi[0] - p0[k], phi[1] - p1[k], phi[2] - p2[k]];
         // (A branch on whether to write them here, not a constant, kept the loop from the
         // vector lanes: the 3D run took 37 % longer.)
         if STRAINS {
             (s0[k], s1[k], s2[k]) = (strain[0], strain[1], strain[2]);
-            (s3[k], s4[k], s5[k]) =
-                (turn[0] * inverse[k], turn[1] * inverse[k], turn[2] * inverse[k]);
+            let curvature = relative.map(|r| r * inverse[k]);
+            (s3[k], s4[k], s5[k]) = (curvature[0], curvature[1], curvature[2]);
         }
         // N = C_N Gamma, M = C_M K = (C_M / l0) (phi - phi0).
         let n = [strain[0] * n0[k], strain[1] * n1[k], strain[2] * n2[k]];
-        let moment = [turn[0] * m0[k], turn[1] * m1[k], turn[2] * m2[k]];
+        let moment = [relative[0] * m0[k], relative[1] * m1[k], relative[2] * m2[k]];
         let n_spatial = midpoint.apply::<false, A>(fma, n);
         // c = l0 N x Gamma_full = N x Lambda_m^T d.
         let c = cross(fma, n, chord);
@@ -683,6 +691,9 @@ mod tests {
             let turn = Vector3::new(noise(), noise(), noise()) * 2e-3;
             q.rotations[node] *= UnitQuaternion::from_scaled_axis(turn);
         }
+        // Node 40 by the other of its two quaternions (q and -q are one rotation): its two
+        // elements' relative quaternions have w < 0, turned by the sign bit.
+        q.rotations[40] = UnitQuaternion::new_unchecked(-q.rotations[40].into_inner());
         // (Node 70 in the second block, all straight, no corner: only its own lanes past the
         // series send it to the exact elements.)
         for node in [5, 60, 70] {
@@ -717,6 +728,34 @@ mod tests {
         assert!(chains(&reversed).iter().all(Option::is_none));
         assert!(chains(&model).iter().all(Option::is_some));
         each_block_s_forces_are_its_elements(&reversed, &q);
+    }
+
+    #[test]
+    fn the_lanes_series_are_their_closed_forms() {
+        // Where the lanes' series hold (|phi|^2 = a^2 up to about 1e-4, d = 1 - w up to
+        // 1.25e-5): to a few ulps, so that a wrong coefficient of any term kept would show at
+        // the bound (the last kept terms are there some 1e-12 and 1e-15 of the first).
+        let m = hht::fast::Separate;
+        for a2 in [0.0, 1e-8, 1e-6, 1e-5, 1e-4] {
+            let (k1, k2) = half_jacobian_series(m, a2);
+            // Their Taylor series in x = a/2 taken far (eight terms, each below the last by
+            // x^2 / 56 at least: exact to an ulp): (1 - cos x) / (4 x^2) and
+            // (x - sin x) / (8 x^3), sums of (-1)^k x^(2k) / (2k+2)! and / (2k+3)!.
+            let x2 = a2 / 4.0;
+            let factorial = |n: u32| (1..=n).map(f64::from).product::<f64>();
+            let taylor = |first: u32| {
+                (0..8).map(|k| (-x2).powi(k) / factorial(2 * k as u32 + first)).sum::<f64>()
+            };
+            let exact = (taylor(2) / 4.0, taylor(3) / 8.0);
+            for (series, exact) in [(k1, exact.0), (k2, exact.1)] {
+                assert!((series - exact).abs() <= 4.0 * f64::EPSILON * exact, "{a2}: {series}");
+            }
+            let w = (1.0 - a2 / 4.0).sqrt();
+            let (inverse_w, inverse_norm) = inverse_series_in_w(m, 1.0 - w);
+            assert!((inverse_w * w - 1.0).abs() <= 4.0 * f64::EPSILON, "{a2}: {inverse_w}");
+            let norm = (2.0 * (1.0 + w)).sqrt();
+            assert!((inverse_norm * norm - 1.0).abs() <= 4.0 * f64::EPSILON, "{a2}");
+        }
     }
 
     fn each_block_s_forces_are_its_elements(model: &BeamModel, q: &crate::BeamState) {
