@@ -628,8 +628,9 @@ impl Integrator {
         self.scheme
     }
 
-    /// Symbolic factorisations done so far (1 for a model with a fixed pattern; 0 for a banded
-    /// model, which needs none).
+    /// Symbolic factorisations done so far (one each time the pattern of the matrices changes:
+    /// 1 for a model that pushes one pattern, more where a mass matrix or a re-weighted Newton
+    /// matrix pushes another; 0 for a banded model, which needs none).
     pub fn symbolic_factorisations(&self) -> usize {
         match &self.lu {
             LinearSolver::Sparse(lu) => lu.symbolic_count,

@@ -155,7 +155,8 @@ pub trait Model {
     fn net_force(&self, t: f64, q: &Self::Config, v: ColRef<'_, f64>, out: ColMut<'_, f64>);
 
     /// The Newton matrix for the weights `w` (see [`NewtonWeights`]), pushed into `out` (which
-    /// the caller has cleared), always with the same sparsity sequence.
+    /// the caller has cleared), with the same sparsity sequence at every call with stiffness
+    /// (`dq != 0`; one without may push only its own entries, see [`Triplets`]).
     fn tangent(
         &self,
         t: f64,

@@ -105,6 +105,44 @@ fn newton_matrix_matches_finite_differences() {
 }
 
 #[test]
+fn a_newton_matrix_re_weighted_is_its_part_without_stiffness_added() {
+    // The integrator re-weights a kept Newton matrix for a new step size by adding the
+    // tangent of the weights' difference with dq = 0 (mass, gyroscopic: no stiffness), which
+    // pushes only its own entries: on the frame (a held node, a point mass, a corner),
+    // T(w1) - T(w2) is that tangent to round-off; and the mass matrix's product with any a
+    // is the inertial force at rest, I(q, 0, a).
+    let (model, q, v, a) = frame();
+    let n = model.ndof();
+    let tangent = |w: NewtonWeights| {
+        let mut t = Triplets::new();
+        model.tangent(0.0, &q, v.as_ref(), a.as_ref(), w, &mut t);
+        dense(n, &t)
+    };
+    let w1 = NewtonWeights { inertia: 0.95, force: 0.9, da: 4e6, dv: 3e3, dq: 1.0 };
+    let w2 = NewtonWeights { da: 1e6, dv: 1.5e3, ..w1 };
+    let delta = NewtonWeights { da: w1.da - w2.da, dv: w1.dv - w2.dv, dq: 0.0, ..w1 };
+    let (t1, t2, td) = (tangent(w1), tangent(w2), tangent(delta));
+    let scale = t1.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    for row in 0..n {
+        for col in 0..n {
+            let (difference, part) = (t1[row][col] - t2[row][col], td[row][col]);
+            assert!(
+                (difference - part).abs() <= 1e-14 * scale,
+                "[{row},{col}] {difference} {part}"
+            );
+        }
+    }
+    let mass = tangent(NewtonWeights::mass());
+    let mut inertial = Col::zeros(n);
+    model.inertial_force(&q, Col::<f64>::zeros(n).as_ref(), a.as_ref(), inertial.as_mut());
+    let largest = (0..n).map(|k| inertial[k].abs()).fold(0.0, f64::max);
+    for (row, m) in mass.iter().enumerate() {
+        let product: f64 = m.iter().zip(0..n).map(|(m, k)| m * a[k]).sum();
+        assert!((product - inertial[row]).abs() <= 1e-13 * largest, "{row}: {product}");
+    }
+}
+
+#[test]
 fn kinetic_energy_is_half_v_dot_inertial_force() {
     // With the gyroscopic term orthogonal to W, v . I(q, v, v) = 2 T for any v.
     let (model, q, v, _) = frame();

@@ -102,6 +102,7 @@ impl hht::fast::Kernel for MostTwisted<'_> {
                 *rank = pseudo_angle((1.0 - 2.0 * (i * i + k * k), 2.0 * (j * k + w * i)));
             }
             let ranks = &ranks[..frames.len()];
+            // (The ranks are not negative: their largest magnitude is their largest.)
             let largest = hht::fast::largest_magnitude(ranks);
             if largest > self.floor && best.is_none_or(|b| largest >= b.1) {
                 let k = ranks.iter().rposition(|&r| r >= largest).unwrap_or(0);
@@ -166,8 +167,9 @@ pub struct BallOnBeam3d<'a, L: ContactLaw> {
     /// Per element, the strain energy's weights of the squares of its struck face's strains
     /// ([`struck_strains`]'s order): `l0 / 2` times the section's stiffness for each.
     energy_weights: Vec<[f64; 6]>,
-    /// Every element's strains (Gamma1..3, K1..3, an array each) at the last net force, from
-    /// the same pass, and how many net forces have been evaluated (see
+    /// Every element's strains (Gamma1..3, K1..3, an array each, padded past the last element
+    /// to whole blocks of the element pass: read them zipped with the elements) at the last
+    /// net force, from the same pass, and how many net forces have been evaluated (see
     /// [`super::struck::Struck::force_passes`]).
     last_strains: RefCell<[Vec<f64>; 6]>,
     force_passes: Cell<u64>,
@@ -484,7 +486,9 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         let sides =
             (0..beam.mesh().elements.len()).map(|e| struck_side(&beam, (up, face), e)).collect();
         // Each element's `l0 / 2` times its EA, GA2, GA3, GJ, EI2, EI3 in the order of the
-        // struck face's strains (the order alone: the signs are the side's).
+        // struck face's strains (the order alone: the signs are the side's; `struck_strains`
+        // is a signed permutation of the strains, and a test holds the energy to the
+        // elements' own).
         let energy_weights = beam
             .mesh()
             .elements
@@ -614,7 +618,13 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
     ) -> Option<(usize, f64)> {
         // Ranked without an arc tangent a node (every accepted step asks): one for the node,
         // and none where no node's rank is above the rank of a twist `beyond`.
-        let floor = if beyond >= 0.0 { pseudo_angle((beyond.cos(), beyond.sin())) } else { -1.0 };
+        // (The rank of `beyond` through its cosine and sine, lowered by a margin: it may round
+        // above the rank of a node's twist that is larger by an ulp; the last test is exact.)
+        let floor = if beyond >= 0.0 {
+            pseudo_angle((beyond.cos(), beyond.sin())) * (1.0 - 1e-12)
+        } else {
+            -1.0
+        };
         let frames = &self.beam.mesh().frames;
         let node = most_twisted_node(frames, &q.beam.rotations, floor)
             .map(|node| (node, self.node_twist(q, node).abs()));
@@ -748,6 +758,7 @@ impl<'a, L: ContactLaw> BallOnBeam3d<'a, L> {
         let release = self.law.release_approach(&self.law_state);
         // In contact (the last point computed touched), the derivatives at once: the value
         // first and then the point again with them cost two evaluations a pass in contact.
+        // (The value evaluated with them is the same bits as alone: a test holds it.)
         let was = self.last_contact.borrow().as_ref().is_some_and(|(.., p)| p.delta > release);
         let p = self.contact_point(q, if was { order } else { Order::Value });
         (p.delta > release).then(|| if was { p } else { self.contact_point(q, order) })
@@ -1044,6 +1055,48 @@ mod tests {
     }
 
     #[test]
+    fn the_strain_energy_from_the_struck_strains_is_the_elements_own() {
+        // A strip bent, sheared, stretched and twisted, struck on either face from either
+        // side: the strain energy from the struck face's strains and their weights is the sum
+        // of `Element::energy` (the weights follow the strains only while `struck_strains` is
+        // a signed permutation of them).
+        use crate::solve::struck::Struck;
+        let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
+        let beam = strip(6);
+        let mut q =
+            BallOnBeam3dConfig { beam: beam.reference_state(), ball: Vector3::new(0.5, 0.0, 1.0) };
+        for (node, (x, r)) in q.beam.positions.iter_mut().zip(&mut q.beam.rotations).enumerate() {
+            let k = node as f64;
+            *x += Vector3::new(1e-5 * k, 2e-5 * k * k, -3e-5 * k);
+            *r *= UnitQuaternion::from_scaled_axis(Vector3::new(2e-3 * k, -1e-3 * k, 4e-4 * k * k));
+        }
+        let exact: f64 = beam
+            .mesh()
+            .elements
+            .iter()
+            .map(|e| {
+                let [a, b] = e.nodes;
+                let x = [&q.beam.positions[a], &q.beam.positions[b]];
+                e.energy(x, [&q.beam.rotations[a], &q.beam.rotations[b]])
+            })
+            .sum();
+        let zero = faer::Col::<f64>::zeros(hht::Model::ndof(&beam) + 3);
+        for (face, up) in [
+            (Face::Thickness, Vector3::z()),
+            (Face::Thickness, -Vector3::z()),
+            (Face::Width, Vector3::y()),
+            (Face::Width, -Vector3::y()),
+        ] {
+            let model =
+                BallOnBeam3d::striking(strip(6), (0.01, 0.0, 0.005), (0.0, up, face), 0.0025, &law);
+            let (mut strains, mut plane) = (vec![(0.0, 0.0, 0.0); 6], vec![(0.0, 0.0, 0.0); 6]);
+            model.section_strains(&q, &mut strains, &mut plane, false);
+            let energy = model.beam_energy(&q, zero.as_ref(), &strains, &plane);
+            assert!((energy - exact).abs() <= 1e-12 * exact, "{face:?} {up}: {energy} vs {exact}");
+        }
+    }
+
+    #[test]
     fn a_kept_contact_point_is_the_one_of_the_same_numbers() {
         // The ball pressed 1 um into the last of 4 elements of a 1 m strip, 5 mm off the
         // centreline: the point kept from a value-only call is not served for a gradient, and
@@ -1076,6 +1129,20 @@ mod tests {
             );
             assert!((kept.delta - new.delta).abs() == 0.0 && kept.gradient == new.gradient);
             assert!((kept.delta - value.delta).abs() > 2e-8, "{moved}: {}", kept.delta);
+        }
+        // The value alone and the value with the gradient are the same bits (`touching` asks
+        // for the gradient at once in contact and decides by its value): on the moved and
+        // twisted strip, and past its end (the ball over the end's edge).
+        for ball_x in [0.9, 1.0 + 2e-3] {
+            q.ball.x = ball_x;
+            let fresh = || BallOnBeam3d::new(beam(), (0.01, 0.0, 0.005), 0.005, 0.0025, &law);
+            let value = fresh().contact_point(&q, Order::Value).delta;
+            let with_gradient = fresh().contact_point(&q, Order::Gradient).delta;
+            assert_eq!(
+                value.to_bits(),
+                with_gradient.to_bits(),
+                "{ball_x}: {value} {with_gradient}"
+            );
         }
     }
 
@@ -1190,6 +1257,17 @@ mod tests {
         let (node, largest) = model.largest_twist(&q, -1.0).unwrap();
         assert_eq!(node, 4);
         assert!((largest - 0.01).abs() < 1e-12, "{largest}");
+        // Asked beyond a twist: none at the largest itself, the corner's just below it (every
+        // node then ranks below the floor), and a node's where it is the largest.
+        assert_eq!(model.largest_twist(&q, largest), None);
+        assert_eq!(model.largest_twist(&q, largest * (1.0 - 1e-9)), Some((4, largest)));
+        let twist = UnitQuaternion::from_scaled_axis(Vector3::new(0.02, 0.0, 0.0));
+        q.beam.rotations[2] *= twist;
+        let (node, by) = model.largest_twist(&q, largest).unwrap();
+        assert!(node == 2 && (by - 0.02).abs() < 1e-12, "{node} {by}");
+        assert_eq!(model.largest_twist(&q, by), None);
+        // An ulp less than a node's own twist is beaten by it (the floor's margin).
+        assert_eq!(model.largest_twist(&q, f64::from_bits(by.to_bits() - 1)), Some((2, by)));
     }
 
     #[test]

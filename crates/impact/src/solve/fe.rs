@@ -345,6 +345,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             {
                 (*l, *tau) = (cl * lateral.abs(), cs * rate.abs());
             }
+            // (The largest magnitude of stresses that are not negative: their largest.)
             let tau = hht::fast::largest_magnitude(&self.shear);
             if self.max_shear.is_none_or(|m| tau > m.0) {
                 let element = self.shear.iter().position(|&s| s >= tau).unwrap_or(0);

@@ -293,23 +293,15 @@ impl FeStress {
     pub(crate) fn observe_strains(&mut self, t: f64, strains: &[(f64, f64, f64)], lateral: &[f64]) {
         self.observed = Some(t);
         self.parts.resize(strains.len(), [0.0; 3]);
-        // The beam's own section where no element has its own (every fe run gives each one),
-        // no lateral stress where none is given (the plane); where both are, element by element
-        // in one loop without branches.
+        // The beam's own section where no element has its own (a `[structure]`'s elements
+        // each have theirs), no lateral stress where none is given (the plane): one zipped
+        // loop, no index looked up an element.
         let own = (self.youngs_modulus, self.half_thickness, 0.0);
-        if self.sections.len() == strains.len() && lateral.len() == strains.len() {
-            let each = self.parts.iter_mut().zip(strains).zip(&self.sections).zip(lateral);
-            for (((part, (extension, _, curvature)), (e, half, _)), lateral) in each {
-                *part = [e * extension, -e * half * curvature, *lateral];
-            }
-        } else {
-            for (k, (part, (extension, _, curvature))) in
-                self.parts.iter_mut().zip(strains).enumerate()
-            {
-                let (e, half, _) = self.sections.get(k).copied().unwrap_or(own);
-                let lateral = lateral.get(k).copied().unwrap_or(0.0);
-                *part = [e * extension, -e * half * curvature, lateral];
-            }
+        let sections = self.sections.iter().copied().chain(std::iter::repeat(own));
+        let laterals = lateral.iter().copied().chain(std::iter::repeat(0.0));
+        let each = self.parts.iter_mut().zip(strains).zip(sections).zip(laterals);
+        for (((part, (extension, _, curvature)), (e, half, _)), lateral) in each {
+            *part = [e * extension, -e * half * curvature, lateral];
         }
         for (stress, part) in self.stresses.iter_mut().zip(&self.parts) {
             *stress = worst_corner(*part);
