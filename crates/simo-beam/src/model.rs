@@ -640,13 +640,20 @@ impl BeamModel {
     /// Internal forces at `q` as a full vector over free unknowns (N, N m).
     pub fn internal_force(&self, q: &BeamState) -> Col<f64> {
         let mut out = Col::zeros(self.ndof);
-        write_to(out.as_mut(), |out| self.add_internal(q, out, None));
+        write_to(out.as_mut(), |out| self.add_internal(q, (out, false), None));
         out
     }
 
-    fn add_internal(&self, q: &BeamState, out: &mut [f64], strains: Option<&mut [Vec<f64>; 6]>) {
+    /// Adds (or with `write`, writes: [`BlockForces::write`]) the internal forces into `out`.
+    fn add_internal(
+        &self,
+        q: &BeamState,
+        (out, write): (&mut [f64], bool),
+        strains: Option<&mut [Vec<f64>; 6]>,
+    ) {
         crate::element_block::with_scratch(|scratch| {
             hht::fast::run(BlockForces {
+                write,
                 elements: &self.mesh.elements,
                 table: &self.table,
                 positions: &q.positions,
@@ -752,8 +759,12 @@ impl BeamModel {
         out: &mut [f64],
         strains: Option<&mut [Vec<f64>; 6]>,
     ) {
-        out.fill(0.0);
-        self.add_internal(q, out, strains);
+        // One chain from node 0 writes every unknown: no zeroing first.
+        let write = self.table.one_chain(self.mesh.positions.len());
+        if !write {
+            out.fill(0.0);
+        }
+        self.add_internal(q, (out, write), strains);
         for (node, k) in &self.springs {
             let u = q.positions[*node] - self.mesh.positions[*node];
             self.add_node_vector(out, *node, 0, &k.component_mul(&u));
