@@ -218,7 +218,7 @@ impl<'a, L: ContactLaw, M: Struck<L>> Run<'a, L, M> {
             ),
             strains,
             out_of_plane,
-            shear: lateral.clone(),
+            shear: vec![0.0; lateral.len()],
             lateral,
             lateral_per_curvature,
             shear_per_rate,
