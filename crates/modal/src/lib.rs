@@ -71,6 +71,7 @@ mod torsion;
 pub use beam::{Beam, Mode, Shear, Theory};
 pub use duhamel::duhamel_series;
 pub use error::ModalError;
+pub use lanes::on_four_lanes;
 pub use propagate::{Hold, ModalState, OneStep, PointModes, Transition};
 pub use shape::{Curvatures, ModeShape};
 pub use site::{Recovery, SiteModes};

@@ -3,7 +3,7 @@
 use crate::beam::{Beam, Mode};
 use crate::error::{positive, ModalError};
 use num_complex::Complex64;
-use pulp::{Arch, Simd, WithSimd};
+use pulp::{Simd, WithSimd};
 
 /// The modes of a beam seen from one point x = c where a force F(t) acts (and where the
 /// displacement is observed): each mode is the oscillator
@@ -689,9 +689,9 @@ impl Transition {
         let f_next = f1;
         let f1 = if self.hold == Hold::Zero { 0.0 } else { f1 };
         if f0 == 0.0 && f1 == 0.0 {
-            Arch::new().dispatch(AdvanceKernel::<false> { t: self, state, f0, f1, f_next })
+            crate::on_four_lanes(AdvanceKernel::<false> { t: self, state, f0, f1, f_next })
         } else {
-            Arch::new().dispatch(AdvanceKernel::<true> { t: self, state, f0, f1, f_next })
+            crate::on_four_lanes(AdvanceKernel::<true> { t: self, state, f0, f1, f_next })
         }
     }
 
@@ -699,7 +699,7 @@ impl Transition {
     /// the end displacement is `free_displacement + compliance * f1`.
     pub fn free_displacement(&self, state: &ModalState, f0: f64) -> f64 {
         check_len(state, self.e11.len());
-        Arch::new().dispatch(FreeKernel { t: self, state, f0 })
+        crate::on_four_lanes(FreeKernel { t: self, state, f0 })
     }
 
     /// d(end displacement)/d(end force) (m/N), sum g^2 G1_q >= 0.

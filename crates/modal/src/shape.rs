@@ -360,7 +360,7 @@ impl Curvatures {
             out.len() <= 3 && out.iter().all(|o| o.len() == self.modes),
             "at most 3 rows, each of the shapes' count"
         );
-        pulp::Arch::new().dispatch(AtPoint { curvatures: self, x, out });
+        crate::on_four_lanes(AtPoint { curvatures: self, x, out });
     }
 }
 

@@ -170,7 +170,7 @@ impl Recovery {
     pub fn evaluate(&self, q: &[f64], force: f64, out: &mut [f64]) {
         let count = self.force.len();
         assert!(out.len() == count && q.len() == self.modes, "one value a row and one a mode");
-        pulp::Arch::new().dispatch(Evaluate { recovery: self, q, force, out });
+        crate::on_four_lanes(Evaluate { recovery: self, q, force, out });
     }
 }
 

@@ -747,6 +747,29 @@ mod tests {
     }
 
     #[test]
+    fn the_eight_lanes_copy_gives_the_four_lanes_bits() {
+        // Each lane's element by the same operations in either copy (hht::fast::run_wide's
+        // where the processor has AVX-512, else the same copy twice): forces and strains
+        // to the bit, on both branches (the series, and the exact elements past them).
+        let (model, q) = bent_frame();
+        let n = hht::Model::ndof(&model);
+        let each = |wide: bool| {
+            let mut out = vec![0.0; n];
+            let padded = ElementTable::new(&model.mesh().elements).padded();
+            let mut strains: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; padded]);
+            model.add_internal_on(&q, (&mut out, false), Some(&mut strains), wide);
+            (out, strains)
+        };
+        let (wide, four) = (each(true), each(false));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&wide.0), bits(&four.0));
+        for (a, b) in wide.1.iter().zip(&four.1) {
+            assert_eq!(bits(a), bits(b));
+        }
+        assert!(wide.0.iter().any(|&f| f != 0.0));
+    }
+
+    #[test]
     fn the_lanes_series_are_their_closed_forms() {
         // Where the lanes' series hold (|phi|^2 = a^2 up to about 1e-4, d = 1 - w up to
         // 1.25e-5): to a few ulps, so that a wrong coefficient of any term kept would show at

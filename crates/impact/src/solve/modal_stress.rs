@@ -516,7 +516,7 @@ impl ModalStress {
 
     /// The stress at the first `points` points with the first `modes` modes, into `stresses`.
     fn evaluate(&mut self, points: usize, modes: usize, q: &[f64], force: f64) {
-        pulp::Arch::new().dispatch(StressKernel {
+        modal::on_four_lanes(StressKernel {
             stresses: &mut self.stresses[..points],
             correction: &self.correction[..points],
             curvature: &self.curvature,
