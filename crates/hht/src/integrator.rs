@@ -1015,7 +1015,10 @@ impl Integrator {
             model.displaced(&old.q, ColRef::from_slice(delta), &mut q1);
             let a_now = ColRef::from_slice(if predicted { a0 } else { entries(&a1) });
             let kept_inertial = predicted && constant_mass;
-            if !kept_inertial {
+            if predicted && !kept_inertial {
+                let now = (v1.as_ref(), a_now);
+                model.predicted_inertial_force(&q1, now, inertial0, inertial.as_mut());
+            } else if !kept_inertial {
                 model.inertial_force(&q1, v1.as_ref(), a_now, inertial.as_mut());
             }
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());

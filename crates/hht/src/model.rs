@@ -143,6 +143,23 @@ pub trait Model {
         out: ColMut<'_, f64>,
     );
 
+    /// The inertial force of a step's predictor, written to `out`: at the old state's
+    /// acceleration `a` (a predictor keeps it) and a new velocity `v`, given `old`, the
+    /// inertial force at `a` and the old velocity. A model whose inertial force is `M a` but
+    /// for the rows of a term in the velocity (a rigid rotation's `w x J w`) may take the other
+    /// rows from `old` (`M a` at the same `a`: the same bits) and compute only those. The
+    /// default computes it whole, [`Model::inertial_force`].
+    fn predicted_inertial_force(
+        &self,
+        q: &Self::Config,
+        (v, a): (ColRef<'_, f64>, ColRef<'_, f64>),
+        old: &[f64],
+        out: ColMut<'_, f64>,
+    ) {
+        let _ = old;
+        self.inertial_force(q, v, a, out);
+    }
+
     /// Whether the inertial force is `M a` with one constant matrix `M` (independent of `q`
     /// and `v`: point masses, a planar beam). A step's predictor keeps the old acceleration,
     /// so its inertial force is then the old state's, and the integrator reuses it instead

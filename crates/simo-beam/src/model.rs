@@ -858,6 +858,9 @@ struct InertiaPlan {
     spinning: Vec<(usize, [f64; 3])>,
     /// The nodes neither in a run nor in `spinning`.
     other_nodes: Vec<usize>,
+    /// Whether every free rotation is a run's (no node of `spinning`, none of `other_nodes`
+    /// with a free rotation): the rotations' rows then take no other term.
+    rotations_in_runs: bool,
 }
 
 /// Nodes whose six unknowns follow each other node after node (node j's from `first + 6 j`),
@@ -913,6 +916,11 @@ impl InertiaPlan {
                 _ => plan.other_nodes.push(node),
             }
         }
+        plan.rotations_in_runs = plan.spinning.is_empty()
+            && plan
+                .other_nodes
+                .iter()
+                .all(|&node| model.dofs[node][3..].iter().all(Option::is_none));
         let mut written: Vec<_> =
             plan.runs.iter().map(|r| (r.first, r.first + 6 * r.spin.len())).collect();
         written.sort_unstable();
@@ -972,6 +980,22 @@ impl InertiaRun {
         let last = 6 * (n - 1);
         if let (Some(b), Some(d)) = (behind, self.spin.last()) {
             put(&mut out[last..], b, d, (&v[last..], &a[last..]));
+        }
+    }
+
+    /// [`InertiaRun::write`] where `old` holds the inertial force at the same acceleration
+    /// `a` and another velocity: the translations' rows are `old`'s (the same arithmetic on
+    /// the same `a`: the same bits), the rotations' Euler's equation at `v`, as `write`'s.
+    #[inline(always)]
+    fn write_spin(&self, v: &[f64], a: &[f64], old: &[f64], out: &mut [f64]) {
+        let span = self.first..self.first + 6 * self.spin.len();
+        let (v, a) = (&v[span.clone()], &a[span.clone()]);
+        let (old, out) = (&old[span.clone()], &mut out[span]);
+        let rates = v.chunks_exact(6).zip(a.chunks_exact(6));
+        let nodes = out.chunks_exact_mut(6).zip(old.chunks_exact(6)).zip(rates);
+        for (((out, old), (v, a)), d) in nodes.zip(&self.spin) {
+            let r = euler(d, three(v, 3), three(a, 3));
+            out.copy_from_slice(&[old[0], old[1], old[2], r[0], r[1], r[2]]);
         }
     }
 }
@@ -1064,6 +1088,33 @@ impl hht::fast::Kernel for Inertia<'_> {
     }
 }
 
+/// [`hht::Model::predicted_inertial_force`] of a beam whose free rotations are all in runs:
+/// the translations' rows (and the rows no run writes: translations, held nodes' zeros)
+/// copied from `old`, each run's rotations' rows by Euler's equation at the new angular
+/// velocity.
+struct PredictedInertia<'a> {
+    model: &'a BeamModel,
+    v: &'a [f64],
+    a: &'a [f64],
+    old: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl hht::fast::Kernel for PredictedInertia<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        let plan = &self.model.inertia_plan;
+        for unwritten in &plan.unwritten {
+            self.out[unwritten.clone()].copy_from_slice(&self.old[unwritten.clone()]);
+        }
+        for run in &plan.runs {
+            run.write_spin(self.v, self.a, self.old, self.out);
+        }
+    }
+}
+
 /// `x` as a slice: itself where contiguous (always, from the integrator), else a copy.
 fn values(x: ColRef<'_, f64>) -> std::borrow::Cow<'_, [f64]> {
     match x.try_as_col_major() {
@@ -1114,6 +1165,26 @@ impl hht::Model for BeamModel {
         out: ColMut<'_, f64>,
     ) {
         write_to(out, |out| self.inertial_force_into(&values(v), &values(a), out));
+    }
+
+    /// The translations' rows from `old` and the rotations' anew where every node with a
+    /// free rotation is in a run (the usual mesh: the elements and point masses outside the
+    /// runs add to translations only): a predictor's inertial force with only the rotations'
+    /// arithmetic, the same bits. Otherwise the whole force.
+    fn predicted_inertial_force(
+        &self,
+        q: &BeamState,
+        (v, a): (ColRef<'_, f64>, ColRef<'_, f64>),
+        old: &[f64],
+        out: ColMut<'_, f64>,
+    ) {
+        if !self.inertia_plan.rotations_in_runs || old.len() != self.ndof {
+            return self.inertial_force(q, v, a, out);
+        }
+        let (v, a) = (values(v), values(a));
+        write_to(out, |out| {
+            hht::fast::run(PredictedInertia { model: self, v: &v, a: &a, old, out });
+        });
     }
 
     fn net_force(&self, t: f64, q: &BeamState, _v: ColRef<'_, f64>, out: ColMut<'_, f64>) {
@@ -1302,6 +1373,26 @@ mod tests {
             let two_t: f64 = v.iter().zip(&i).map(|(v, i)| v * i).sum();
             let kinetic = model.kinetic_energy(ColRef::from_slice(&v));
             assert!((2.0 * kinetic - two_t).abs() <= 1e-13 * two_t);
+            // A predictor's inertial force, from the old one at the same acceleration: the
+            // whole force's bits at the new velocity (the translations' rows copied, the
+            // rotations' computed; where a free rotation is outside the runs, the whole force).
+            let v_new: Vec<f64> = (0..model.ndof).map(|_| 30.0 * noise()).collect();
+            let mut old = vec![0.0; model.ndof];
+            model.inertial_force_into(&v, &a, &mut old);
+            let mut whole = vec![0.0; model.ndof];
+            model.inertial_force_into(&v_new, &a, &mut whole);
+            let mut predicted = faer::Col::<f64>::from_fn(model.ndof, |_| f64::NAN);
+            let now = (ColRef::from_slice(&v_new), ColRef::from_slice(&a));
+            let q = model.reference_state();
+            hht::Model::predicted_inertial_force(model, &q, now, &old, predicted.as_mut());
+            let bits = |x: &[f64]| x.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+            let predicted: Vec<f64> = predicted.iter().copied().collect();
+            assert_eq!(bits(&predicted), bits(&whole));
+            assert_ne!(bits(&old), bits(&whole));
         }
+        // The strip and the reversed one take the copy, the frame (its corner's inertia not
+        // diagonal in its frame) the whole force.
+        let taken = [&strip, &reversed, &frame].map(|m| m.inertia_plan.rotations_in_runs);
+        assert_eq!(taken, [true, true, false]);
     }
 }

@@ -840,6 +840,26 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
         }
     }
 
+    fn predicted_inertial_force(
+        &self,
+        q: &BallOnBeam3dConfig,
+        (v, a): (ColRef<'_, f64>, ColRef<'_, f64>),
+        old: &[f64],
+        mut out: ColMut<'_, f64>,
+    ) {
+        let nb = self.nb;
+        // The beam's (its rotations' rows anew), then the ball's m a, at the same a: `old`'s.
+        self.beam.predicted_inertial_force(
+            &q.beam,
+            (v.subrows(0, nb), a.subrows(0, nb)),
+            &old[..nb],
+            out.as_mut().subrows_mut(0, nb),
+        );
+        for k in 0..3 {
+            out[nb + k] = old[nb + k];
+        }
+    }
+
     fn net_force(
         &self,
         t: f64,
