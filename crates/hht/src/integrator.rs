@@ -1015,11 +1015,14 @@ impl Integrator {
             model.displaced(&old.q, ColRef::from_slice(delta), &mut q1);
             let a_now = ColRef::from_slice(if predicted { a0 } else { entries(&a1) });
             let kept_inertial = predicted && constant_mass;
-            if predicted && !kept_inertial {
-                let now = (v1.as_ref(), a_now);
-                model.predicted_inertial_force(&q1, now, inertial0, inertial.as_mut());
-            } else if !kept_inertial {
-                model.inertial_force(&q1, v1.as_ref(), a_now, inertial.as_mut());
+            if !kept_inertial {
+                let out = inertial.as_mut();
+                if predicted {
+                    let old_inertial = ColRef::from_slice(inertial0);
+                    model.predicted_inertial_force(&q1, v1.as_ref(), a_now, old_inertial, out);
+                } else {
+                    model.inertial_force(&q1, v1.as_ref(), a_now, out);
+                }
             }
             model.net_force(t1, &q1, v1.as_ref(), net.as_mut());
             let inertial_now = if kept_inertial { inertial0 } else { entries(&inertial) };

@@ -33,15 +33,17 @@
 //! ## Speed
 //! The step's vector work and the banded substitution run in [`fast`] kernels: compiled for
 //! the baseline and again for AVX2 with fused multiply-adds, the second chosen at run time
-//! where the processor has it (same results to rounding); the sweeps the compiler leaves
+//! where the processor has it (same results to rounding; the beams' element passes a third
+//! time for AVX-512, [`fast::run_wide`]); the sweeps the compiler leaves
 //! scalar are written on pulp's vectors ([`fast::Lanes`]), as few as the step allows (each
 //! streams its vectors from the second-level cache: the predictor is read where it is, a
 //! correction and Newmark's kinematics are one sweep, and so are a balance and the step's
 //! closing sums). With
 //! [`NewtonOptions::reuse_factorisation`] a Newton matrix serves the steps of its size, and
 //! the last one of another size is kept aside for when that size comes back. A model with a
-//! constant mass matrix ([`Model::constant_mass`]) spares the predictor's mass product, and
-//! one that writes `q (+) dq` into a kept configuration in one pass ([`Model::displaced`])
+//! constant mass matrix ([`Model::constant_mass`]) spares the predictor's mass product, one
+//! whose inertial force is a mass product but for a term in the velocity recomputes only that
+//! term's rows for the predictor ([`Model::predicted_inertial_force`]), and one that writes `q (+) dq` into a kept configuration in one pass ([`Model::displaced`])
 //! the copy of `q` an iteration. A model that splits its Newton matrix into a slow part (a
 //! structure's stiffness) and a fast one (a contact, [`Model::tangent_parts`]) has a matrix for
 //! a new step size built from the kept slow part re-weighted, without its stiffness.

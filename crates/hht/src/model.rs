@@ -144,16 +144,19 @@ pub trait Model {
     );
 
     /// The inertial force of a step's predictor, written to `out`: at the old state's
-    /// acceleration `a` (a predictor keeps it) and a new velocity `v`, given `old`, the
-    /// inertial force at `a` and the old velocity. A model whose inertial force is `M a` but
-    /// for the rows of a term in the velocity (a rigid rotation's `w x J w`) may take the other
-    /// rows from `old` (`M a` at the same `a`: the same bits) and compute only those. The
-    /// default computes it whole, [`Model::inertial_force`].
+    /// acceleration `a` (a predictor keeps it, to the bit) and the predictor's velocity `v`,
+    /// given `old`, the old state's inertial force `I(q_n, v_n, a)` at that same `a`. A model
+    /// whose inertial force is `M a` but for the rows of a term in the velocity (a rigid
+    /// rotation's `w x J w`) may take the other rows from `old` (the same arithmetic on the
+    /// same `a`: the same bits) and compute only those. The integrator asks it for a
+    /// predictor only, and only of a model without [`Model::constant_mass`]. The default
+    /// computes the whole force, [`Model::inertial_force`].
     fn predicted_inertial_force(
         &self,
         q: &Self::Config,
-        (v, a): (ColRef<'_, f64>, ColRef<'_, f64>),
-        old: &[f64],
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        old: ColRef<'_, f64>,
         out: ColMut<'_, f64>,
     ) {
         let _ = old;

@@ -12,17 +12,23 @@
 //! results are the same on every processor. Checked against the standard library's to two
 //! units of the last place (the tests below).
 
-/// Runs a vector kernel on x86-64-v3's four lanes (AVX2 and FMA) where the processor has
-/// them, else on one lane: never on AVX-512's eight (`pulp::Arch::new()` would take them
-/// where the build enables them, as the beam's element kernels do: the paper's tip at 256
-/// modes over 5 ms ran 18 % slower on a processor that has them, with the same results).
+/// Runs a vector kernel on the processor's vectors as pulp dispatches them, but on x86-64
+/// never on AVX-512's eight lanes: x86-64-v3's four (AVX2 and FMA) where the processor has
+/// them, else one. The workspace builds pulp with AVX-512 for the beams' element passes
+/// (`hht::fast::run_wide`), so `pulp::Arch::new()` would take eight lanes here too, where the
+/// propagation's kernels have their vector path for four lanes only and fall back to one
+/// (the paper's tip at 256 modes over 5 ms ran 18 % slower on a processor with AVX-512).
 #[inline]
 pub fn on_four_lanes<W: pulp::WithSimd>(kernel: W) -> W::Output {
     #[cfg(target_arch = "x86_64")]
-    if let Some(simd) = pulp::x86::V3::try_new() {
-        return pulp::Simd::vectorize(simd, kernel);
+    {
+        if let Some(simd) = pulp::x86::V3::try_new() {
+            return pulp::Simd::vectorize(simd, kernel);
+        }
+        pulp::Simd::vectorize(pulp::Scalar::new(), kernel)
     }
-    pulp::Simd::vectorize(pulp::Scalar::new(), kernel)
+    #[cfg(not(target_arch = "x86_64"))]
+    pulp::Arch::new().dispatch(kernel)
 }
 
 /// 1.5 2^52: `x + MAGIC - MAGIC` rounds |x| < 2^51 to the nearest integer, and the low bits of

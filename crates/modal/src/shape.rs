@@ -364,8 +364,8 @@ impl Curvatures {
     }
 }
 
-/// [`Curvatures::at`]'s loops, compiled for the processor's widest vectors (pulp inlines
-/// `with_simd` into a copy built for them).
+/// [`Curvatures::at`]'s loops, compiled for the processor's vectors (`on_four_lanes`:
+/// pulp inlines `with_simd` into a copy built for them).
 struct AtPoint<'a, 'b> {
     curvatures: &'a Curvatures,
     x: f64,

@@ -174,7 +174,7 @@ impl Recovery {
     }
 }
 
-/// [`Recovery::evaluate`]'s loops, compiled for the processor's widest vectors (pulp): one
+/// [`Recovery::evaluate`]'s loops, compiled for the processor's vectors (`on_four_lanes`): one
 /// scaled column added per mode.
 struct Evaluate<'a> {
     recovery: &'a Recovery,

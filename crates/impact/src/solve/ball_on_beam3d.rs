@@ -843,16 +843,19 @@ impl<L: ContactLaw> Model for BallOnBeam3d<'_, L> {
     fn predicted_inertial_force(
         &self,
         q: &BallOnBeam3dConfig,
-        (v, a): (ColRef<'_, f64>, ColRef<'_, f64>),
-        old: &[f64],
+        v: ColRef<'_, f64>,
+        a: ColRef<'_, f64>,
+        old: ColRef<'_, f64>,
         mut out: ColMut<'_, f64>,
     ) {
         let nb = self.nb;
+        debug_assert_eq!(old.nrows(), nb + 3, "the old inertial force, one row an unknown");
         // The beam's (its rotations' rows anew), then the ball's m a, at the same a: `old`'s.
         self.beam.predicted_inertial_force(
             &q.beam,
-            (v.subrows(0, nb), a.subrows(0, nb)),
-            &old[..nb],
+            v.subrows(0, nb),
+            a.subrows(0, nb),
+            old.subrows(0, nb),
             out.as_mut().subrows_mut(0, nb),
         );
         for k in 0..3 {
@@ -1114,6 +1117,34 @@ mod tests {
             let energy = model.beam_energy(&q, zero.as_ref(), &strains, &plane);
             assert!((energy - exact).abs() <= 1e-12 * exact, "{face:?} {up}: {energy} vs {exact}");
         }
+    }
+
+    #[test]
+    fn the_predictor_s_inertial_force_is_the_whole_one_to_the_bit() {
+        // The coupled model's predictor's inertial force (the beam's rotations' rows anew,
+        // the rest and the ball's rows from the old force at the same acceleration) against
+        // the whole force at the new velocity: the same bits, the ball's rows included.
+        let beam = || strip(6).support(0, simo_beam::Support::Clamped).unwrap();
+        let law = hertz::Hertz::new(1.15e11, 0.005).unwrap();
+        let model = BallOnBeam3d::new(beam(), (0.01, 9.81, 0.005), 0.005, 0.0025, &law);
+        let n = hht::Model::ndof(&model);
+        let q = BallOnBeam3dConfig { beam: beam().reference_state(), ball: Vector3::zeros() };
+        let wave = |scale: f64, phase: f64| {
+            faer::Col::<f64>::from_fn(n, |i| scale * (1.7 * i as f64 + phase).sin())
+        };
+        let (v_old, v_new, a) = (wave(3.0, 0.1), wave(5.0, 0.7), wave(2e4, 0.3));
+        let force = |v: &faer::Col<f64>| {
+            let mut out = faer::Col::<f64>::zeros(n);
+            hht::Model::inertial_force(&model, &q, v.as_ref(), a.as_ref(), out.as_mut());
+            out
+        };
+        let (old, whole) = (force(&v_old), force(&v_new));
+        let mut predicted = faer::Col::<f64>::from_fn(n, |_| f64::NAN);
+        let (v, a) = (v_new.as_ref(), a.as_ref());
+        hht::Model::predicted_inertial_force(&model, &q, v, a, old.as_ref(), predicted.as_mut());
+        let bits = |x: &faer::Col<f64>| x.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&predicted), bits(&whole));
+        assert_ne!(bits(&old), bits(&whole));
     }
 
     #[test]
