@@ -43,10 +43,11 @@
 //! the last one of another size is kept aside for when that size comes back. A model with a
 //! constant mass matrix ([`Model::constant_mass`]) spares the predictor's mass product, one
 //! whose inertial force is a mass product but for a term in the velocity recomputes only that
-//! term's rows for the predictor ([`Model::predicted_inertial_force`]), and one that writes `q (+) dq` into a kept configuration in one pass ([`Model::displaced`])
-//! the copy of `q` an iteration. A model that splits its Newton matrix into a slow part (a
-//! structure's stiffness) and a fast one (a contact, [`Model::tangent_parts`]) has a matrix for
-//! a new step size built from the kept slow part re-weighted, without its stiffness.
+//! term's rows for the predictor ([`Model::predicted_inertial_force`]), and one that writes
+//! `q (+) dq` into a kept configuration in one pass ([`Model::displaced`]) the copy of `q` an
+//! iteration. A model that splits its Newton matrix into a slow part (a structure's stiffness)
+//! and a fast one (a contact, [`Model::tangent_parts`]) has a matrix for a new step size built
+//! from the kept slow part re-weighted, without its stiffness.
 //!
 //! ## Example: your own model
 //! A hard (Duffing) spring, `a + q + 100 q^3 = 0`, released from `q = 1`. The model gives the

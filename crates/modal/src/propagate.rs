@@ -501,11 +501,11 @@ impl OneStep {
 /// The step's update of every mode, with the sums of the displacement at the point, the
 /// energy, and the displacement at the point at the end of one more step of the same
 /// transition with the force held at `f1` and no load added (what [`FreeKernel`] gives from
-/// the new state with f0 = f1). The hot loops are compiled for the processor's vector
-/// instructions, on x86-64 at most four lanes (`on_four_lanes`: pulp checks at run time and
-/// inlines `with_simd` into a function built for them); the operations and their order are the same on every path, and
-/// Rust never fuses a multiply and an add on its own, so neither are the results. Without a
-/// force (`FORCED` false: free flight) the load columns are not read.
+/// the new state with f0 = f1). The hot loops are compiled for the processor's vector instructions,
+/// on x86-64 at most four lanes (`on_four_lanes`: pulp checks at run time and inlines `with_simd`
+/// into a function built for them); the operations and their order are the same on every path, and
+/// Rust never fuses a multiply and an add on its own, so neither are the results. Without a force
+/// (`FORCED` false: free flight) the load columns are not read.
 struct AdvanceKernel<'a, const FORCED: bool> {
     t: &'a Transition,
     state: &'a mut ModalState,

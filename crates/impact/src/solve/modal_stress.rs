@@ -27,8 +27,8 @@
 //! are kept with their start state and searched at the end by branch and bound, to within
 //! [`modal_peak::PEAK_TOLERANCE`] of the maximum; so are the displacement at the impact point
 //! and each support's stress. The hot loop is compiled for the processor's vectors
-//! (`modal::on_four_lanes`: four lanes on x86-64) with fused multiply-adds, so the stress's last bits may differ between processors
-//! (the motion, which it does not feed, does not).
+//! (`modal::on_four_lanes`: four lanes on x86-64) with fused multiply-adds, so the stress's last
+//! bits may differ between processors (the motion, which it does not feed, does not).
 
 use super::modal_peak::{self, ModeData, Peak, Row, StressField, Trajectory, Weights};
 use super::observe::{BeamRecorder, BeamView, Instant};
@@ -971,8 +971,8 @@ impl BeamRecorder for ModalStress {
 }
 
 /// sigma_p = E h/2 (F correction_p + sum_n c_n(x_p) q_n) for the points of `stresses`: a dot
-/// product a point in the vectors `modal::on_four_lanes` takes at run time, fused multiply-adds, four
-/// points at a time.
+/// product a point in the vectors `modal::on_four_lanes` takes at run time, fused multiply-adds,
+/// four points at a time.
 struct StressKernel<'a> {
     stresses: &'a mut [f64],
     correction: &'a [f64],
