@@ -948,6 +948,15 @@ fn euler(d: &[f64; 3], w: &[f64; 3], dw: &[f64; 3]) -> [f64; 3] {
     ]
 }
 
+/// A run's node's six rows of the inertial force: its translations' `f`, then Euler's equation
+/// for its rotary inertia's diagonal `d` at the node's angular velocity and acceleration (rows
+/// 3..6 of `v` and `a`).
+#[inline(always)]
+fn write_node(out: &mut [f64], f: [f64; 3], d: &[f64; 3], (v, a): (&[f64], &[f64])) {
+    let r = euler(d, &[v[3], v[4], v[5]], &[a[3], a[4], a[5]]);
+    out.copy_from_slice(&[f[0], f[1], f[2], r[0], r[1], r[2]]);
+}
+
 impl InertiaRun {
     /// Writes the run's inertial force into `out` for velocity `v` and acceleration `a`. A
     /// node's translation: its element to the next node's term `m (2 a_j + a_(j+1))`, then
@@ -958,10 +967,6 @@ impl InertiaRun {
         let n = self.spin.len();
         let span = self.first..self.first + 6 * n;
         let (v, a, out) = (&v[span.clone()], &a[span.clone()], &mut out[span]);
-        let put = |out: &mut [f64], f: [f64; 3], d: &[f64; 3], (v, a): (&[f64], &[f64])| {
-            let r = euler(d, &[v[3], v[4], v[5]], &[a[3], a[4], a[5]]);
-            out.copy_from_slice(&[f[0], f[1], f[2], r[0], r[1], r[2]]);
-        };
         // Element j from node j to node j + 1 (its two nodes' accelerations `pair`): node j's
         // force is its term ahead plus the last element's term behind (`behind`).
         let mut behind: Option<[f64; 3]> = None;
@@ -973,12 +978,12 @@ impl InertiaRun {
                 Some(b) => std::array::from_fn(|c| ahead[c] + b[c]),
                 None => ahead,
             };
-            put(out, f, d, (v, pair));
+            write_node(out, f, d, (v, pair));
             behind = Some(std::array::from_fn(|c| m * (pair[c] + 2.0 * pair[6 + c])));
         }
         let last = 6 * (n - 1);
         if let (Some(b), Some(d)) = (behind, self.spin.last()) {
-            put(&mut out[last..], b, d, (&v[last..], &a[last..]));
+            write_node(&mut out[last..], b, d, (&v[last..], &a[last..]));
         }
     }
 
@@ -993,8 +998,7 @@ impl InertiaRun {
         let rates = v.chunks_exact(6).zip(a.chunks_exact(6));
         let nodes = out.chunks_exact_mut(6).zip(old.chunks_exact(6)).zip(rates);
         for (((out, old), (v, a)), d) in nodes.zip(&self.spin) {
-            let r = euler(d, three(v, 3), three(a, 3));
-            out.copy_from_slice(&[old[0], old[1], old[2], r[0], r[1], r[2]]);
+            write_node(out, [old[0], old[1], old[2]], d, (v, a));
         }
     }
 }
