@@ -32,7 +32,8 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 
 /// The library's allocations through mimalloc, as in the command line (`xtask/src/main.rs`:
-/// far fewer first-touch page faults a run; Python's own objects keep Python's allocator).
+/// huge pages, far fewer first-touch page faults a run); Python's own objects keep Python's
+/// allocator.
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

@@ -162,10 +162,12 @@ enum Command {
 }
 
 /// mimalloc rather than the system's allocator: a run's heap grows by a few megabytes (the
-/// modal stress search's kept states, the history, the tables) and glibc's malloc touched
-/// each new page once, a fault of a couple of microseconds: the paper's tip at 256 modes over
-/// 5 ms took 1555 page faults a process with it and 220 with mimalloc, and ran 17 % faster
-/// (the same bits; ARCHITECTURE.md, "Speed").
+/// modal stress search's kept states, the history, the tables), which glibc's malloc takes in
+/// 4 kB pages, each first touched at a fault of a couple of microseconds; mimalloc's arenas
+/// ask for transparent huge pages (where the system grants them on request, as Linux's
+/// default `madvise` setting does). The paper's tip at 256 modes over 5 ms: 1555 page faults
+/// a process against 220, 17 % faster (the same bits; with mimalloc's huge pages turned off,
+/// 1710 faults and no faster than glibc's). ARCHITECTURE.md, "Speed".
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
