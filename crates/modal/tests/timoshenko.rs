@@ -251,3 +251,25 @@ fn a_nanometre_beam_s_modes_do_not_panic() {
         }
     }
 }
+
+#[test]
+fn the_roots_and_shapes_found_side_by_side_are_those_of_one_thread() {
+    // The frequency range's halves and each root's shapes run under rayon::join and a parallel
+    // iterator; each side computes what the serial search did, so the modes are the same to
+    // the bit in a pool of one thread and of four (the paper's beam and a stocky free-free one,
+    // whose two rigid-body modes come first).
+    let pool =
+        |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    for beam in [steel(1.15, 0.005, Support::ClampedFree), steel(0.05, 0.01, Support::FreeFree)] {
+        let one = pool(1).install(|| beam.modes(256).unwrap());
+        let four = pool(4).install(|| beam.modes(256).unwrap());
+        assert_eq!(one.len(), four.len());
+        for (k, (a, b)) in one.iter().zip(&four).enumerate() {
+            assert_eq!(a.omega.to_bits(), b.omega.to_bits(), "mode {}", k + 1);
+            for x in [0.0, 0.3 * beam.length(), beam.length()] {
+                let (va, vb) = (a.shape.value(x), b.shape.value(x));
+                assert_eq!(va.to_bits(), vb.to_bits(), "mode {} at {x} m", k + 1);
+            }
+        }
+    }
+}
