@@ -36,7 +36,7 @@
 
 use modal::{ModalState, OneStep, PointModes};
 use std::collections::{BinaryHeap, HashMap};
-use std::rc::Rc;
+use std::sync::Arc;
 
 /// The relative gap the search over the beam closes: the largest stress reported is below
 /// the field's true one by less than this fraction of it (then polished to its local
@@ -70,6 +70,7 @@ impl Row {
 }
 
 /// What the bounds need of the modes, fixed for a run.
+#[derive(Debug, Clone)]
 pub(crate) struct ModeData {
     modes: PointModes,
     /// g / omega^2 (0 for a rigid-body mode) (m sqrt(kg)/N).
@@ -244,7 +245,7 @@ fn off_chord(start: (f64, f64), end: (f64, f64), inside: &[(f64, f64)]) -> f64 {
 struct Node {
     t: f64,
     force: f64,
-    state: Rc<ModalState>,
+    state: Arc<ModalState>,
 }
 
 /// A stretch of the run between two whole-grid instants, kept for the search.
@@ -263,7 +264,7 @@ pub(crate) struct Block {
     /// grid's points (in the recovery's order; none where the stress's bound did not beat the
     /// largest stress seen when the stretch was kept), then the displacement and each
     /// support's stress (all modes).
-    grid: Option<[Rc<Vec<f64>>; 2]>,
+    grid: Option<[Arc<Vec<f64>>; 2]>,
     values: [Vec<f64>; 2],
     /// The grid's modes, the other modes' largest stress over the stretch (Pa), and the
     /// second derivatives' bounds of the grid's modes' stress.
@@ -294,7 +295,7 @@ pub(crate) struct Trajectory {
     /// (the grid's of the first `low` modes).
     start: Node,
     ends: Vec<(f64, f64)>,
-    grid: Rc<Vec<f64>>,
+    grid: Arc<Vec<f64>>,
     values: Vec<f64>,
     low: usize,
     pub(crate) kept: Vec<Block>,
@@ -325,9 +326,9 @@ impl Trajectory {
     /// Starts at rest, at t = 0, with `n` modes.
     pub(crate) fn new(n: usize) -> Self {
         Self {
-            start: Node { t: 0.0, force: 0.0, state: Rc::new(ModalState::at_rest(n)) },
+            start: Node { t: 0.0, force: 0.0, state: Arc::new(ModalState::at_rest(n)) },
             ends: Vec::new(),
-            grid: Rc::default(),
+            grid: Arc::default(),
             values: Vec::new(),
             low: n,
             kept: Vec::new(),
@@ -376,10 +377,10 @@ impl Trajectory {
                 // seen, which the search only raises). A displacement that rises through the
                 // window keeps nearly every stretch for a while: most kept stretches are such.
                 kept = true;
-                let end = Rc::new(ModalState { q: q.to_vec(), v: v.to_vec() });
+                let end = Arc::new(ModalState { q: q.to_vec(), v: v.to_vec() });
                 let start = std::mem::replace(&mut self.start.state, end.clone());
                 let grids = (span.bounds[0] > best[0]).then(|| {
-                    let end_grid = Rc::new(grid.to_vec());
+                    let end_grid = Arc::new(grid.to_vec());
                     [std::mem::replace(&mut self.grid, end_grid.clone()), end_grid]
                 });
                 kept_grid = grids.is_some();
@@ -396,7 +397,7 @@ impl Trajectory {
                     low_rates: span.low_rates,
                 });
                 if self.kept.len() >= 2 * self.pruned_at + 64 {
-                    self.kept.retain(|b| b.bounds.iter().zip(best).any(|(b, best)| b > best));
+                    self.kept.retain(|b| b.wanted(best));
                     self.pruned_at = self.kept.len();
                 }
             }
@@ -421,7 +422,7 @@ impl Trajectory {
     /// The open stretch's grid at its start, of the first `low` modes (when the next stretch
     /// observes another count than the one just closed).
     pub(crate) fn regrid(&mut self, grid: &[f64], low: usize) {
-        self.grid = Rc::new(grid.to_vec());
+        self.grid = Arc::new(grid.to_vec());
         self.low = low;
     }
 
@@ -628,7 +629,9 @@ struct Search<'a> {
     field: &'a Field<'a>,
     /// Which of a block's bounds is this search's.
     slot: usize,
-    /// Rows by index (the grid's first, for the stress), their x, and the index of each x.
+    /// Rows by index: the field's own (the grid's, for the stress; the point's otherwise),
+    /// borrowed, then those the search made; their x, and the index of each x.
+    base: &'a [Row],
     rows: Vec<Row>,
     xs: Vec<f64>,
     row_of: HashMap<u64, u32>,
@@ -673,11 +676,22 @@ pub(crate) fn state_at(
 ) -> Option<(ModalState, f64, f64, (f64, f64))> {
     let b = blocks.iter().find(|b| b.nodes[0].t <= t && t <= b.nodes[1].t)?;
     let (node, slope, piece) = b.at(t, &data.modes, stepper);
-    let state = Rc::unwrap_or_clone(node.state);
+    let state = Arc::unwrap_or_clone(node.state);
     state.q.iter().all(|q| q.is_finite()).then_some((state, node.force, slope, piece))
 }
 
 impl Block {
+    /// Whether a search may find more in it than `best` (per field: the stress, the
+    /// displacement, each support's stress, the one-point fields').
+    pub(crate) fn wanted(&self, best: &[f64]) -> bool {
+        self.bounds.iter().zip(best).any(|(b, best)| b > best)
+    }
+
+    /// Whether the stress's search may find more in it than `best` (it kept its grid).
+    pub(crate) fn stress_wanted(&self, best: f64) -> bool {
+        self.grid.is_some() && self.bounds[0] > best
+    }
+
     /// The block at time t (within it): its modes by exact steps from the latest instant it
     /// holds before t through the force's breakpoints in between, with the force's slope at t
     /// and its linear piece around t (s, s).
@@ -711,7 +725,7 @@ impl Block {
             stepper.advance(modes, &mut state, te - time, force, fe);
             (time, force) = (te, fe);
         }
-        (Node { t, force, state: Rc::new(state) }, slope, piece)
+        (Node { t, force, state: Arc::new(state) }, slope, piece)
     }
 }
 
@@ -725,13 +739,13 @@ fn copy_state(state: &mut ModalState, q: &[f64], v: &[f64]) {
 
 /// Sets a shared value by `set` (which overwrites all of it): in place when nothing else holds
 /// it, else on a new one (the shared one stays as it was).
-fn set_shared<T: Default>(shared: &mut Rc<T>, set: impl FnOnce(&mut T)) {
-    match Rc::get_mut(shared) {
+fn set_shared<T: Default>(shared: &mut Arc<T>, set: impl FnOnce(&mut T)) {
+    match Arc::get_mut(shared) {
         Some(value) => set(value),
         None => {
             let mut value = T::default();
             set(&mut value);
-            *shared = Rc::new(value);
+            *shared = Arc::new(value);
         }
     }
 }
@@ -750,6 +764,10 @@ pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, b
         blocks: &mut *blocks,
         field,
         slot,
+        base: match field {
+            Field::Signed(row, _) | Field::Magnitude(row, ..) => std::slice::from_ref(*row),
+            Field::Stress(f) => &f.rows,
+        },
         rows: Vec::new(),
         xs: Vec::new(),
         row_of: HashMap::new(),
@@ -809,8 +827,7 @@ impl Search<'_> {
     fn run(&mut self) -> Peak {
         let mut heap = BinaryHeap::new();
         match self.field {
-            Field::Signed(row, x) | Field::Magnitude(row, x, ..) => {
-                self.rows.push((*row).clone());
+            Field::Signed(_, x) | Field::Magnitude(_, x, ..) => {
                 self.xs.push(*x);
                 let value = self.slot - 1;
                 for k in 0..self.blocks.len() {
@@ -836,7 +853,6 @@ impl Search<'_> {
                 order.dedup_by(|a, b| f.points[*a].to_bits() == f.points[*b].to_bits());
                 for k in 0..f.points.len() {
                     self.row_of.insert(f.points[k].to_bits(), k as u32);
-                    self.rows.push(f.rows[k].clone());
                     self.xs.push(f.points[k]);
                 }
                 for k in 0..self.blocks.len() {
@@ -868,8 +884,8 @@ impl Search<'_> {
         let mut splits = 0;
         let mut left = f64::NEG_INFINITY;
         while let Some(cell) = heap.pop() {
-            let made = self.rows.len() + 2 * self.nodes_made;
-            let spent = made * self.rows.first().map_or(1, |r| r.r.len().max(1));
+            let made = self.row_count() + 2 * self.nodes_made;
+            let spent = made * self.base.first().map_or(1, |r| r.r.len().max(1));
             if cell.bound <= self.target() || splits >= MAX_SPLITS || spent >= MAX_MODE_VALUES {
                 left = cell.bound;
                 break;
@@ -945,7 +961,18 @@ impl Search<'_> {
     /// The field at row `row` and node `node` of `block`.
     fn value(&self, row: u32, block: u32, node: u32) -> f64 {
         let n = &self.blocks[block as usize].nodes[node as usize];
-        self.rows[row as usize].value(n.force, &n.state.q)
+        self.row_at(row).value(n.force, &n.state.q)
+    }
+
+    /// How many rows: the field's own and those made.
+    fn row_count(&self) -> usize {
+        self.base.len() + self.rows.len()
+    }
+
+    /// Row `k`: the field's own first, then those made.
+    fn row_at(&self, k: u32) -> &Row {
+        let k = k as usize;
+        self.base.get(k).unwrap_or_else(|| &self.rows[k - self.base.len()])
     }
 
     /// The row at x, made once.
@@ -955,9 +982,9 @@ impl Search<'_> {
         }
         let row = match self.field {
             Field::Stress(f) => (f.row_at)(x),
-            _ => self.rows[0].clone(),
+            _ => self.base[0].clone(),
         };
-        let k = self.rows.len() as u32;
+        let k = self.row_count() as u32;
         self.rows.push(row);
         self.xs.push(x);
         self.row_of.insert(x.to_bits(), k);

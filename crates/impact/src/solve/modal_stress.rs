@@ -23,9 +23,10 @@
 //! modes the last stretch chose: the largest of the values the field takes is a floor. Each stretch between two such instants is certified on
 //! the spot when its bound (the grid's largest at its ends plus what the second derivatives
 //! allow between grid points and instants, `modal_peak`) cannot beat the floor; the others
-//! are kept with their start state and searched at the end by branch and bound, to within
-//! [`modal_peak::PEAK_TOLERANCE`] of the maximum; so are the displacement at the impact point
-//! and each support's stress. The hot loop is compiled for the processor's vectors
+//! are kept with their start state and searched by branch and bound, to within
+//! [`modal_peak::PEAK_TOLERANCE`] of the maximum: the oldest in batches on a thread of their
+//! own while the run goes on (`ModalStress::hand_over`), the rest at the end; so are the
+//! displacement at the impact point and each support's stress (at the end). The hot loop is compiled for the processor's vectors
 //! (`modal::on_four_lanes`: four lanes on x86-64) with fused multiply-adds, so the stress's last
 //! bits may differ between processors (the motion, which it does not feed, does not).
 
@@ -34,6 +35,7 @@ use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
 use crate::plan::FIELD_POINTS;
 use modal::{Beam, Curvatures, Mode, PointModes, Support};
+use std::sync::Arc;
 
 /// Points of the uniform grid per radian of the bending wave the pulse excites most
 /// (wavenumber beta_c with omega(beta_c) = pi / t_c): on the paper's tip 233 intervals, where
@@ -58,29 +60,25 @@ const POLISH_STEPS: usize = 8;
 const LEFT_SHARE: f64 = 0.6;
 /// The share of the largest stress so far that the modes left out of the grid may take.
 const TAIL_SHARE: f64 = 0.1;
+/// The stretches handed to the stress's search on its own thread at a time, and how many
+/// more must be kept after them first (so that the largest stress seen, which the search
+/// starts from, has taken in the stretches around them: on the paper's tip the first
+/// contact's stretches hold nearly all of the search's work, and the largest stress is seen
+/// at 33 us, within them).
+const EARLY_BATCH: usize = 16;
+const EARLY_LAG: usize = 16;
 /// Points near the ball: L/2^k away on each side for k in this range.
 const NEAR_LEVELS: std::ops::RangeInclusive<i32> = 4..=9;
 
 /// The modal beam seen as a stress field.
 pub(crate) struct ModalStress {
     shapes: Vec<Mode>,
-    /// The shapes' curvatures at a point, all at once (the search's new rows).
-    curvatures: Curvatures,
-    /// 1/sqrt(M) (1/sqrt(kg)).
-    scale: f64,
-    /// Stress per unit curvature on the struck face, E h/2 (Pa m).
-    section: f64,
+    /// The stress row at any point (shared with the search on its own thread).
+    rows: Arc<StressRows>,
     /// EI (N m^2).
     ei: f64,
-    /// Impact point (m).
-    position: f64,
-    length: f64,
-    /// The beam for its static curvature; `None` keeps the plain series.
-    beam: Option<Beam>,
-    /// g_n / omega_n^2 (0 for a rigid mode) (m/N per sqrt(kg)).
-    static_q: Vec<f64>,
-    /// c_n(x_p), point-major: curvature[p * N + n] (1/m^2 per sqrt(kg)).
-    curvature: Vec<f64>,
+    /// c_n(x_p), point-major: curvature[p * N + n] (1/m^2 per sqrt(kg)) (shared likewise).
+    curvature: Arc<Vec<f64>>,
     /// s(x_p) - sum_n c_n(x_p) g_n / omega_n^2 (1/m^2 per N).
     correction: Vec<f64>,
     stresses: Vec<f64>,
@@ -125,6 +123,14 @@ struct Peaks {
 
     /// The largest displacement observed (m) and when (s).
     seen_displacement: (f64, f64),
+    /// The stress's search of the stretches kept early in the run, on a thread of its own,
+    /// whether one was tried, and once gathered how many of the kept stretches (the first)
+    /// it searched and the largest it found.
+    early: Option<EarlySearch>,
+    early_tried: bool,
+    early_found: (usize, Option<Peak>),
+    /// Stretches handed over that the stress's search does not want, kept for the others.
+    held: Vec<modal_peak::Block>,
     /// The searches' results, once run: the stress's, the displacement's, each support's.
     stress_peak: Option<Peak>,
     displacement_peak: Option<Peak>,
@@ -303,16 +309,19 @@ impl ModalStress {
             },
         );
         Self {
+            rows: Arc::new(StressRows {
+                modes: n,
+                curvatures,
+                scale,
+                section,
+                position,
+                length,
+                beam: static_beam,
+                static_q,
+            }),
             shapes,
-            curvatures,
-            scale,
-            section,
             ei: beam.flexural_rigidity(),
-            position,
-            length,
-            beam: static_beam,
-            static_q,
-            curvature,
+            curvature: Arc::new(curvature),
             correction,
             stresses: vec![0.0; p],
             near_count,
@@ -335,13 +344,13 @@ impl ModalStress {
     /// the envelope.
     pub(crate) fn record_field(&mut self, residual: f64) {
         let mut points: Vec<f64> = (0..=FIELD_POINTS)
-            .map(|k| self.length * k as f64 / FIELD_POINTS as f64)
-            .chain([self.position])
+            .map(|k| self.rows.length * k as f64 / FIELD_POINTS as f64)
+            .chain([self.rows.position])
             .collect();
         points.sort_by(f64::total_cmp);
         points.dedup();
         let n = self.shapes.len();
-        let (shapes, scale) = (&self.shapes, self.scale);
+        let (shapes, scale) = (&self.shapes, self.rows.scale);
         let row = |f: &dyn Fn(&Mode, f64) -> f64| -> Vec<f64> {
             let mut out = Vec::with_capacity(points.len() * n);
             for x in &points {
@@ -355,21 +364,22 @@ impl ModalStress {
         let correction = points
             .iter()
             .enumerate()
-            .map(|(k, x)| match &self.beam {
+            .map(|(k, x)| match &self.rows.beam {
                 Some(b) => {
-                    let kept: f64 = (0..n).map(|i| curvature[k * n + i] * self.static_q[i]).sum();
-                    b.static_curvature(self.position, *x).unwrap_or(0.0) - kept
+                    let kept: f64 =
+                        (0..n).map(|i| curvature[k * n + i] * self.rows.static_q[i]).sum();
+                    b.static_curvature(self.rows.position, *x).unwrap_or(0.0) - kept
                 }
                 None => 0.0,
             })
             .collect();
-        let deflection = match &self.beam {
+        let deflection = match &self.rows.beam {
             Some(b) if residual > 0.0 => points
                 .iter()
                 .enumerate()
                 .map(|(k, x)| {
-                    let kept: f64 = (0..n).map(|i| value[k * n + i] * self.static_q[i]).sum();
-                    b.static_deflection(self.position, *x).map_or(0.0, |w| w - kept)
+                    let kept: f64 = (0..n).map(|i| value[k * n + i] * self.rows.static_q[i]).sum();
+                    b.static_deflection(self.rows.position, *x).map_or(0.0, |w| w - kept)
                 })
                 .collect(),
             _ => Vec::new(),
@@ -422,7 +432,7 @@ impl ModalStress {
                 f.field.slope.push(dot(&f.slope, k));
                 let curvature = dot(&f.curvature, k) + force * f.correction[k];
                 f.field.moment.push(ei_over_section * curvature);
-                f.field.stress.push(self.section * curvature);
+                f.field.stress.push(self.rows.section * curvature);
             }
         }
         let w = self.peaks.displacement.value(force, q);
@@ -458,11 +468,7 @@ impl ModalStress {
         if low == n {
             self.envelope.observe(t, &self.stresses);
         }
-        let best: Vec<f64> = [self.envelope.best().0.abs(), self.peaks.seen_displacement.0]
-            .into_iter()
-            .chain(self.envelope.supports().iter().map(|s| s.1))
-            .chain(self.peaks.points.iter().map(|p| p.seen.0))
-            .collect();
+        let best = self.largest_seen();
         let Peaks {
             data,
             trajectory,
@@ -476,7 +482,7 @@ impl ModalStress {
         let weights = Weights {
             stress: curvature,
             stress2: curvature2,
-            mode_acceleration: self.beam.is_some(),
+            mode_acceleration: self.rows.beam.is_some(),
             spacing: self.spacing,
             correction: *correction,
             displacement,
@@ -518,6 +524,59 @@ impl ModalStress {
             self.evaluate(self.stresses.len(), next, q, force);
             self.peaks.trajectory.regrid(&self.stresses, next);
         }
+        self.hand_over();
+    }
+
+    /// The largest seen so far of each field the stretches are kept for: the stress, the
+    /// displacement, each support's stress, then the one-point fields'.
+    fn largest_seen(&self) -> Vec<f64> {
+        [self.envelope.best().0.abs(), self.peaks.seen_displacement.0]
+            .into_iter()
+            .chain(self.envelope.supports().iter().map(|s| s.1))
+            .chain(self.peaks.points.iter().map(|p| p.seen.0))
+            .collect()
+    }
+
+    /// Hands the oldest [`EARLY_BATCH`] kept stretches to the stress's search on its own
+    /// thread once [`EARLY_LAG`] more have been kept after them, with the largest stress seen
+    /// by then to start from (it only prunes: a lower start costs work, never the result).
+    /// The search then runs beside the solver; most of its work lies in the first contact's
+    /// stretches, so little is left for the end. Which stretches go in a batch and what it
+    /// starts from depend on the run alone, never on the threads' timing: the result is the
+    /// same on any machine. Without a thread (the system refuses one) all are searched at
+    /// the end, as they were before.
+    fn hand_over(&mut self) {
+        if self.peaks.trajectory.kept.len() < EARLY_BATCH + EARLY_LAG {
+            return;
+        }
+        if !self.peaks.early_tried {
+            self.peaks.early_tried = true;
+            self.peaks.early = EarlySearch::start(EarlyContext {
+                data: self.peaks.data.clone(),
+                rows: Arc::clone(&self.rows),
+                curvature: Arc::clone(&self.curvature),
+                correction: self.correction.clone(),
+                points: self.envelope.points.clone(),
+                peak_correction: self.peaks.correction,
+            });
+        }
+        let Some(early) = &self.peaks.early else { return };
+        // Those whose bounds all stay below the largest seen are dropped (as the trajectory's
+        // pruning would have); of the others, those whose stress bound beats it go to the
+        // search, the rest wait for the one-point searches at the end.
+        let best = self.largest_seen();
+        let mut batch = Vec::new();
+        for block in self.peaks.trajectory.kept.drain(..EARLY_BATCH) {
+            if block.stress_wanted(best[0]) {
+                batch.push(block);
+            } else if block.wanted(&best) {
+                self.peaks.held.push(block);
+            }
+        }
+        if !batch.is_empty() {
+            let (value, x, t) = self.envelope.best();
+            early.send(batch, Peak { value, x, t, bound: value.abs() });
+        }
     }
 
     /// The stress at the first `points` points with the first `modes` modes, into `stresses`.
@@ -529,12 +588,179 @@ impl ModalStress {
             stride: q.len(),
             q: &q[..modes],
             force,
-            section: self.section,
+            section: self.rows.section,
         });
     }
 
+    /// The stress at (x, t) of the kept stretches with its first and second derivatives, and
+    /// the force's linear piece around t.
+    fn stress_derivatives(
+        &self,
+        kept: &[modal_peak::Block],
+        (x, t): (f64, f64),
+        stepper: &mut modal_peak::Stepper,
+    ) -> Option<Derivatives> {
+        let (state, force, slope, piece) =
+            modal_peak::state_at(&self.peaks.data, kept, t, stepper)?;
+        let modes = self.peaks.data.modes();
+        let acc: Vec<f64> = (0..state.q.len())
+            .map(|k| {
+                let (w, z, g) = (modes.omega()[k], modes.damping_ratio()[k], modes.gain()[k]);
+                g * force - w * w * state.q[k] - 2.0 * z * w * state.v[k]
+            })
+            .collect();
+        let rows = self.rows.row_derivatives(x);
+        let at = |row: &Row, q: &[f64], f: f64| row.value(f, q);
+        let sigma = at(&rows[0], &state.q, force);
+        let gradient = [at(&rows[1], &state.q, force), at(&rows[0], &state.v, slope)];
+        let hessian =
+            [at(&rows[2], &state.q, force), at(&rows[1], &state.v, slope), at(&rows[0], &acc, 0.0)];
+        Some(Derivatives { sigma, gradient, hessian, piece })
+    }
+
+    /// The search's largest, moved by Newton's method to the local maximum of |sigma| it
+    /// sits on (within its cell of the field: the same side of the impact point, the same
+    /// piece of the force; at the impact point or a support, in time only); a step is kept
+    /// only if it raises |sigma|, so the result is a value the field takes and at least the
+    /// search's.
+    fn polish(&self, kept: &[modal_peak::Block], peak: Peak) -> Peak {
+        let sign = if peak.value < 0.0 { -1.0 } else { 1.0 };
+        let knots = [0.0, self.rows.position, self.rows.length];
+        let on_knot = knots.iter().any(|k| (peak.x - k).abs() <= 1e-12 * self.rows.length);
+        let (lo, hi) = if peak.x < self.rows.position {
+            (0.0, self.rows.position)
+        } else {
+            (self.rows.position, self.rows.length)
+        };
+        let mut best = peak;
+        let mut stepper = modal_peak::Stepper::default();
+        // The derivatives at `best` (those of the step that moved it there, after the first).
+        let mut at_best = self.stress_derivatives(kept, (best.x, best.t), &mut stepper);
+        for _ in 0..POLISH_STEPS {
+            let Some(Derivatives { sigma, gradient: g, hessian: h, piece }) = at_best.take() else {
+                break;
+            };
+            let (g, h) = (g.map(|v| sign * v), h.map(|v| sign * v));
+            // Newton's step for the maximum: H d = -g, with H negative definite (else stop).
+            let (dx, dt) = if on_knot {
+                if h[2] >= 0.0 {
+                    break;
+                }
+                (0.0, -g[1] / h[2])
+            } else {
+                let det = h[0] * h[2] - h[1] * h[1];
+                if !(h[0] < 0.0 && det > 0.0) {
+                    break;
+                }
+                ((-g[0] * h[2] + g[1] * h[1]) / det, (-g[1] * h[0] + g[0] * h[1]) / det)
+            };
+            // (A step into the next piece of the force is tried too: the stress's time rate
+            // jumps there by E h/2 corr(x) times the slope's change, so the value decides.)
+            let x = (best.x + dx).clamp(lo, hi);
+            let t = best.t + dt.clamp(-(piece.1 - piece.0), piece.1 - piece.0);
+            let Some(there) = self.stress_derivatives(kept, (x, t), &mut stepper) else {
+                break;
+            };
+            let moved = there.sigma;
+            if sign * moved <= sign * sigma || moved.is_nan() {
+                break;
+            }
+            at_best = Some(there);
+            let settled = (x - best.x).abs() <= 1e-13 * self.rows.length
+                && (t - best.t).abs() <= 1e-13 * (piece.1 - piece.0);
+            best = Peak { value: moved, x, t, bound: best.bound.max(moved.abs()) };
+            if settled {
+                break;
+            }
+        }
+        best
+    }
+
+    /// The envelope with its largest, and each support's, searched between the observed
+    /// points and instants.
+    pub(crate) fn envelope(&mut self, yield_stress: Option<f64>) -> BendingStress {
+        self.peaks.gather();
+        let mut kept = std::mem::take(&mut self.peaks.trajectory.kept);
+        let rows = grid_rows(&self.curvature, &self.correction, &self.rows);
+        let row_at = |x: f64| self.rows.row_at(x);
+        let field = StressField {
+            points: &self.envelope.points,
+            rows,
+            row_at: &row_at,
+            correction: self.peaks.correction,
+        };
+        // The stretches the early search left, from the largest seen or found so far.
+        let (value, x, t) = self.envelope.best();
+        let seen = Peak { value, x, t, bound: value.abs() };
+        let (searched, early) = self.peaks.early_found;
+        let start = early.map_or(seen, |e| larger(seen, e));
+        let rest = modal_peak::search(
+            &self.peaks.data,
+            &mut kept[searched..],
+            &modal_peak::Field::Stress(&field),
+            start,
+        );
+        let peak = early.map_or(rest, |e| larger(e, rest));
+        let peak = self.polish(&kept, peak);
+        let mut supports = Vec::new();
+        let count = self.peaks.support_count;
+        for (k, row) in self.peaks.supports[..count].iter().enumerate() {
+            let (i, max, time) = self.envelope.supports()[k];
+            let x = self.envelope.points[i];
+            let seen = Peak { value: max, x, t: time, bound: max };
+            let floor = modal_peak::PEAK_TOLERANCE * peak.value.abs();
+            let field = modal_peak::Field::Magnitude(row, x, k, floor);
+            supports.push(modal_peak::search(&self.peaks.data, &mut kept, &field, seen));
+        }
+        for (k, found) in supports.iter().enumerate() {
+            self.envelope.raise_support(k, found.value.abs(), found.t);
+        }
+        let Peaks { data, supports: rows, points, .. } = &mut self.peaks;
+        // The torsion shear's sections, like the supports' stresses, to 1e-4 of the largest
+        // torsion shear seen (a section the twist has not reached yet holds the truncated
+        // series' noise).
+        let shear_floor = modal_peak::PEAK_TOLERANCE * largest_shear_seen(points);
+        for (k, (p, row)) in points.iter_mut().zip(&rows[count..]).enumerate() {
+            let (max, time) = p.seen;
+            let seen = Peak { value: max, x: p.x, t: time, bound: max };
+            let floor = match p.kind {
+                PointKind::Twist => 0.0,
+                PointKind::TorsionShear(_) => shear_floor,
+            };
+            let field = modal_peak::Field::Magnitude(row, p.x, count + k, floor);
+            p.peak = Some(modal_peak::search(data, &mut kept, &field, seen));
+        }
+        self.peaks.trajectory.kept = kept;
+        self.peaks.stress_peak = Some(peak);
+        self.peaks.support_peaks = supports;
+        self.envelope.finish(Some((peak.x, peak.value, peak.t)), yield_stress)
+    }
+}
+
+/// The stress row at any point of the beam: E h/2 c_n(x) and the mode-acceleration form's
+/// correction, with their x-derivatives (the search's new rows, Newton's polish). Immutable
+/// once made, so the search on its own thread shares it.
+struct StressRows {
+    /// How many modes.
+    modes: usize,
+    /// The shapes' curvatures at a point, all at once.
+    curvatures: Curvatures,
+    /// 1/sqrt(M) (1/sqrt(kg)).
+    scale: f64,
+    /// Stress per unit curvature on the struck face, E h/2 (Pa m).
+    section: f64,
+    /// Impact point (m).
+    position: f64,
+    length: f64,
+    /// The beam for its static curvature; `None` keeps the plain series.
+    beam: Option<Beam>,
+    /// g_n / omega_n^2 (0 for a rigid mode) (m/N per sqrt(kg)).
+    static_q: Vec<f64>,
+}
+
+impl StressRows {
     /// The stress row at x: E h/2 c_n(x) and E h/2 times the correction (Pa per unit q, Pa/N).
-    fn row_at(&self, x: f64) -> Row {
+    pub(crate) fn row_at(&self, x: f64) -> Row {
         let [c] = self.scaled_curvatures(x);
         self.stress_row(x, 0, c)
     }
@@ -549,7 +775,7 @@ impl ModalStress {
     /// The modes' curvature c_n = phi_n''/sqrt(M) at x and its x-derivatives of the orders
     /// below K, from one evaluation of their waves ([`modal::Curvatures`]).
     fn scaled_curvatures<const K: usize>(&self, x: f64) -> [Vec<f64>; K] {
-        let n = self.shapes.len();
+        let n = self.modes;
         let mut c: [Vec<f64>; K] = std::array::from_fn(|_| vec![0.0; n]);
         let mut rows: Vec<&mut [f64]> = c.iter_mut().map(|v| v.as_mut_slice()).collect();
         self.curvatures.at(x, &mut rows);
@@ -587,150 +813,94 @@ impl ModalStress {
         };
         Row { r, p: self.section * correction }
     }
+}
 
-    /// The stress at (x, t) of the kept stretches with its first and second derivatives, and
-    /// the force's linear piece around t.
-    fn stress_derivatives(
-        &self,
-        kept: &[modal_peak::Block],
-        (x, t): (f64, f64),
-        stepper: &mut modal_peak::Stepper,
-    ) -> Option<Derivatives> {
-        let (state, force, slope, piece) =
-            modal_peak::state_at(&self.peaks.data, kept, t, stepper)?;
-        let modes = self.peaks.data.modes();
-        let acc: Vec<f64> = (0..state.q.len())
-            .map(|k| {
-                let (w, z, g) = (modes.omega()[k], modes.damping_ratio()[k], modes.gain()[k]);
-                g * force - w * w * state.q[k] - 2.0 * z * w * state.v[k]
+/// The stress rows at the grid's points: E h/2 c_n(x_p) and E h/2 times the correction.
+fn grid_rows(curvature: &[f64], correction: &[f64], rows: &StressRows) -> Vec<Row> {
+    let n = rows.modes;
+    correction
+        .iter()
+        .enumerate()
+        .map(|(k, c)| Row {
+            r: curvature[k * n..(k + 1) * n].iter().map(|c| c * rows.section).collect(),
+            p: c * rows.section,
+        })
+        .collect()
+}
+
+/// The larger of two searches' results (the first on a tie), with the larger bound: no value
+/// of the field in either's stretches exceeds it.
+fn larger(a: Peak, b: Peak) -> Peak {
+    let bound = a.bound.max(b.bound);
+    if b.value.abs() > a.value.abs() {
+        Peak { bound, ..b }
+    } else {
+        Peak { bound, ..a }
+    }
+}
+
+/// What the stress's search on its own thread needs (its own copies, or shared and immutable).
+struct EarlyContext {
+    data: ModeData,
+    rows: Arc<StressRows>,
+    curvature: Arc<Vec<f64>>,
+    correction: Vec<f64>,
+    points: Vec<f64>,
+    /// E h/2 max |correction| (Pa/N).
+    peak_correction: f64,
+}
+
+/// The stress's search over batches of kept stretches on a thread of its own
+/// ([`ModalStress::hand_over`]).
+struct EarlySearch {
+    batches: std::sync::mpsc::Sender<(Vec<modal_peak::Block>, Peak)>,
+    worker: std::thread::JoinHandle<(Vec<modal_peak::Block>, Option<Peak>)>,
+}
+
+impl EarlySearch {
+    /// The thread, waiting for batches; `None` if the system gives no thread.
+    fn start(context: EarlyContext) -> Option<Self> {
+        let (batches, received) = std::sync::mpsc::channel::<(Vec<modal_peak::Block>, Peak)>();
+        let worker = std::thread::Builder::new()
+            .name("stress-search".into())
+            .spawn(move || {
+                let EarlyContext { data, rows, curvature, correction, points, peak_correction } =
+                    context;
+                let row_at = |x: f64| rows.row_at(x);
+                let field = StressField {
+                    points: &points,
+                    rows: grid_rows(&curvature, &correction, &rows),
+                    row_at: &row_at,
+                    correction: peak_correction,
+                };
+                let field = modal_peak::Field::Stress(&field);
+                let mut searched = Vec::new();
+                let mut found: Option<Peak> = None;
+                for (mut batch, start) in received {
+                    let peak = modal_peak::search(&data, &mut batch, &field, start);
+                    found = Some(found.map_or(peak, |f| larger(f, peak)));
+                    searched.append(&mut batch);
+                }
+                (searched, found)
             })
-            .collect();
-        let rows = self.row_derivatives(x);
-        let at = |row: &Row, q: &[f64], f: f64| row.value(f, q);
-        let sigma = at(&rows[0], &state.q, force);
-        let gradient = [at(&rows[1], &state.q, force), at(&rows[0], &state.v, slope)];
-        let hessian =
-            [at(&rows[2], &state.q, force), at(&rows[1], &state.v, slope), at(&rows[0], &acc, 0.0)];
-        Some(Derivatives { sigma, gradient, hessian, piece })
+            .ok()?;
+        Some(Self { batches, worker })
     }
 
-    /// The search's largest, moved by Newton's method to the local maximum of |sigma| it
-    /// sits on (within its cell of the field: the same side of the impact point, the same
-    /// piece of the force; at the impact point or a support, in time only); a step is kept
-    /// only if it raises |sigma|, so the result is a value the field takes and at least the
-    /// search's.
-    fn polish(&self, kept: &[modal_peak::Block], peak: Peak) -> Peak {
-        let sign = if peak.value < 0.0 { -1.0 } else { 1.0 };
-        let knots = [0.0, self.position, self.length];
-        let on_knot = knots.iter().any(|k| (peak.x - k).abs() <= 1e-12 * self.length);
-        let (lo, hi) = if peak.x < self.position {
-            (0.0, self.position)
-        } else {
-            (self.position, self.length)
-        };
-        let mut best = peak;
-        let mut stepper = modal_peak::Stepper::default();
-        // The derivatives at `best` (those of the step that moved it there, after the first).
-        let mut at_best = self.stress_derivatives(kept, (best.x, best.t), &mut stepper);
-        for _ in 0..POLISH_STEPS {
-            let Some(Derivatives { sigma, gradient: g, hessian: h, piece }) = at_best.take() else {
-                break;
-            };
-            let (g, h) = (g.map(|v| sign * v), h.map(|v| sign * v));
-            // Newton's step for the maximum: H d = -g, with H negative definite (else stop).
-            let (dx, dt) = if on_knot {
-                if h[2] >= 0.0 {
-                    break;
-                }
-                (0.0, -g[1] / h[2])
-            } else {
-                let det = h[0] * h[2] - h[1] * h[1];
-                if !(h[0] < 0.0 && det > 0.0) {
-                    break;
-                }
-                ((-g[0] * h[2] + g[1] * h[1]) / det, (-g[1] * h[0] + g[0] * h[1]) / det)
-            };
-            // (A step into the next piece of the force is tried too: the stress's time rate
-            // jumps there by E h/2 corr(x) times the slope's change, so the value decides.)
-            let x = (best.x + dx).clamp(lo, hi);
-            let t = best.t + dt.clamp(-(piece.1 - piece.0), piece.1 - piece.0);
-            let Some(there) = self.stress_derivatives(kept, (x, t), &mut stepper) else {
-                break;
-            };
-            let moved = there.sigma;
-            if sign * moved <= sign * sigma || moved.is_nan() {
-                break;
-            }
-            at_best = Some(there);
-            let settled = (x - best.x).abs() <= 1e-13 * self.length
-                && (t - best.t).abs() <= 1e-13 * (piece.1 - piece.0);
-            best = Peak { value: moved, x, t, bound: best.bound.max(moved.abs()) };
-            if settled {
-                break;
-            }
-        }
-        best
+    /// Hands it a batch and the largest seen to start from. (If the thread has stopped, it
+    /// panicked: [`Self::finish`] says so.)
+    fn send(&self, batch: Vec<modal_peak::Block>, start: Peak) {
+        let _ = self.batches.send((batch, start));
     }
 
-    /// The envelope with its largest, and each support's, searched between the observed
-    /// points and instants.
-    pub(crate) fn envelope(&mut self, yield_stress: Option<f64>) -> BendingStress {
-        let mut kept = std::mem::take(&mut self.peaks.trajectory.kept);
-        let n = self.shapes.len();
-        let rows = (0..self.envelope.points.len())
-            .map(|k| Row {
-                r: self.curvature[k * n..(k + 1) * n].iter().map(|c| c * self.section).collect(),
-                p: self.correction[k] * self.section,
-            })
-            .collect();
-        let row_at = |x: f64| self.row_at(x);
-        let field = StressField {
-            points: &self.envelope.points,
-            rows,
-            row_at: &row_at,
-            correction: self.peaks.correction,
-        };
-        let (value, x, t) = self.envelope.best();
-        let seen = Peak { value, x, t, bound: value.abs() };
-        let peak = modal_peak::search(
-            &self.peaks.data,
-            &mut kept,
-            &modal_peak::Field::Stress(&field),
-            seen,
-        );
-        let peak = self.polish(&kept, peak);
-        let mut supports = Vec::new();
-        let count = self.peaks.support_count;
-        for (k, row) in self.peaks.supports[..count].iter().enumerate() {
-            let (i, max, time) = self.envelope.supports()[k];
-            let x = self.envelope.points[i];
-            let seen = Peak { value: max, x, t: time, bound: max };
-            let floor = modal_peak::PEAK_TOLERANCE * peak.value.abs();
-            let field = modal_peak::Field::Magnitude(row, x, k, floor);
-            supports.push(modal_peak::search(&self.peaks.data, &mut kept, &field, seen));
+    /// The stretches it searched, in the order given, and the largest it found; a panic on
+    /// its thread goes on here.
+    fn finish(self) -> (Vec<modal_peak::Block>, Option<Peak>) {
+        drop(self.batches);
+        match self.worker.join() {
+            Ok(done) => done,
+            Err(panic) => std::panic::resume_unwind(panic),
         }
-        for (k, found) in supports.iter().enumerate() {
-            self.envelope.raise_support(k, found.value.abs(), found.t);
-        }
-        let Peaks { data, supports: rows, points, .. } = &mut self.peaks;
-        // The torsion shear's sections, like the supports' stresses, to 1e-4 of the largest
-        // torsion shear seen (a section the twist has not reached yet holds the truncated
-        // series' noise).
-        let shear_floor = modal_peak::PEAK_TOLERANCE * largest_shear_seen(points);
-        for (k, (p, row)) in points.iter_mut().zip(&rows[count..]).enumerate() {
-            let (max, time) = p.seen;
-            let seen = Peak { value: max, x: p.x, t: time, bound: max };
-            let floor = match p.kind {
-                PointKind::Twist => 0.0,
-                PointKind::TorsionShear(_) => shear_floor,
-            };
-            let field = modal_peak::Field::Magnitude(row, p.x, count + k, floor);
-            p.peak = Some(modal_peak::search(data, &mut kept, &field, seen));
-        }
-        self.peaks.trajectory.kept = kept;
-        self.peaks.stress_peak = Some(peak);
-        self.peaks.support_peaks = supports;
-        self.envelope.finish(Some((peak.x, peak.value, peak.t)), yield_stress)
     }
 }
 
@@ -807,6 +977,10 @@ impl Peaks {
             point_values: vec![0.0; points.len()],
             points,
             seen_displacement: (0.0, 0.0),
+            early: None,
+            early_tried: false,
+            early_found: (0, None),
+            held: Vec::new(),
             stress_peak: None,
             displacement_peak: None,
             support_peaks: Vec::new(),
@@ -816,6 +990,7 @@ impl Peaks {
     /// The largest displacement at the impact point, searched between instants from the
     /// largest `seen` by the solver.
     fn displacement(&mut self, seen: (f64, f64), position: f64) -> (f64, f64) {
+        self.gather();
         let start = if seen.0 >= self.seen_displacement.0 { seen } else { self.seen_displacement };
         let best = Peak { value: start.0, x: position, t: start.1, bound: start.0 };
         let peak = modal_peak::search(
@@ -826,6 +1001,19 @@ impl Peaks {
         );
         self.displacement_peak = Some(peak);
         (peak.value, peak.t)
+    }
+
+    /// The stretches the early search took back at the front of the kept ones (they are the
+    /// oldest), with its result: once, before any search at the end.
+    fn gather(&mut self) {
+        if let Some(early) = self.early.take() {
+            let (mut searched, found) = early.finish();
+            let count = searched.len();
+            searched.append(&mut self.held);
+            searched.append(&mut self.trajectory.kept);
+            self.trajectory.kept = searched;
+            self.early_found = (count, found);
+        }
     }
 
     /// What the reasons say of the searches: the gap each closed, as a fraction of its value.
@@ -952,7 +1140,7 @@ impl BeamRecorder for ModalStress {
     }
 
     fn displacement_peak(&mut self, seen: (f64, f64)) -> (f64, f64) {
-        self.peaks.displacement(seen, self.position)
+        self.peaks.displacement(seen, self.rows.position)
     }
 
     fn twist_peak(&self) -> Option<(f64, f64)> {
@@ -1086,15 +1274,19 @@ mod tests {
             for k in 0..=46 {
                 let x = 1.15 * k as f64 / 46.0;
                 let exact = section * b.static_curvature(c, x).unwrap() * force;
-                let got = s.row_at(x).value(force, &q);
+                let got = s.rows.row_at(x).value(force, &q);
                 assert!(
                     (got - exact).abs() <= 1e-9 * section * force,
                     "{support:?} x = {x}: {got} vs {exact}"
                 );
             }
             // At the load the plain 8-mode series misses a good part of the moment.
-            let plain: f64 =
-                s.shapes.iter().zip(&q).map(|(m, qn)| m.shape.curvature(c) * s.scale * qn).sum();
+            let plain: f64 = s
+                .shapes
+                .iter()
+                .zip(&q)
+                .map(|(m, qn)| m.shape.curvature(c) * s.rows.scale * qn)
+                .sum();
             let exact = b.static_curvature(c, c).unwrap();
             assert!((plain - exact).abs() > 1e-2 * exact.abs(), "{support:?}: {plain} vs {exact}");
             // The envelope of one observation: the static moment's largest, where the tables
@@ -1189,6 +1381,51 @@ mod tests {
         );
         assert!(((beta * e.position).sin().abs() - 1.0).abs() < 1e-5, "at {}", e.position);
         assert!((e.time - t_star).abs() < 1e-9, "at {} vs {t_star}", e.time);
+    }
+
+    #[test]
+    fn the_stress_searched_beside_the_run_is_the_one_searched_at_its_end() {
+        // Sixteen modes of the paper's cantilever ringing together (no force), observed at
+        // 4000 instants over 40 ms: hundreds of stretches are kept, so the oldest go to the
+        // stress's search on its own thread in batches. The largest stress, where and when,
+        // and the bound left must be those of the same recovery searching every stretch at the
+        // end (no thread), to the bit: each batch's search and the rest's find the same local
+        // maximum, which Newton's method polishes alike.
+        let b = beam(Support::ClampedFree);
+        let run = |beside: bool| {
+            let mut s = recovery(&b, 16, 1.15, 2e-4);
+            s.peaks.early_tried = !beside;
+            let omega: Vec<f64> = s.shapes.iter().map(|m| m.omega).collect();
+            let amplitude: Vec<f64> = (0..16).map(|k| 1e-4 / (1.0 + k as f64).powi(2)).collect();
+            let phase: Vec<f64> = (0..16).map(|k| 0.7 * k as f64).collect();
+            let step = 1e-5;
+            for i in 0..=4000 {
+                let t = i as f64 * step;
+                let q: Vec<f64> =
+                    (0..16).map(|k| amplitude[k] * (omega[k] * t + phase[k]).cos()).collect();
+                let v: Vec<f64> = (0..16)
+                    .map(|k| -amplitude[k] * omega[k] * (omega[k] * t + phase[k]).sin())
+                    .collect();
+                if i > 0 {
+                    s.step(t, 0.0);
+                }
+                s.observe_modes(t, (&q, &v), 0.0, (true, i == 4000));
+            }
+            let e = s.envelope(None);
+            (e, s.peaks.early_found.0, s.peaks.stress_peak.unwrap())
+        };
+        let (beside, searched, peak_beside) = run(true);
+        let (at_end, none, peak_at_end) = run(false);
+        assert!(searched > 0, "no stretch was searched beside the run");
+        assert_eq!(none, 0);
+        for (a, b) in [
+            (beside.max, at_end.max),
+            (beside.position, at_end.position),
+            (beside.time, at_end.time),
+            (peak_beside.bound, peak_at_end.bound),
+        ] {
+            assert_eq!(a.to_bits(), b.to_bits(), "{a} vs {b}");
+        }
     }
 
     #[test]
