@@ -581,13 +581,37 @@ pub(crate) enum Field<'a> {
 pub(crate) struct StressField<'a> {
     /// The grid's points (m) in the recovery's order (that of the blocks' grids), with the
     /// supports and the impact point among them (where the static moment has its kinks).
-    pub(crate) points: &'a [f64],
+    points: &'a [f64],
     /// Their rows (same order).
-    pub(crate) rows: Vec<Row>,
+    rows: Vec<Row>,
     /// The row at any x.
-    pub(crate) row_at: &'a dyn Fn(f64) -> Row,
+    row_at: &'a dyn Fn(f64) -> Row,
     /// The stress's correction term's largest magnitude over the beam (Pa/N).
-    pub(crate) correction: f64,
+    correction: f64,
+    /// The points in order along the beam, each once, and each point's row (made once for
+    /// every search of the field: the early search runs one a batch).
+    order: Vec<usize>,
+    index: HashMap<u64, u32>,
+}
+
+impl<'a> StressField<'a> {
+    /// The field of the grid's `points` and their `rows`, `row_at` elsewhere; `correction`
+    /// as [`StressField::correction`].
+    pub(crate) fn new(
+        points: &'a [f64],
+        rows: Vec<Row>,
+        row_at: &'a dyn Fn(f64) -> Row,
+        correction: f64,
+    ) -> Self {
+        let mut order: Vec<usize> = (0..points.len()).collect();
+        order.sort_by(|a, b| points[*a].total_cmp(&points[*b]));
+        order.dedup_by(|a, b| points[*a].to_bits() == points[*b].to_bits());
+        let mut index = HashMap::with_capacity(points.len());
+        for (k, x) in points.iter().enumerate() {
+            index.insert(x.to_bits(), k as u32);
+        }
+        Self { points, rows, row_at, correction, order, index }
+    }
 }
 
 /// A cell of the search: a rectangle of x (rows xa, xb) and t (nodes ta, tb of a block),
@@ -636,7 +660,7 @@ struct Search<'a> {
     xs: Vec<f64>,
     row_of: HashMap<u64, u32>,
     /// Exact steps by length, for the instants a split adds.
-    stepper: Stepper,
+    stepper: &'a mut Stepper,
     best: Peak,
     /// The largest bound of a cell that could not be split further.
     stuck: f64,
@@ -753,6 +777,18 @@ fn set_shared<T: Default>(shared: &mut Arc<T>, set: impl FnOnce(&mut T)) {
 /// The largest of `field` over the kept `blocks`, starting from `best` (a value the run
 /// observed, which the search only raises).
 pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, best: Peak) -> Peak {
+    search_stepping(data, blocks, field, best, &mut Stepper::default())
+}
+
+/// [`search`] with the exact steps of `stepper` (a search of many batches keeps them: the
+/// same lengths recur, and a step's values are its length's alone).
+pub(crate) fn search_stepping(
+    data: &ModeData,
+    blocks: &mut [Block],
+    field: &Field<'_>,
+    best: Peak,
+    stepper: &mut Stepper,
+) -> Peak {
     let slot = match field {
         Field::Stress(_) => 0,
         Field::Signed(..) => 1,
@@ -771,7 +807,7 @@ pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, b
         rows: Vec::new(),
         xs: Vec::new(),
         row_of: HashMap::new(),
-        stepper: Stepper::default(),
+        stepper,
         best,
         stuck: f64::NEG_INFINITY,
         nodes_made: 0,
@@ -847,14 +883,8 @@ impl Search<'_> {
                 }
             }
             Field::Stress(f) => {
-                // The grid's points in order along the beam, each once.
-                let mut order: Vec<usize> = (0..f.points.len()).collect();
-                order.sort_by(|a, b| f.points[*a].total_cmp(&f.points[*b]));
-                order.dedup_by(|a, b| f.points[*a].to_bits() == f.points[*b].to_bits());
-                for k in 0..f.points.len() {
-                    self.row_of.insert(f.points[k].to_bits(), k as u32);
-                    self.xs.push(f.points[k]);
-                }
+                let order = &f.order;
+                self.xs.extend_from_slice(f.points);
                 for k in 0..self.blocks.len() {
                     let target = self.target();
                     if self.blocks[k].bounds[0] <= target {
@@ -977,7 +1007,11 @@ impl Search<'_> {
 
     /// The row at x, made once.
     fn row(&mut self, x: f64) -> u32 {
-        if let Some(k) = self.row_of.get(&x.to_bits()) {
+        let known = match self.field {
+            Field::Stress(f) => f.index.get(&x.to_bits()),
+            _ => None,
+        };
+        if let Some(k) = known.or_else(|| self.row_of.get(&x.to_bits())) {
             return *k;
         }
         let row = match self.field {
@@ -998,7 +1032,7 @@ impl Search<'_> {
         if let Some(k) = b.nodes.iter().position(|n| n.t.to_bits() == t.to_bits()) {
             return k as u32;
         }
-        let (node, ..) = b.at(t, &self.data.modes, &mut self.stepper);
+        let (node, ..) = b.at(t, &self.data.modes, self.stepper);
         b.nodes.push(node);
         self.nodes_made += 1;
         (b.nodes.len() - 1) as u32

@@ -683,12 +683,7 @@ impl ModalStress {
         let mut kept = std::mem::take(&mut self.peaks.trajectory.kept);
         let rows = grid_rows(&self.curvature, &self.correction, &self.rows);
         let row_at = |x: f64| self.rows.row_at(x);
-        let field = StressField {
-            points: &self.envelope.points,
-            rows,
-            row_at: &row_at,
-            correction: self.peaks.correction,
-        };
+        let field = StressField::new(&self.envelope.points, rows, &row_at, self.peaks.correction);
         // The stretches the early search left, from the largest seen or found so far.
         let (value, x, t) = self.envelope.best();
         let seen = Peak { value, x, t, bound: value.abs() };
@@ -867,17 +862,15 @@ impl EarlySearch {
                 let EarlyContext { data, rows, curvature, correction, points, peak_correction } =
                     context;
                 let row_at = |x: f64| rows.row_at(x);
-                let field = StressField {
-                    points: &points,
-                    rows: grid_rows(&curvature, &correction, &rows),
-                    row_at: &row_at,
-                    correction: peak_correction,
-                };
+                let grid = grid_rows(&curvature, &correction, &rows);
+                let field = StressField::new(&points, grid, &row_at, peak_correction);
                 let field = modal_peak::Field::Stress(&field);
+                let mut stepper = modal_peak::Stepper::default();
                 let mut searched = Vec::new();
                 let mut found: Option<Peak> = None;
                 for (mut batch, start) in received {
-                    let peak = modal_peak::search(&data, &mut batch, &field, start);
+                    let peak =
+                        modal_peak::search_stepping(&data, &mut batch, &field, start, &mut stepper);
                     found = Some(found.map_or(peak, |f| larger(f, peak)));
                     searched.append(&mut batch);
                 }
