@@ -386,12 +386,13 @@ impl Trajectory {
                 kept_grid = grids.is_some();
                 self.kept.push(Block {
                     f0: self.start.force,
-                    ends: self.ends.clone(),
+                    // Taken, not copied: the open stretch's pieces start afresh below.
+                    ends: std::mem::take(&mut self.ends),
                     nodes: vec![Node { state: start, ..self.start }, Node { t, force, state: end }],
                     bounds: span.bounds,
                     rates: span.rates,
                     grid: grids,
-                    values: [self.values.clone(), values.to_vec()],
+                    values: [std::mem::take(&mut self.values), values.to_vec()],
                     low: self.low,
                     tail: span.tail,
                     low_rates: span.low_rates,
