@@ -35,6 +35,7 @@ use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
 use crate::plan::FIELD_POINTS;
 use modal::{Beam, Curvatures, Mode, PointModes, Support};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// Points of the uniform grid per radian of the bending wave the pulse excites most
@@ -266,9 +267,13 @@ impl ModalStress {
             curvatures.at(*x, &mut [&mut *row]);
             row.iter_mut().for_each(|c| *c *= scale);
         }
-        for (i, m) in shapes.iter().enumerate() {
-            // The grid's curvatures carried from point to point: a fifth of the cost.
-            let on_grid = m.shape.curvatures_on_grid(0.0, spacing, intervals + 1);
+        // The grid's curvatures carried from point to point (a fifth of the cost), each mode's
+        // on its own (side by side where threads are free: 0.5 of the 12 ms of the paper's tip).
+        let on_grids: Vec<Vec<f64>> = shapes
+            .par_iter()
+            .map(|m| m.shape.curvatures_on_grid(0.0, spacing, intervals + 1))
+            .collect();
+        for (i, on_grid) in on_grids.iter().enumerate() {
             for (j, (k, _)) in grid.iter().enumerate() {
                 curvature[(near_count + j) * n + i] = on_grid[*k] * scale;
             }
