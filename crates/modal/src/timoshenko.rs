@@ -29,6 +29,9 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
+/// The fewest roots in an interval whose halves are searched side by side.
+const SIDE_BY_SIDE: usize = 16;
+
 /// A uniform Timoshenko beam.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Timoshenko {
@@ -390,7 +393,8 @@ impl Timoshenko {
         let needed = roots
             .iter()
             .position(|r| {
-                held += r.1;
+                // A root gives at most four shapes (`shapes`), whatever its multiplicity.
+                held += r.1.min(4);
                 held >= wanted
             })
             .map_or(roots.len(), |k| k + 1);
@@ -486,10 +490,15 @@ impl Timoshenko {
         let mid = 0.5 * (lo + hi);
         let j_mid = self.count_below(mid);
         let below = found + j_mid.saturating_sub(j_lo);
-        let (mut lower, upper) = rayon::join(
-            || self.slice((lo, mid), (j_lo, j_mid), found, wanted),
-            || self.slice((mid, hi), (j_mid, j_hi), below, wanted),
-        );
+        let lower = || self.slice((lo, mid), (j_lo, j_mid), found, wanted);
+        let upper = || self.slice((mid, hi), (j_mid, j_hi), below, wanted);
+        // Side by side only where the halves hold work worth a thread (a root's scan and
+        // polish are some microseconds).
+        let (mut lower, upper) = if j_hi.saturating_sub(j_lo) >= SIDE_BY_SIDE {
+            rayon::join(lower, upper)
+        } else {
+            (lower(), upper())
+        };
         lower.extend(upper);
         lower
     }

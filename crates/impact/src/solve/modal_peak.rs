@@ -56,6 +56,21 @@ const MAX_SPLITS: usize = 400_000;
 /// stops sooner and reports the gap it reached.
 const MAX_MODE_VALUES: usize = 20_000_000;
 
+/// What a search may still spend: cells to split and mode-values to make. A search of many
+/// batches (the stress's early search, `modal_stress.rs`) spends one budget over all of them.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Budget {
+    splits: usize,
+    mode_values: usize,
+}
+
+impl Default for Budget {
+    /// One search's: [`MAX_SPLITS`] and [`MAX_MODE_VALUES`].
+    fn default() -> Self {
+        Self { splits: MAX_SPLITS, mode_values: MAX_MODE_VALUES }
+    }
+}
+
 /// A field at one point: value = F p + sum r_n q_n.
 #[derive(Debug, Clone)]
 pub(crate) struct Row {
@@ -584,7 +599,7 @@ pub(crate) struct StressField<'a> {
     /// supports and the impact point among them (where the static moment has its kinks).
     points: &'a [f64],
     /// Their rows (same order).
-    rows: Vec<Row>,
+    rows: &'a [Row],
     /// The row at any x.
     row_at: &'a dyn Fn(f64) -> Row,
     /// The stress's correction term's largest magnitude over the beam (Pa/N).
@@ -600,7 +615,7 @@ impl<'a> StressField<'a> {
     /// as [`StressField::correction`].
     pub(crate) fn new(
         points: &'a [f64],
-        rows: Vec<Row>,
+        rows: &'a [Row],
         row_at: &'a dyn Fn(f64) -> Row,
         correction: f64,
     ) -> Self {
@@ -712,6 +727,11 @@ impl Block {
         self.bounds.iter().zip(best).any(|(b, best)| b > best)
     }
 
+    /// When it starts (s).
+    pub(crate) fn start(&self) -> f64 {
+        self.nodes[0].t
+    }
+
     /// Whether the stress's search may find more in it than `best` (it kept its grid).
     pub(crate) fn stress_wanted(&self, best: f64) -> bool {
         self.grid.is_some() && self.bounds[0] > best
@@ -778,17 +798,18 @@ fn set_shared<T: Default>(shared: &mut Arc<T>, set: impl FnOnce(&mut T)) {
 /// The largest of `field` over the kept `blocks`, starting from `best` (a value the run
 /// observed, which the search only raises).
 pub(crate) fn search(data: &ModeData, blocks: &mut [Block], field: &Field<'_>, best: Peak) -> Peak {
-    search_stepping(data, blocks, field, best, &mut Stepper::default())
+    search_batch(data, blocks, field, best, (&mut Stepper::default(), &mut Budget::default()))
 }
 
-/// [`search`] with the exact steps of `stepper` (a search of many batches keeps them: the
-/// same lengths recur, and a step's values are its length's alone).
-pub(crate) fn search_stepping(
+/// [`search`] with the exact steps of `stepper` and what is left of `budget`, which it
+/// spends: a search of many batches keeps both (the same step lengths recur, and a step's
+/// values are its length's alone; the budget bounds all the batches together).
+pub(crate) fn search_batch(
     data: &ModeData,
     blocks: &mut [Block],
     field: &Field<'_>,
     best: Peak,
-    stepper: &mut Stepper,
+    (stepper, budget): (&mut Stepper, &mut Budget),
 ) -> Peak {
     let slot = match field {
         Field::Stress(_) => 0,
@@ -803,7 +824,7 @@ pub(crate) fn search_stepping(
         slot,
         base: match field {
             Field::Signed(row, _) | Field::Magnitude(row, ..) => std::slice::from_ref(*row),
-            Field::Stress(f) => &f.rows,
+            Field::Stress(f) => f.rows,
         },
         rows: Vec::new(),
         xs: Vec::new(),
@@ -813,7 +834,7 @@ pub(crate) fn search_stepping(
         stuck: f64::NEG_INFINITY,
         nodes_made: 0,
     };
-    let peak = s.run();
+    let peak = s.run(budget);
     // A one-point search's instants go with it: each has its own budget, and the memory
     // they hold stays that of the stress's search plus one other.
     if !matches!(field, Field::Stress(_)) {
@@ -861,7 +882,7 @@ impl Search<'_> {
         }
     }
 
-    fn run(&mut self) -> Peak {
+    fn run(&mut self, budget: &mut Budget) -> Peak {
         let mut heap = BinaryHeap::new();
         match self.field {
             Field::Signed(_, x) | Field::Magnitude(_, x, ..) => {
@@ -914,10 +935,13 @@ impl Search<'_> {
         }
         let mut splits = 0;
         let mut left = f64::NEG_INFINITY;
+        let spent = |s: &Self| {
+            let made = s.row_count() + 2 * s.nodes_made;
+            made * s.base.first().map_or(1, |r| r.r.len().max(1))
+        };
         while let Some(cell) = heap.pop() {
-            let made = self.row_count() + 2 * self.nodes_made;
-            let spent = made * self.base.first().map_or(1, |r| r.r.len().max(1));
-            if cell.bound <= self.target() || splits >= MAX_SPLITS || spent >= MAX_MODE_VALUES {
+            let over = splits >= budget.splits || spent(self) >= budget.mode_values;
+            if cell.bound <= self.target() || over {
                 left = cell.bound;
                 break;
             }
@@ -936,6 +960,8 @@ impl Search<'_> {
                 self.push(Cell { full: true, corners, ..cell }, &mut heap);
             }
         }
+        budget.splits = budget.splits.saturating_sub(splits);
+        budget.mode_values = budget.mode_values.saturating_sub(spent(self));
         let reached = self.measure(self.best.value);
         // Cells below the floor were dropped unsearched: the floor is then what is certain.
         let floor = self.floor();

@@ -124,12 +124,8 @@ struct Peaks {
 
     /// The largest displacement observed (m) and when (s).
     seen_displacement: (f64, f64),
-    /// The stress's search of the stretches kept early in the run, on a thread of its own,
-    /// whether one was tried, and once gathered how many of the kept stretches (the first)
-    /// it searched and the largest it found.
-    early: Option<EarlySearch>,
-    early_tried: bool,
-    early_found: (usize, Option<Peak>),
+    /// The stress's search of the stretches kept early in the run, on a thread of its own.
+    early: Early,
     /// Stretches handed over that the stress's search does not want, kept for the others.
     held: Vec<modal_peak::Block>,
     /// The searches' results, once run: the stress's, the displacement's, each support's.
@@ -547,15 +543,15 @@ impl ModalStress {
     /// by then to start from (it only prunes: a lower start costs work, never the result).
     /// The search then runs beside the solver; most of its work lies in the first contact's
     /// stretches, so little is left for the end. Which stretches go in a batch and what it
-    /// starts from depend on the run alone, never on the threads' timing: the result is the
-    /// same on any machine. Without a thread (the system refuses one) all are searched at
-    /// the end, as they were before.
+    /// starts from depend on the run alone, never on the threads' timing, so the result does
+    /// not depend on the threads. Without a thread (the system refuses one: out of
+    /// resources) all are searched at the end, as they were before this search: the largest
+    /// stress is then the same within the search's tolerance, not always to the bit.
     fn hand_over(&mut self) {
         if self.peaks.trajectory.kept.len() < EARLY_BATCH + EARLY_LAG {
             return;
         }
-        if !self.peaks.early_tried {
-            self.peaks.early_tried = true;
+        if matches!(self.peaks.early, Early::NotStarted) {
             self.peaks.early = EarlySearch::start(EarlyContext {
                 data: self.peaks.data.clone(),
                 rows: Arc::clone(&self.rows),
@@ -563,13 +559,17 @@ impl ModalStress {
                 correction: self.correction.clone(),
                 points: self.envelope.points.clone(),
                 peak_correction: self.peaks.correction,
-            });
+            })
+            .map_or(Early::Unavailable, Early::Running);
         }
-        let Some(early) = &self.peaks.early else { return };
+        let Early::Running(early) = &self.peaks.early else { return };
         // Those whose bounds all stay below the largest seen are dropped (as the trajectory's
         // pruning would have); of the others, those whose stress bound beats it go to the
         // search, the rest wait for the one-point searches at the end.
         let best = self.largest_seen();
+        // Those held from earlier batches too, as the trajectory's pruning (which its list
+        // no longer reaches: batches keep it short) would have.
+        self.peaks.held.retain(|b| b.wanted(&best));
         let mut batch = Vec::new();
         for block in self.peaks.trajectory.kept.drain(..EARLY_BATCH) {
             if block.stress_wanted(best[0]) {
@@ -688,11 +688,11 @@ impl ModalStress {
         let mut kept = std::mem::take(&mut self.peaks.trajectory.kept);
         let rows = grid_rows(&self.curvature, &self.correction, &self.rows);
         let row_at = |x: f64| self.rows.row_at(x);
-        let field = StressField::new(&self.envelope.points, rows, &row_at, self.peaks.correction);
+        let field = StressField::new(&self.envelope.points, &rows, &row_at, self.peaks.correction);
         // The stretches the early search left, from the largest seen or found so far.
         let (value, x, t) = self.envelope.best();
         let seen = Peak { value, x, t, bound: value.abs() };
-        let (searched, early) = self.peaks.early_found;
+        let (searched, early) = self.peaks.early_found();
         let start = early.map_or(seen, |e| larger(seen, e));
         let rest = modal_peak::search(
             &self.peaks.data,
@@ -701,6 +701,9 @@ impl ModalStress {
             start,
         );
         let peak = early.map_or(rest, |e| larger(e, rest));
+        // The run's order again for the searches that follow (the held stretches had come
+        // after the early search's, and are older than its later batches').
+        kept.sort_by(|a, b| a.start().total_cmp(&b.start()));
         let peak = self.polish(&kept, peak);
         let mut supports = Vec::new();
         let count = self.peaks.support_count;
@@ -850,6 +853,19 @@ struct EarlyContext {
     peak_correction: f64,
 }
 
+/// Where the stress's search of the early stretches is ([`ModalStress::hand_over`]).
+enum Early {
+    /// Not needed yet.
+    NotStarted,
+    /// On its thread.
+    Running(EarlySearch),
+    /// No thread (the system refused one; or, in a test, not wanted): every stretch is
+    /// searched at the end.
+    Unavailable,
+    /// Done: how many of the kept stretches (the first) it searched and the largest found.
+    Gathered(usize, Option<Peak>),
+}
+
 /// The stress's search over batches of kept stretches on a thread of its own
 /// ([`ModalStress::hand_over`]).
 struct EarlySearch {
@@ -868,14 +884,24 @@ impl EarlySearch {
                     context;
                 let row_at = |x: f64| rows.row_at(x);
                 let grid = grid_rows(&curvature, &correction, &rows);
-                let field = StressField::new(&points, grid, &row_at, peak_correction);
+                let field = StressField::new(&points, &grid, &row_at, peak_correction);
                 let field = modal_peak::Field::Stress(&field);
+                // One budget for all the batches (a search's: its memory stays bounded).
                 let mut stepper = modal_peak::Stepper::default();
+                let mut budget = modal_peak::Budget::default();
                 let mut searched = Vec::new();
                 let mut found: Option<Peak> = None;
                 for (mut batch, start) in received {
-                    let peak =
-                        modal_peak::search_stepping(&data, &mut batch, &field, start, &mut stepper);
+                    // From the largest found in the batches before, if larger (they came in
+                    // the run's order: still the run's alone).
+                    let start = found.map_or(start, |f| larger(start, f));
+                    let peak = modal_peak::search_batch(
+                        &data,
+                        &mut batch,
+                        &field,
+                        start,
+                        (&mut stepper, &mut budget),
+                    );
                     found = Some(found.map_or(peak, |f| larger(f, peak)));
                     searched.append(&mut batch);
                 }
@@ -975,9 +1001,7 @@ impl Peaks {
             point_values: vec![0.0; points.len()],
             points,
             seen_displacement: (0.0, 0.0),
-            early: None,
-            early_tried: false,
-            early_found: (0, None),
+            early: Early::NotStarted,
             held: Vec::new(),
             stress_peak: None,
             displacement_peak: None,
@@ -1001,16 +1025,25 @@ impl Peaks {
         (peak.value, peak.t)
     }
 
-    /// The stretches the early search took back at the front of the kept ones (they are the
-    /// oldest), with its result: once, before any search at the end.
+    /// The stretches the early search took back at the front of the kept ones, then those
+    /// held, with its result: once, before any search at the end.
     fn gather(&mut self) {
-        if let Some(early) = self.early.take() {
+        if let Early::Running(early) = std::mem::replace(&mut self.early, Early::Unavailable) {
             let (mut searched, found) = early.finish();
             let count = searched.len();
             searched.append(&mut self.held);
             searched.append(&mut self.trajectory.kept);
             self.trajectory.kept = searched;
-            self.early_found = (count, found);
+            self.early = Early::Gathered(count, found);
+        }
+    }
+
+    /// How many of the kept stretches (the first) the early search searched, and the largest
+    /// it found (once gathered).
+    fn early_found(&self) -> (usize, Option<Peak>) {
+        match self.early {
+            Early::Gathered(count, found) => (count, found),
+            _ => (0, None),
         }
     }
 
@@ -1392,7 +1425,9 @@ mod tests {
         let b = beam(Support::ClampedFree);
         let run = |beside: bool| {
             let mut s = recovery(&b, 16, 1.15, 2e-4);
-            s.peaks.early_tried = !beside;
+            if !beside {
+                s.peaks.early = Early::Unavailable;
+            }
             let omega: Vec<f64> = s.shapes.iter().map(|m| m.omega).collect();
             let amplitude: Vec<f64> = (0..16).map(|k| 1e-4 / (1.0 + k as f64).powi(2)).collect();
             let phase: Vec<f64> = (0..16).map(|k| 0.7 * k as f64).collect();
@@ -1410,7 +1445,7 @@ mod tests {
                 s.observe_modes(t, (&q, &v), 0.0, (true, i == 4000));
             }
             let e = s.envelope(None);
-            (e, s.peaks.early_found.0, s.peaks.stress_peak.unwrap())
+            (e, s.peaks.early_found().0, s.peaks.stress_peak.unwrap())
         };
         let (beside, searched, peak_beside) = run(true);
         let (at_end, none, peak_at_end) = run(false);
