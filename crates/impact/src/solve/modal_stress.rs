@@ -867,7 +867,8 @@ enum Early {
 }
 
 /// The stress's search over batches of kept stretches on a thread of its own
-/// ([`ModalStress::hand_over`]).
+/// ([`ModalStress::hand_over`]). Dropped without [`EarlySearch::finish`] (a run that failed),
+/// its thread searches what it was sent, then ends.
 struct EarlySearch {
     batches: std::sync::mpsc::Sender<(Vec<modal_peak::Block>, Peak)>,
     worker: std::thread::JoinHandle<(Vec<modal_peak::Block>, Option<Peak>)>,
