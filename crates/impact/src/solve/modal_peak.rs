@@ -935,12 +935,14 @@ impl Search<'_> {
         }
         let mut splits = 0;
         let mut left = f64::NEG_INFINITY;
-        let spent = |s: &Self| {
-            let made = s.row_count() + 2 * s.nodes_made;
-            made * s.base.first().map_or(1, |r| r.r.len().max(1))
-        };
+        // Mode-values: the field's own rows count against each search's budget (as when they
+        // were copied into it), what it makes (rows, instants' q and v) against the budget
+        // left, which the batches of one search share.
+        let width = self.base.first().map_or(1, |r| r.r.len().max(1));
+        let made = |s: &Self| (s.rows.len() + 2 * s.nodes_made) * width;
+        let own = self.base.len() * width;
         while let Some(cell) = heap.pop() {
-            let over = splits >= budget.splits || spent(self) >= budget.mode_values;
+            let over = splits >= budget.splits || own + made(self) >= budget.mode_values;
             if cell.bound <= self.target() || over {
                 left = cell.bound;
                 break;
@@ -961,7 +963,7 @@ impl Search<'_> {
             }
         }
         budget.splits = budget.splits.saturating_sub(splits);
-        budget.mode_values = budget.mode_values.saturating_sub(spent(self));
+        budget.mode_values = budget.mode_values.saturating_sub(made(self));
         let reached = self.measure(self.best.value);
         // Cells below the floor were dropped unsearched: the floor is then what is certain.
         let floor = self.floor();

@@ -20,15 +20,17 @@
 //! stress is evaluated near the ball (the impact point and points L/2^k away on each side,
 //! k = 4..9) and at the supports with every mode, and on a uniform grid of the beam
 //! ([`GRID_PER_RADIAN`] points per radian of the bending wave the pulse excites most) with the
-//! modes the last stretch chose: the largest of the values the field takes is a floor. Each stretch between two such instants is certified on
-//! the spot when its bound (the grid's largest at its ends plus what the second derivatives
-//! allow between grid points and instants, `modal_peak`) cannot beat the floor; the others
-//! are kept with their start state and searched by branch and bound, to within
-//! [`modal_peak::PEAK_TOLERANCE`] of the maximum: the oldest in batches on a thread of their
-//! own while the run goes on (`ModalStress::hand_over`), the rest at the end; so are the
-//! displacement at the impact point and each support's stress (at the end). The hot loop is compiled for the processor's vectors
-//! (`modal::on_four_lanes`: four lanes on x86-64) with fused multiply-adds, so the stress's last
-//! bits may differ between processors (the motion, which it does not feed, does not).
+//! modes the last stretch chose: the largest of the values the field takes is a floor. Each
+//! stretch between two such instants is certified on the spot when its bound (the grid's
+//! largest at its ends plus what the second derivatives allow between grid points and
+//! instants, `modal_peak`) cannot beat the floor; the others are kept with their start state
+//! and searched by branch and bound, to within [`modal_peak::PEAK_TOLERANCE`] of the maximum:
+//! the oldest in batches on a thread of their own while the run goes on
+//! (`ModalStress::hand_over`), the rest at the end; so are the displacement at the impact
+//! point and each support's stress (at the end). The hot loop is compiled for the processor's
+//! vectors (`modal::on_four_lanes`: four lanes on x86-64) with fused multiply-adds, so the
+//! stress's last bits may differ between processors (the motion, which it does not feed, does
+//! not).
 
 use super::modal_peak::{self, ModeData, Peak, Row, StressField, Trajectory, Weights};
 use super::observe::{BeamRecorder, BeamView, Instant};
