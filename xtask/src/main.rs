@@ -167,7 +167,11 @@ enum Command {
 /// ask for transparent huge pages (where the system grants them on request, as Linux's
 /// default `madvise` setting does). The paper's tip at 256 modes over 5 ms: 1555 page faults
 /// a process against 220, 17 % faster (the same bits; with mimalloc's huge pages turned off,
-/// 1710 faults and no faster than glibc's). ARCHITECTURE.md, "Speed".
+/// 1710 faults and no faster than glibc's). The huge pages cost a tail: over 40 runs of the
+/// final build the median 11.6 ms, the slowest 25.1 ms (2 runs past twice the median: the
+/// kernel now and then stalls a huge-page fault), against 13.0 and 17.2 ms with
+/// `MIMALLOC_ALLOW_THP=0` in the environment, which a user who wants steady times sets.
+/// ARCHITECTURE.md, "Speed".
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
