@@ -313,7 +313,6 @@ impl ModalStress {
         );
         Self {
             rows: Arc::new(StressRows {
-                modes: n,
                 curvatures,
                 scale,
                 section,
@@ -746,8 +745,6 @@ impl ModalStress {
 /// correction, with their x-derivatives (the search's new rows, Newton's polish). Immutable
 /// once made, so the search on its own thread shares it.
 struct StressRows {
-    /// How many modes.
-    modes: usize,
     /// The shapes' curvatures at a point, all at once.
     curvatures: Curvatures,
     /// 1/sqrt(M) (1/sqrt(kg)).
@@ -759,7 +756,8 @@ struct StressRows {
     length: f64,
     /// The beam for its static curvature; `None` keeps the plain series.
     beam: Option<Beam>,
-    /// g_n / omega_n^2 (0 for a rigid mode) (m/N per sqrt(kg)).
+    /// g_n / omega_n^2 (0 for a rigid mode) (m/N per sqrt(kg)), one a mode (its length is
+    /// the modes' count).
     static_q: Vec<f64>,
 }
 
@@ -780,7 +778,7 @@ impl StressRows {
     /// The modes' curvature c_n = phi_n''/sqrt(M) at x and its x-derivatives of the orders
     /// below K, from one evaluation of their waves ([`modal::Curvatures`]).
     fn scaled_curvatures<const K: usize>(&self, x: f64) -> [Vec<f64>; K] {
-        let n = self.modes;
+        let n = self.static_q.len();
         let mut c: [Vec<f64>; K] = std::array::from_fn(|_| vec![0.0; n]);
         let mut rows: Vec<&mut [f64]> = c.iter_mut().map(|v| v.as_mut_slice()).collect();
         self.curvatures.at(x, &mut rows);
@@ -822,7 +820,7 @@ impl StressRows {
 
 /// The stress rows at the grid's points: E h/2 c_n(x_p) and E h/2 times the correction.
 fn grid_rows(curvature: &[f64], correction: &[f64], rows: &StressRows) -> Vec<Row> {
-    let n = rows.modes;
+    let n = rows.static_q.len();
     correction
         .iter()
         .enumerate()
