@@ -88,6 +88,10 @@ pub(crate) struct ModalStress {
     /// supports' stresses): the watch's own, copied.
     displacement: Row,
     point_rows: Vec<Row>,
+    /// The near points' c_n and corrections (the watch's first rows, copied): their stress
+    /// at the whole-grid instants is taken here, off the watch's thread, which has more to do.
+    near_curvature: Vec<f64>,
+    near_correction: Vec<f64>,
     /// What the run has seen: the displacement's largest (m) and when (s); each one-point
     /// field's largest magnitude and when, and its magnitude at the last instant.
     seen: Seen,
@@ -124,6 +128,8 @@ struct Snapshot {
     v: Vec<f64>,
     /// The displacement at the impact point now (m).
     displacement: f64,
+    /// The stress at the near points now, every mode (Pa).
+    near: Vec<f64>,
     seen: Seen,
     steps: Vec<(f64, f64)>,
 }
@@ -368,6 +374,8 @@ impl ModalStress {
         });
         let count = peaks.support_count;
         let seen = peaks.seen.clone();
+        let near_curvature = curvature[..near_count * n].to_vec();
+        let near_correction = correction[..near_count].to_vec();
         let watch = GridWatch {
             rows: Arc::clone(&rows),
             curvature,
@@ -385,6 +393,8 @@ impl ModalStress {
             ei: beam.flexural_rigidity(),
             displacement: watch.peaks.displacement.clone(),
             point_rows: watch.peaks.supports[count..].to_vec(),
+            near_curvature,
+            near_correction,
             seen,
             steps: Vec::new(),
             last_full: f64::NEG_INFINITY,
@@ -509,6 +519,16 @@ impl ModalStress {
         snapshot.v.clear();
         snapshot.v.extend_from_slice(v);
         snapshot.displacement = w;
+        snapshot.near.resize(self.near_correction.len(), 0.0);
+        modal::on_four_lanes(StressKernel {
+            stresses: &mut snapshot.near,
+            correction: &self.near_correction,
+            curvature: &self.near_curvature,
+            stride: q.len(),
+            q,
+            force,
+            section: self.rows.section,
+        });
         snapshot.seen.clone_from(&self.seen);
         std::mem::swap(&mut snapshot.steps, &mut self.steps);
         self.steps.clear();
@@ -523,18 +543,20 @@ impl GridWatch {
     /// oldest kept handed to the search in a batch); returns how far away the next such
     /// instant is planned (s).
     fn observe(&mut self, at: &Snapshot) -> f64 {
-        let Snapshot { t, force, ref q, ref v, displacement: w, ref seen, ref steps } = *at;
+        let Snapshot { t, force, ref q, ref v, displacement: w, ref near, ref seen, ref steps } =
+            *at;
         let n = q.len();
         for &(t, force) in steps {
             self.peaks.trajectory.step(t, force);
         }
         self.peaks.seen.clone_from(seen);
-        // The near points with every mode, at the whole-grid instants: values the field takes
-        // (the floor that certifies stretches, each support's stress at the stretches' ends).
-        // At every recorded instant they had cost 6 % of the paper's tip run and raised the
-        // floor too little to certify more stretches (kept 192 against 186; the largest stress
-        // and every support's are searched to their tolerance either way).
-        self.evaluate(self.near_count, n, q, force);
+        // The near points with every mode (taken on the solver's thread), at the whole-grid
+        // instants: values the field takes (the floor that certifies stretches, each
+        // support's stress at the stretches' ends). At every recorded instant they had cost
+        // 6 % of the paper's tip run and raised the floor too little to certify more stretches
+        // (kept 192 against 186; the largest stress and every support's are searched to their
+        // tolerance either way).
+        self.stresses[..self.near_count].copy_from_slice(near);
         self.envelope.observe(t, &self.stresses[..self.near_count]);
         // The stretch's field values at this end, all modes (the supports are among the near
         // points, evaluated above), before the grid's evaluation overwrites them.
