@@ -130,7 +130,7 @@ impl ModeData {
     }
 
     /// Per-mode bounds over `stretch` from the state at its start, into `out` (inlined into
-    /// [`StretchKernel`]'s wider copy).
+    /// [`PartKernel`]'s wider copy).
     #[inline(always)]
     fn bounds(&self, state: &ModalState, stretch: &Stretch, out: &mut ModeBounds) {
         let n = self.modes.len();
@@ -299,6 +299,19 @@ pub(crate) struct Block {
     low_rates: (f64, f64),
 }
 
+/// A stretch's force pieces, from its start's force `f0`: a step ended at `t` with the force
+/// `force`, the force linear since the last. Force-free steps in a row merge into one piece
+/// (the propagation is exact).
+pub(crate) fn push_end(ends: &mut Vec<(f64, f64)>, f0: f64, (t, force): (f64, f64)) {
+    let start_of_last = ends.len().checked_sub(2).map_or(f0, |k| ends[k].1);
+    let merge =
+        force == 0.0 && ends.last().is_some_and(|last| last.1 == 0.0) && start_of_last == 0.0;
+    match ends.last_mut() {
+        Some(last) if merge => last.0 = t,
+        _ => ends.push((t, force)),
+    }
+}
+
 /// What a closed stretch tells of the modes' share, for the next, at one candidate count of
 /// modes K.
 #[derive(Debug, Clone, Copy)]
@@ -312,7 +325,7 @@ pub(crate) struct Share {
     pub(crate) xx: f64,
 }
 
-/// [`Share`]s at the candidate counts of modes (see [`Trajectory::bounds`]) and all of them.
+/// [`Share`]s at the candidate counts of modes (see [`ModePart::make`]) and all of them.
 pub(crate) type Shares = Vec<Share>;
 
 /// The run as stretches between whole-grid instants: the one being observed and those kept.
@@ -327,15 +340,16 @@ pub(crate) struct Trajectory {
     pub(crate) kept: Vec<Block>,
     /// The kept blocks' count at the last pruning.
     pruned_at: usize,
-    scratch: ModeBounds,
 }
 
-/// What the bounds weigh the modes with.
-pub(crate) struct Weights<'a> {
+/// What the bounds weigh the modes with (fixed for a run; the solver's thread and the watch's
+/// share them).
+#[derive(Debug)]
+pub(crate) struct Weights {
     /// max |E h/2 c_n(x)| and max |E h/2 c_n''(x)| over the beam (Pa per unit q, Pa/m^2 per
     /// unit q).
-    pub(crate) stress: &'a [f64],
-    pub(crate) stress2: &'a [f64],
+    pub(crate) stress: Vec<f64>,
+    pub(crate) stress2: Vec<f64>,
     /// Whether the stress is by the mode-acceleration form (its f_xx from q - s F).
     pub(crate) mode_acceleration: bool,
     /// The largest spacing of the grid the stress is observed on (m).
@@ -343,9 +357,9 @@ pub(crate) struct Weights<'a> {
     /// The stress's correction term's largest magnitude over the beam, E h/2 max|corr| (Pa/N).
     pub(crate) correction: f64,
     /// The displacement row (g) and its force term (the residual flexibility).
-    pub(crate) displacement: &'a Row,
-    /// Each support's stress row.
-    pub(crate) supports: &'a [Row],
+    pub(crate) displacement: Row,
+    /// Each support's stress row, then the one-point fields' rows (an off-centre strike's).
+    pub(crate) supports: Vec<Row>,
 }
 
 impl Trajectory {
@@ -359,21 +373,13 @@ impl Trajectory {
             low: n,
             kept: Vec::new(),
             pruned_at: 0,
-            scratch: ModeBounds::default(),
         }
     }
 
     /// A step of the run ended at `t` with the force `force`: the force was linear since the
     /// last. Force-free steps in a row merge into one piece (the propagation is exact).
     pub(crate) fn step(&mut self, t: f64, force: f64) {
-        let ends = &mut self.ends;
-        let start_of_last = ends.len().checked_sub(2).map_or(self.start.force, |k| ends[k].1);
-        let merge =
-            force == 0.0 && ends.last().is_some_and(|last| last.1 == 0.0) && start_of_last == 0.0;
-        match ends.last_mut() {
-            Some(last) if merge => last.0 = t,
-            _ => ends.push((t, force)),
-        }
+        push_end(&mut self.ends, self.start.force, (t, force));
     }
 
     /// Closes the open stretch at a whole-grid instant (time `t`, `force`, the modes `q`,
@@ -384,8 +390,8 @@ impl Trajectory {
     /// (empty for an empty stretch).
     pub(crate) fn observe(
         &mut self,
-        data: &ModeData,
-        weights: &Weights<'_>,
+        part: &ModePart,
+        weights: &Weights,
         now: (f64, f64, &[f64], &[f64]),
         (grid, values): (&[f64], &[f64]),
         best: &[f64],
@@ -394,7 +400,7 @@ impl Trajectory {
         let mut shares = Vec::new();
         let (mut kept, mut kept_grid) = (false, false);
         if t > self.start.t && !self.ends.is_empty() && self.grid.len() == grid.len() {
-            let span = self.bounds(data, weights, grid, values);
+            let span = self.span(part, weights, grid, values);
             shares = span.shares;
             if span.bounds.iter().zip(best).any(|(b, best)| b > best) {
                 // The end's state (and grid) are the next stretch's start's: made once, shared.
@@ -457,49 +463,12 @@ impl Trajectory {
     /// the second derivatives allow between grid points and instants, plus how far the force's
     /// term can depart from its chord (the stress's also plus the bound of the modes the grid
     /// left out, and capped by the triangle bound over the modes); per field, its bounds of the
-    /// second derivatives in x and t; and the modes' shares. Compiled for the processor's
-    /// widest vectors ([`StretchKernel`]; separate multiplies and adds in every copy, so the
-    /// bounds are the same to the bit).
-    fn bounds(
-        &mut self,
-        data: &ModeData,
-        weights: &Weights<'_>,
-        grid: &[f64],
-        values: &[f64],
-    ) -> Span {
-        hht::fast::run(StretchKernel { trajectory: self, data, weights, grid, values })
-    }
-
-    /// [`Self::bounds`]' body.
-    #[inline(always)]
-    fn bounds_inline(
-        &mut self,
-        data: &ModeData,
-        weights: &Weights<'_>,
-        grid: &[f64],
-        values: &[f64],
-    ) -> Span {
-        let start = &self.start;
-        let stretch = Stretch::new(start.t, start.force, &self.ends);
-        data.bounds(&start.state, &stretch, &mut self.scratch);
-        let b = &mut self.scratch;
+    /// second derivatives in x and t; and the modes' shares. From `part`, what they take from
+    /// the modes alone (made where the stretch closes, [`ModePart::make`]), and the grid and
+    /// values at the stretch's two ends.
+    fn span(&self, part: &ModePart, weights: &Weights, grid: &[f64], values: &[f64]) -> Span {
+        let (b, stretch) = (&part.bounds, &part.stretch);
         let n = b.q.len();
-        // Candidate counts: every 16 modes, an eighth more each past 128, and all (the
-        // stretch's own among them).
-        b.marks.clear();
-        b.marks.push(0);
-        let mut k = 16;
-        while k < n {
-            b.marks.push(k);
-            k = (k + 16).max(k + k / 8);
-        }
-        b.marks.push(n);
-        let marks = &b.marks;
-        cumulative(weights.stress, &b.q, marks, &mut b.q_sums);
-        cumulative(weights.stress, &b.acc, marks, &mut b.acc_sums);
-        let dev = if weights.mode_acceleration { &b.dev } else { &b.q };
-        cumulative(weights.stress2, dev, marks, &mut b.dev_sums);
-        let b = &self.scratch;
         let at = |sums: &[f64], k: usize| {
             b.marks.iter().position(|m| *m == k).map_or(f64::INFINITY, |i| sums[i])
         };
@@ -518,18 +487,16 @@ impl Trajectory {
             + tail;
         let mut bounds = vec![on_grid.min(triangle)];
         let mut rates = vec![(xx, tt)];
-        let d = weights.displacement;
+        let d = &weights.displacement;
         let w =
             (self.values.first().copied().unwrap_or(0.0), values.first().copied().unwrap_or(0.0));
-        let dtt = weighted(&d.r, &b.acc);
-        bounds.push(w.0.max(w.1) + reach * dtt + d.p.abs() * stretch.off_chord);
-        rates.push((0.0, dtt));
-        for (k, row) in weights.supports.iter().enumerate() {
+        bounds.push(w.0.max(w.1) + reach * part.dtt + d.p.abs() * stretch.off_chord);
+        rates.push((0.0, part.dtt));
+        for (k, (row, &stt)) in weights.supports.iter().zip(&part.stt).enumerate() {
             let ends = (
                 self.values.get(1 + k).copied().unwrap_or(0.0),
                 values.get(1 + k).copied().unwrap_or(0.0),
             );
-            let stt = weighted(&row.r, &b.acc);
             bounds.push(
                 ends.0.abs().max(ends.1.abs()) + reach * stt + row.p.abs() * stretch.off_chord,
             );
@@ -551,26 +518,88 @@ impl Trajectory {
     }
 }
 
-/// [`Trajectory::bounds`] as a [`hht::fast::Kernel`].
-struct StretchKernel<'a> {
-    trajectory: &'a mut Trajectory,
-    data: &'a ModeData,
-    weights: &'a Weights<'a>,
-    grid: &'a [f64],
-    values: &'a [f64],
+/// What a stretch's bounds take from the modes alone, from its start's state and its force's
+/// pieces, not from its grid or values: made by the solver's thread while the watch's
+/// observes the grid (`ModalStress`), then finished by [`Trajectory::observe`].
+#[derive(Debug, Default)]
+pub(crate) struct ModePart {
+    stretch: Stretch,
+    /// The per-mode bounds and their weighted sums at the candidate counts.
+    bounds: ModeBounds,
+    /// The displacement's and each support's (and one-point field's) bound of the second time
+    /// derivative over the stretch.
+    dtt: f64,
+    stt: Vec<f64>,
 }
 
-impl hht::fast::Kernel for StretchKernel<'_> {
-    type Output = Span;
+impl ModePart {
+    /// The part of the stretch from `start` (t (s), F (N), the modes' state) through `ends`
+    /// (the pieces as [`push_end`] makes them). Compiled for the processor's widest vectors
+    /// (separate multiplies and adds in every copy, so the bounds are the same to the bit).
+    pub(crate) fn make(
+        &mut self,
+        data: &ModeData,
+        weights: &Weights,
+        start: (f64, f64, &ModalState),
+        ends: &[(f64, f64)],
+    ) {
+        hht::fast::run(PartKernel { part: self, data, weights, start, ends });
+    }
 
+    /// [`Self::make`]'s body.
     #[inline(always)]
-    fn run<A: hht::fast::MulAdd>(self, _: A) -> Span {
-        let Self { trajectory, data, weights, grid, values } = self;
-        trajectory.bounds_inline(data, weights, grid, values)
+    fn make_inline(
+        &mut self,
+        data: &ModeData,
+        weights: &Weights,
+        (t0, f0, state): (f64, f64, &ModalState),
+        ends: &[(f64, f64)],
+    ) {
+        self.stretch = Stretch::new(t0, f0, ends);
+        data.bounds(state, &self.stretch, &mut self.bounds);
+        let b = &mut self.bounds;
+        let n = b.q.len();
+        // Candidate counts: every 16 modes, an eighth more each past 128, and all (the
+        // stretch's own among them).
+        b.marks.clear();
+        b.marks.push(0);
+        let mut k = 16;
+        while k < n {
+            b.marks.push(k);
+            k = (k + 16).max(k + k / 8);
+        }
+        b.marks.push(n);
+        let marks = &b.marks;
+        cumulative(&weights.stress, &b.q, marks, &mut b.q_sums);
+        cumulative(&weights.stress, &b.acc, marks, &mut b.acc_sums);
+        let dev = if weights.mode_acceleration { &b.dev } else { &b.q };
+        cumulative(&weights.stress2, dev, marks, &mut b.dev_sums);
+        self.dtt = weighted(&weights.displacement.r, &b.acc);
+        self.stt.clear();
+        self.stt.extend(weights.supports.iter().map(|row| weighted(&row.r, &b.acc)));
     }
 }
 
-/// A closed stretch's bounds (see [`Trajectory::bounds`]).
+/// [`ModePart::make`] as a [`hht::fast::Kernel`].
+struct PartKernel<'a> {
+    part: &'a mut ModePart,
+    data: &'a ModeData,
+    weights: &'a Weights,
+    start: (f64, f64, &'a ModalState),
+    ends: &'a [(f64, f64)],
+}
+
+impl hht::fast::Kernel for PartKernel<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<A: hht::fast::MulAdd>(self, _: A) {
+        let Self { part, data, weights, start, ends } = self;
+        part.make_inline(data, weights, start, ends);
+    }
+}
+
+/// A closed stretch's bounds (see [`Trajectory::span`]).
 struct Span {
     bounds: Vec<f64>,
     rates: Vec<(f64, f64)>,

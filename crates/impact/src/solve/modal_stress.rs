@@ -34,11 +34,11 @@
 //! stress's last bits may differ between processors (the motion, which it does not feed, does
 //! not).
 
-use super::modal_peak::{self, ModeData, Peak, Row, StressField, Trajectory, Weights};
+use super::modal_peak::{self, ModeData, ModePart, Peak, Row, StressField, Trajectory, Weights};
 use super::observe::{BeamRecorder, BeamView, Instant};
 use crate::outcome::{BendingStress, Envelope, Field};
 use crate::plan::FIELD_POINTS;
-use modal::{Beam, Curvatures, Mode, PointModes, Support};
+use modal::{Beam, Curvatures, ModalState, Mode, PointModes, Support};
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -84,10 +84,17 @@ pub(crate) struct ModalStress {
     rows: Arc<StressRows>,
     /// EI (N m^2).
     ei: f64,
-    /// The displacement's row at the impact point and the one-point fields' (besides the
-    /// supports' stresses): the watch's own, copied.
-    displacement: Row,
-    point_rows: Vec<Row>,
+    /// The modes' constants and what the bounds weigh them with (the watch's, copied and
+    /// shared): the part of each stretch's bounds that the modes alone give is made here,
+    /// while the watch observes the grid (`ModePart`).
+    data: ModeData,
+    weights: Arc<Weights>,
+    /// How many of the weights' `supports` are supports (the one-point fields follow).
+    support_count: usize,
+    /// The open stretch: its start (t (s), F (N), the modes' state) and its force's pieces
+    /// since ([`modal_peak::push_end`]).
+    start: (f64, f64, ModalState),
+    ends: Vec<(f64, f64)>,
     /// The near points' c_n and corrections (the watch's first rows, copied): their stress
     /// at the whole-grid instants is taken here, off the watch's thread, which has more to do.
     near_curvature: Vec<f64>,
@@ -95,8 +102,6 @@ pub(crate) struct ModalStress {
     /// What the run has seen: the displacement's largest (m) and when (s); each one-point
     /// field's largest magnitude and when, and its magnitude at the last instant.
     seen: Seen,
-    /// The steps' ends (t, F) since the last whole-grid instant, for the watch's stretches.
-    steps: Vec<(f64, f64)>,
     /// The last instant the whole grid was observed (s), and how far apart such instants are
     /// set (s): the watch's plan from [`PLAN_LAG`] whole-grid instants before.
     last_full: f64,
@@ -131,7 +136,10 @@ struct Snapshot {
     /// The stress at the near points now, every mode (Pa).
     near: Vec<f64>,
     seen: Seen,
-    steps: Vec<(f64, f64)>,
+    /// The stretch's force pieces since the last whole-grid instant, and the part of its
+    /// bounds the modes alone give.
+    ends: Vec<(f64, f64)>,
+    part: ModePart,
 }
 
 /// The whole-grid instants' work: the grid and the near points observed, each stretch between
@@ -162,14 +170,10 @@ struct GridWatch {
 struct Peaks {
     data: ModeData,
     trajectory: Trajectory,
-    curvature: Vec<f64>,
-    curvature2: Vec<f64>,
-    correction: f64,
-    displacement: Row,
-    /// The one-point fields searched in time: each support's stress, then (an off-centre
-    /// strike) those of `points`.
-    supports: Vec<Row>,
-    /// How many of `supports` are supports.
+    /// What the bounds weigh the modes with; its `supports` are the one-point fields searched
+    /// in time: each support's stress, then (an off-centre strike) those of `points`.
+    weights: Arc<Weights>,
+    /// How many of the weights' `supports` are supports.
     support_count: usize,
     /// The one-point fields after the supports' stresses: what, where, the largest seen and
     /// the search's result.
@@ -391,12 +395,14 @@ impl ModalStress {
             rows,
             shapes,
             ei: beam.flexural_rigidity(),
-            displacement: watch.peaks.displacement.clone(),
-            point_rows: watch.peaks.supports[count..].to_vec(),
+            data: watch.peaks.data.clone(),
+            weights: Arc::clone(&watch.peaks.weights),
+            support_count: count,
+            start: (0.0, 0.0, ModalState::at_rest(n)),
+            ends: Vec::new(),
             near_curvature,
             near_correction,
             seen,
-            steps: Vec::new(),
             last_full: f64::NEG_INFINITY,
             full_spacing: 0.0,
             watch: Watch::start(watch),
@@ -493,13 +499,13 @@ impl ModalStress {
                 f.field.stress.push(self.rows.section * curvature);
             }
         }
-        let w = self.displacement.value(force, q);
+        let w = self.weights.displacement.value(force, q);
         let seen = &mut self.seen;
         if w > seen.displacement.0 {
             seen.displacement = (w, t);
         }
-        for ((p, value), row) in seen.points.iter_mut().zip(&mut seen.values).zip(&self.point_rows)
-        {
+        let point_rows = &self.weights.supports[self.support_count..];
+        for ((p, value), row) in seen.points.iter_mut().zip(&mut seen.values).zip(point_rows) {
             *value = row.value(force, q).abs();
             if *value > p.0 {
                 *p = (*value, t);
@@ -530,8 +536,20 @@ impl ModalStress {
             section: self.rows.section,
         });
         snapshot.seen.clone_from(&self.seen);
-        std::mem::swap(&mut snapshot.steps, &mut self.steps);
-        self.steps.clear();
+        // The stretch's part from the modes alone, where the watch closes it: after a start
+        // and some steps (as `Trajectory::observe` bounds it).
+        let (t0, f0, state) = &self.start;
+        if t > *t0 && !self.ends.is_empty() {
+            snapshot.part.make(&self.data, &self.weights, (*t0, *f0, state), &self.ends);
+        }
+        std::mem::swap(&mut snapshot.ends, &mut self.ends);
+        self.ends.clear();
+        self.start.0 = t;
+        self.start.1 = force;
+        for (to, from) in [(&mut self.start.2.q, q), (&mut self.start.2.v, v)] {
+            to.clear();
+            to.extend_from_slice(from);
+        }
         self.last_full = t;
         self.full_spacing = self.watch.observe(snapshot);
     }
@@ -543,10 +561,19 @@ impl GridWatch {
     /// oldest kept handed to the search in a batch); returns how far away the next such
     /// instant is planned (s).
     fn observe(&mut self, at: &Snapshot) -> f64 {
-        let Snapshot { t, force, ref q, ref v, displacement: w, ref near, ref seen, ref steps } =
-            *at;
+        let Snapshot {
+            t,
+            force,
+            ref q,
+            ref v,
+            displacement: w,
+            ref near,
+            ref seen,
+            ref ends,
+            ref part,
+        } = *at;
         let n = q.len();
-        for &(t, force) in steps {
+        for &(t, force) in ends {
             self.peaks.trajectory.step(t, force);
         }
         self.peaks.seen.clone_from(seen);
@@ -575,27 +602,9 @@ impl GridWatch {
             self.envelope.observe(t, &self.stresses);
         }
         let best = self.largest_seen();
-        let Peaks {
-            data,
-            trajectory,
-            curvature,
-            curvature2,
-            correction,
-            displacement,
-            supports,
-            ..
-        } = &mut self.peaks;
-        let weights = Weights {
-            stress: curvature,
-            stress2: curvature2,
-            mode_acceleration: self.rows.beam.is_some(),
-            spacing: self.spacing,
-            correction: *correction,
-            displacement,
-            supports,
-        };
-        let shares =
-            trajectory.observe(data, &weights, (t, force, q, v), (&self.stresses, &values), &best);
+        let Peaks { trajectory, weights, .. } = &mut self.peaks;
+        let now = (t, force, &q[..], &v[..]);
+        let shares = trajectory.observe(part, weights, now, (&self.stresses, &values), &best);
         // The next stretch: the fewest modes whose left-out share stays within TAIL_SHARE of
         // the largest stress, and the next whole-grid instant where the time term of its bound
         // would take what is left of LEFT_SHARE of the largest after the grid's largest now,
@@ -810,7 +819,8 @@ impl GridWatch {
         let mut kept = std::mem::take(&mut self.peaks.trajectory.kept);
         let rows = grid_rows(&self.curvature, &self.correction, &self.rows);
         let row_at = |x: f64| self.rows.row_at(x);
-        let field = StressField::new(&self.envelope.points, &rows, &row_at, self.peaks.correction);
+        let field =
+            StressField::new(&self.envelope.points, &rows, &row_at, self.peaks.weights.correction);
         // The stretches the early search left, from the largest seen or found so far.
         let (value, x, t) = self.envelope.best();
         let seen = Peak { value, x, t, bound: value.abs() };
@@ -829,7 +839,8 @@ impl GridWatch {
         let peak = self.polish(&kept, peak);
         let mut supports = Vec::new();
         let count = self.peaks.support_count;
-        for (k, row) in self.peaks.supports[..count].iter().enumerate() {
+        let weights = Arc::clone(&self.peaks.weights);
+        for (k, row) in weights.supports[..count].iter().enumerate() {
             let (i, max, time) = self.envelope.supports()[k];
             let x = self.envelope.points[i];
             let seen = Peak { value: max, x, t: time, bound: max };
@@ -840,7 +851,8 @@ impl GridWatch {
         for (k, found) in supports.iter().enumerate() {
             self.envelope.raise_support(k, found.value.abs(), found.t);
         }
-        let Peaks { data, supports: rows, points, seen, .. } = &mut self.peaks;
+        let Peaks { data, points, seen, .. } = &mut self.peaks;
+        let rows = &weights.supports;
         // The torsion shear's sections, like the supports' stresses, to 1e-4 of the largest
         // torsion shear seen (a section the twist has not reached yet holds the truncated
         // series' noise).
@@ -1001,7 +1013,7 @@ impl EarlySearch {
             rows: Arc::clone(&watch.rows),
             grid: grid_rows(&watch.curvature, &watch.correction, &watch.rows),
             points: watch.envelope.points.clone(),
-            peak_correction: watch.peaks.correction,
+            peak_correction: watch.peaks.weights.correction,
             stepper: modal_peak::Stepper::default(),
             budget: modal_peak::Budget::default(),
             searched: Vec::new(),
@@ -1069,6 +1081,7 @@ impl Peaks {
         setup: PeakSetup<'_>,
     ) -> Self {
         let PeakSetup { modes, residual, spacing, corrections, mut supports, points } = setup;
+        let mode_acceleration = static_beam.is_some();
         let support_count = supports.len();
         let points: Vec<PointSearch> = points
             .into_iter()
@@ -1098,11 +1111,15 @@ impl Peaks {
         Self {
             trajectory: Trajectory::new(n),
             data,
-            curvature,
-            curvature2,
-            correction,
-            displacement,
-            supports,
+            weights: Arc::new(Weights {
+                stress: curvature,
+                stress2: curvature2,
+                mode_acceleration,
+                spacing,
+                correction,
+                displacement,
+                supports,
+            }),
             support_count,
             seen: Seen {
                 displacement: (0.0, 0.0),
@@ -1128,7 +1145,7 @@ impl Peaks {
         let peak = modal_peak::search(
             &self.data,
             &mut self.trajectory.kept,
-            &modal_peak::Field::Signed(&self.displacement, position),
+            &modal_peak::Field::Signed(&self.weights.displacement, position),
             best,
         );
         self.displacement_peak = Some(peak);
@@ -1241,7 +1258,7 @@ impl Peaks {
             .map(|(what, g, of)| {
                 format!(
                     "{what} is certain only to {g:.1e} of {of}: the search between the observed instants stopped at its budget ({} modes make its bounds loose); fewer modes, or solver.tolerance",
-                    self.displacement.r.len()
+                    self.weights.displacement.r.len()
                 )
             })
             .collect()
@@ -1256,7 +1273,7 @@ impl BeamRecorder for ModalStress {
     }
 
     fn step(&mut self, t: f64, force: f64) {
-        self.steps.push((t, force));
+        modal_peak::push_end(&mut self.ends, self.start.1, (t, force));
     }
 
     fn next_look(&self) -> f64 {
@@ -1309,7 +1326,7 @@ enum Watch {
     /// On the solver's thread (a sweep's run, whose threads are all busy; or no thread was
     /// given): each whole-grid instant observed as it comes, its plan held back [`PLAN_LAG`]
     /// instants as on a thread of its own. At the run's end, the watch is back here.
-    Here(Box<GridWatch>, std::collections::VecDeque<f64>, Snapshot),
+    Here(Box<GridWatch>, std::collections::VecDeque<f64>, Box<Snapshot>),
     /// On a thread of its own.
     Away(WatchThread),
     /// Between the two (only while being moved).
@@ -1395,13 +1412,13 @@ impl Watch {
     }
 
     fn here(watch: Box<GridWatch>) -> Self {
-        Self::Here(watch, std::collections::VecDeque::new(), Snapshot::default())
+        Self::Here(watch, std::collections::VecDeque::new(), Box::default())
     }
 
     /// A snapshot to fill (its buffers reused).
     fn spare(&mut self) -> Snapshot {
         match self {
-            Self::Here(_, _, spare) => std::mem::take(spare),
+            Self::Here(_, _, spare) => std::mem::take(&mut **spare),
             Self::Away(away) => away.spare.pop().unwrap_or_default(),
             Self::Moving => Snapshot::default(),
         }
@@ -1414,7 +1431,7 @@ impl Watch {
             Self::Here(watch, plans, spare) => {
                 plans.push_back(watch.observe(&instant));
                 watch.search_batches(&mut |_| {});
-                *spare = instant;
+                **spare = instant;
                 if plans.len() > PLAN_LAG {
                     plans.pop_front().unwrap_or(0.0)
                 } else {
