@@ -327,9 +327,14 @@ impl ModalStress {
             .par_iter()
             .map(|m| m.shape.curvatures_on_grid(0.0, spacing, intervals + 1))
             .collect();
-        for (i, on_grid) in on_grids.iter().enumerate() {
+        // Into the point-major rows, eight modes at a time (a cache line of each row per point:
+        // mode by mode, every write had gone to another row, 0.15 of the 0.6 ms here).
+        for (block, on_grids) in on_grids.chunks(8).enumerate() {
             for (j, (k, _)) in grid.iter().enumerate() {
-                curvature[(near_count + j) * n + i] = on_grid[*k] * scale;
+                let row = (near_count + j) * n + 8 * block;
+                for (to, on_grid) in curvature[row..row + on_grids.len()].iter_mut().zip(on_grids) {
+                    *to = on_grid[*k] * scale;
+                }
             }
         }
         let correct = |k: usize, x: f64| match &static_beam {
