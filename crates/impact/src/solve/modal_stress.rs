@@ -1387,9 +1387,15 @@ impl Watch {
                             }
                         });
                     }
-                    Err(std::sync::mpsc::TryRecvError::Empty) if idle < SPINS => {
+                    // A while spinning, a while yielding (the solver's thread may be
+                    // waiting for this processor), then asleep.
+                    Err(std::sync::mpsc::TryRecvError::Empty) if idle < SPINS + YIELDS => {
                         idle += 1;
-                        std::hint::spin_loop();
+                        if idle < SPINS {
+                            std::hint::spin_loop();
+                        } else {
+                            std::thread::yield_now();
+                        }
                     }
                     // (Awake again within a millisecond in any case: a run that stopped
                     // early drops its end of the channel without waking it.)
@@ -1508,7 +1514,9 @@ impl Watch {
 
 /// The next message, `None` once the other side is gone: the solver's thread waits for the
 /// watch's plan without sleeping (a thread's waking from sleep takes tens of microseconds,
-/// the watch's instant a few), letting others run after a while.
+/// the watch's instant a few), yielding after [`SPINS`] tries (the watch may be waiting for
+/// this very processor: spinning a millisecond before yielding had made one run in three of
+/// a criterion bench, whose threads the system placed so, 40 % slower).
 fn spin_for<T>(from: &std::sync::mpsc::Receiver<T>) -> Option<T> {
     let mut spins = 0usize;
     loop {
@@ -1524,8 +1532,10 @@ fn spin_for<T>(from: &std::sync::mpsc::Receiver<T>) -> Option<T> {
     }
 }
 
-/// How many times [`spin_for`] tries before yielding between tries.
-const SPINS: usize = 1 << 16;
+/// How many times a thread waiting for the other tries before yielding between tries (some
+/// tens of microseconds), and how many times the watch's yields before it sleeps.
+const SPINS: usize = 1 << 10;
+const YIELDS: usize = 1 << 8;
 
 /// The solver wakes the watch's thread every this many whole-grid instants it sends (and
 /// whenever it waits for a plan).
