@@ -53,7 +53,7 @@ fn assert_same(a: &(f64, f64, f64, Vec<f64>), b: &(f64, f64, f64, Vec<f64>), wha
     assert!(rel(a.0, b.0) < 1e-9, "{what}: displacement {} vs {}", a.0, b.0);
     assert!(rel(a.2, b.2) < 1e-9, "{what}: stress {} vs {}", a.2, b.2);
     // A support's stress below 1e-4 of the largest (a pinned end's, round-off) is certified
-    // only to that (what the largest itself is certified to): any two values below it agree.
+    // only to that floor (the largest itself to 1e-9): any two values below it agree.
     let floor = 1e-4 * b.2.abs();
     for (x, y) in a.3.iter().zip(&b.3) {
         let below = x.abs() <= floor && y.abs() <= floor;
@@ -66,7 +66,7 @@ fn the_modal_maxima_do_not_depend_on_the_output_interval() {
     // Before the search between instants, an output interval of 1 ms or longer gave a
     // largest displacement 3.5 % low here (3.8146e-4 against 3.9511e-4 m: the free flight's
     // steps ran up to it, and the maximum was sampled at their ends). Now the largest displacement is
-    // searched in time to 1e-10 and the stress over the beam to 1e-4 and polished by Newton's
+    // searched in time to 1e-10 and the stress over the beam to 1e-9 and polished by Newton's
     // method to round-off: three intervals agree to 1e-9.
     let fine = maxima(&aluminium("method = \"modal\"\nmodes = 64"));
     for interval in ["1e-3", "0.05"] {
@@ -277,8 +277,9 @@ fn a_support_stress_far_below_the_largest_is_certified_to_what_the_largest_is() 
     // reaches the clamp in that time (the shear wave, sqrt(kappa G / rho) = 3.0 km/s, needs
     // 0.38 ms for 1.15 m), so the clamp's stress is the truncated series' noise, about 130 Pa
     // against the largest 55 MPa. Certifying it to 1e-10 of itself took 9400 splits of its
-    // search, 4/5 of the run's time; it is now certified to 1e-4 of the largest stress (what
-    // that one is certified to), and the report's note counts its gap as a share of that.
+    // search, 4/5 of the run's time; it is now certified to 1e-4 of the largest stress (a
+    // floor: the largest itself is searched to 1e-9), and the report's note counts its gap as
+    // a share of that.
     let edits = [("modes = 128", "modes = 256"), ("end_time = 0.005", "end_time = 6e-5")];
     let r = edited_scene("paper-tip.toml", &edits);
     let b = r.bending_stress.as_ref().unwrap();

@@ -47,9 +47,11 @@ use std::sync::Arc;
 pub(crate) const PEAK_TOLERANCE: f64 = 1e-9;
 /// The share of the largest of its kind below which a support's stress or a section's
 /// torsion shear is certified to that share of the largest, not to [`POINT_TOLERANCE`] of
-/// itself (a support no wave has reached yet holds the truncated series' noise); also the
-/// gap past which a search that stopped at its budget warns.
+/// itself (a support no wave has reached yet holds the truncated series' noise).
 pub(crate) const FLOOR_SHARE: f64 = 1e-4;
+/// The gap past which a search that stopped at its budget warns (a smaller one is in the
+/// reasons' note only).
+pub(crate) const WARNING_GAP: f64 = 1e-3;
 /// The splits between two calls of a batch's `between` ([`search_batch`]): a split costs a
 /// few microseconds, about what the solver takes between two whole-grid instants.
 const SPLITS_BETWEEN: usize = 2;
@@ -385,9 +387,11 @@ impl Trajectory {
     /// Closes the open stretch at a whole-grid instant (time `t`, `force`, the modes `q`,
     /// `v`), with the stress of the first `low` modes on the grid there (`grid`, the same
     /// count as at the stretch's start) and `values` (the displacement, then each support's
-    /// stress); keeps it if any of its bounds beats `best` (the largest stress magnitude,
-    /// displacement and supports' stress magnitudes seen). Returns the stretch's [`Shares`]
-    /// (empty for an empty stretch).
+    /// stress), and `part`, what its bounds take from the modes alone ([`ModePart::make`] from
+    /// this stretch's start and pieces; read only for a stretch after its start with pieces);
+    /// keeps it if any of its bounds beats `best` (the largest stress magnitude, displacement
+    /// and supports' stress magnitudes seen). Returns the stretch's [`Shares`] (empty for an
+    /// empty stretch).
     pub(crate) fn observe(
         &mut self,
         part: &ModePart,
@@ -400,6 +404,9 @@ impl Trajectory {
         let mut shares = Vec::new();
         let (mut kept, mut kept_grid) = (false, false);
         if t > self.start.t && !self.ends.is_empty() && self.grid.len() == grid.len() {
+            // The part must be this stretch's (the solver's copy of the open stretch and this
+            // one are kept alike: `ModalStress`).
+            debug_assert_eq!(part.made_for, Some((self.start.t, self.ends.len())));
             let span = self.span(part, weights, grid, values);
             shares = span.shares;
             if span.bounds.iter().zip(best).any(|(b, best)| b > best) {
@@ -523,6 +530,8 @@ impl Trajectory {
 /// observes the grid (`ModalStress`), then finished by [`Trajectory::observe`].
 #[derive(Debug, Default)]
 pub(crate) struct ModePart {
+    /// The stretch it was made for: its start (s) and pieces' count (`None`: not made).
+    made_for: Option<(f64, usize)>,
     stretch: Stretch,
     /// The per-mode bounds and their weighted sums at the candidate counts.
     bounds: ModeBounds,
@@ -546,6 +555,11 @@ impl ModePart {
         hht::fast::run(PartKernel { part: self, data, weights, start, ends });
     }
 
+    /// Not made (for a stretch the watch does not bound).
+    pub(crate) fn clear(&mut self) {
+        self.made_for = None;
+    }
+
     /// [`Self::make`]'s body.
     #[inline(always)]
     fn make_inline(
@@ -555,6 +569,7 @@ impl ModePart {
         (t0, f0, state): (f64, f64, &ModalState),
         ends: &[(f64, f64)],
     ) {
+        self.made_for = Some((t0, ends.len()));
         self.stretch = Stretch::new(t0, f0, ends);
         data.bounds(state, &self.stretch, &mut self.bounds);
         let b = &mut self.bounds;
@@ -644,21 +659,33 @@ pub(crate) struct StressField<'a> {
     row_at: &'a dyn Fn(f64) -> Row,
     /// The stress's correction term's largest magnitude over the beam (Pa/N).
     correction: f64,
-    /// The points in order along the beam, each once, and each point's row (made once for
-    /// every search of the field: the early search runs one a batch).
-    order: Vec<usize>,
-    index: HashMap<u64, u32>,
+    /// The points in order along the beam and each point's row.
+    grid: &'a GridOrder,
 }
 
 impl<'a> StressField<'a> {
-    /// The field of the grid's `points` and their `rows`, `row_at` elsewhere; `correction`
-    /// as [`StressField::correction`].
+    /// The field of the grid's `points` (in the order `grid` was made from) and their `rows`,
+    /// `row_at` elsewhere; `correction` as [`StressField::correction`].
     pub(crate) fn new(
-        points: &'a [f64],
+        (points, grid): (&'a [f64], &'a GridOrder),
         rows: &'a [Row],
         row_at: &'a dyn Fn(f64) -> Row,
         correction: f64,
     ) -> Self {
+        Self { points, rows, row_at, correction, grid }
+    }
+}
+
+/// A grid's points in order along the beam, each once, and each point's row: made once for
+/// every search of the field (the early search runs one a batch).
+#[derive(Debug, Clone)]
+pub(crate) struct GridOrder {
+    order: Vec<usize>,
+    index: HashMap<u64, u32>,
+}
+
+impl GridOrder {
+    pub(crate) fn new(points: &[f64]) -> Self {
         let mut order: Vec<usize> = (0..points.len()).collect();
         order.sort_by(|a, b| points[*a].total_cmp(&points[*b]));
         order.dedup_by(|a, b| points[*a].to_bits() == points[*b].to_bits());
@@ -666,7 +693,7 @@ impl<'a> StressField<'a> {
         for (k, x) in points.iter().enumerate() {
             index.insert(x.to_bits(), k as u32);
         }
-        Self { points, rows, row_at, correction, order, index }
+        Self { order, index }
     }
 }
 
@@ -948,7 +975,7 @@ impl Search<'_> {
                 }
             }
             Field::Stress(f) => {
-                let order = &f.order;
+                let order = &f.grid.order;
                 self.xs.extend_from_slice(f.points);
                 for k in 0..self.blocks.len() {
                     let target = self.target();
@@ -1083,7 +1110,7 @@ impl Search<'_> {
     /// The row at x, made once.
     fn row(&mut self, x: f64) -> u32 {
         let known = match self.field {
-            Field::Stress(f) => f.index.get(&x.to_bits()),
+            Field::Stress(f) => f.grid.index.get(&x.to_bits()),
             _ => None,
         };
         if let Some(k) = known.or_else(|| self.row_of.get(&x.to_bits())) {

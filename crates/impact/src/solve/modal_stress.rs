@@ -28,11 +28,11 @@
 //! the oldest in batches while the run goes on (`GridWatch::hand_over`), the rest at the end;
 //! so are the displacement at the impact point and each support's stress (at the end). The
 //! whole-grid instants and the search during the run are a [`GridWatch`]'s, on a thread of its
-//! own beside the solver's (`Watch`), which sets each next whole-grid instant by the watch's
-//! plan from [`PLAN_LAG`] instants before. The hot loop is compiled for the processor's
+//! own beside the solver's where the process has one to spare (`Watch`); the solver sets each
+//! next whole-grid instant by the watch's plan from [`PLAN_LAG`] instants before. The hot loop is compiled for the processor's
 //! vectors (`modal::on_four_lanes`: four lanes on x86-64) with fused multiply-adds, so the
-//! stress's last bits may differ between processors (the motion, which it does not feed, does
-//! not).
+//! stress's last bits may differ between processors (and through the whole-grid instants,
+//! where the free flight's steps end, the motion's too, at round-off's scale).
 
 use super::modal_peak::{self, ModeData, ModePart, Peak, Row, StressField, Trajectory, Weights};
 use super::observe::{BeamRecorder, BeamView, Instant};
@@ -175,8 +175,8 @@ struct Peaks {
     weights: Arc<Weights>,
     /// How many of the weights' `supports` are supports.
     support_count: usize,
-    /// The one-point fields after the supports' stresses: what, where, the largest seen and
-    /// the search's result.
+    /// The one-point fields after the supports' stresses: what, where and the search's result
+    /// (the largest seen is in `seen`).
     points: Vec<PointSearch>,
     /// What the run had seen at the last whole-grid instant.
     seen: Seen,
@@ -546,6 +546,8 @@ impl ModalStress {
         let (t0, f0, state) = &self.start;
         if t > *t0 && !self.ends.is_empty() {
             snapshot.part.make(&self.data, &self.weights, (*t0, *f0, state), &self.ends);
+        } else {
+            snapshot.part.clear();
         }
         std::mem::swap(&mut snapshot.ends, &mut self.ends);
         self.ends.clear();
@@ -665,7 +667,7 @@ impl GridWatch {
     /// contact's stretches). Which stretches go in a batch and what it starts from depend on
     /// the run alone, never on when the batch is searched, so neither does the result.
     fn hand_over(&mut self) {
-        if matches!(self.peaks.early, Early::Off)
+        if matches!(self.peaks.early, Early::Off | Early::Gathered(..))
             || self.peaks.trajectory.kept.len() < EARLY_BATCH + EARLY_LAG
         {
             return;
@@ -824,8 +826,10 @@ impl GridWatch {
         let mut kept = std::mem::take(&mut self.peaks.trajectory.kept);
         let rows = grid_rows(&self.curvature, &self.correction, &self.rows);
         let row_at = |x: f64| self.rows.row_at(x);
+        let points = &self.envelope.points;
+        let order = modal_peak::GridOrder::new(points);
         let field =
-            StressField::new(&self.envelope.points, &rows, &row_at, self.peaks.weights.correction);
+            StressField::new((points, &order), &rows, &row_at, self.peaks.weights.correction);
         // The stretches the early search left, from the largest seen or found so far.
         let (value, x, t) = self.envelope.best();
         let seen = Peak { value, x, t, bound: value.abs() };
@@ -1003,6 +1007,7 @@ struct EarlySearch {
     rows: Arc<StressRows>,
     grid: Vec<Row>,
     points: Vec<f64>,
+    order: modal_peak::GridOrder,
     /// E h/2 max |correction| (Pa/N).
     peak_correction: f64,
     stepper: modal_peak::Stepper,
@@ -1018,6 +1023,7 @@ impl EarlySearch {
             rows: Arc::clone(&watch.rows),
             grid: grid_rows(&watch.curvature, &watch.correction, &watch.rows),
             points: watch.envelope.points.clone(),
+            order: modal_peak::GridOrder::new(&watch.envelope.points),
             peak_correction: watch.peaks.weights.correction,
             stepper: modal_peak::Stepper::default(),
             budget: modal_peak::Budget::default(),
@@ -1036,7 +1042,8 @@ impl EarlySearch {
     ) {
         let rows = &self.rows;
         let row_at = |x: f64| rows.row_at(x);
-        let field = StressField::new(&self.points, &self.grid, &row_at, self.peak_correction);
+        let points = (&self.points[..], &self.order);
+        let field = StressField::new(points, &self.grid, &row_at, self.peak_correction);
         let start = self.found.map_or(start, |f| larger(start, f));
         let peak = modal_peak::search_batch(
             &self.data,
@@ -1179,10 +1186,11 @@ impl Peaks {
         };
         (!all.is_empty()).then(|| {
             format!(
-                "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), {within} (asked {:.0e} for the stress, {:.0e} at a point; a support's stress or a section's torsion shear below 1e-4 of the largest of its kind to 1e-4 of that largest)",
+                "largest stress (over the beam), each support's, the largest displacement at the impact point{}: found between the observed points and instants by branch and bound on bounds from the modal amplitudes (validation/REFERENCES.md 1.8), {within} (asked {:.0e} for the stress, {:.0e} at a point; a support's stress or a section's torsion shear below {floor:.0e} of the largest of its kind to {floor:.0e} of that largest)",
                 self.point_names(),
                 modal_peak::PEAK_TOLERANCE,
-                modal_peak::POINT_TOLERANCE
+                modal_peak::POINT_TOLERANCE,
+                floor = modal_peak::FLOOR_SHARE
             )
         })
     }
@@ -1259,7 +1267,7 @@ impl Peaks {
     fn warnings(&self) -> Vec<String> {
         self.gaps()
             .into_iter()
-            .filter(|(_, g, _)| *g > 10.0 * modal_peak::FLOOR_SHARE)
+            .filter(|(_, g, _)| *g > modal_peak::WARNING_GAP)
             .map(|(what, g, of)| {
                 format!(
                     "{what} is certain only to {g:.1e} of {of}: the search between the observed instants stopped at its budget ({} modes make its bounds loose); fewer modes, or solver.tolerance",
@@ -1267,6 +1275,17 @@ impl Peaks {
                 )
             })
             .collect()
+    }
+}
+
+impl ModalStress {
+    /// The watch back on this thread for the searches at the end, with what the run has seen
+    /// at its last instant (the same as at its last whole-grid instant when the last instant
+    /// was observed as the last, as the solvers do).
+    fn watch_at_end(&mut self) -> &mut GridWatch {
+        let watch = self.watch.back();
+        watch.peaks.seen.clone_from(&self.seen);
+        watch
     }
 }
 
@@ -1286,12 +1305,12 @@ impl BeamRecorder for ModalStress {
     }
 
     fn finish(&mut self, yield_stress: Option<f64>) -> BendingStress {
-        self.watch.back().envelope(yield_stress)
+        self.watch_at_end().envelope(yield_stress)
     }
 
     fn displacement_peak(&mut self, seen: (f64, f64)) -> (f64, f64) {
         let position = self.rows.position;
-        let watch = self.watch.back();
+        let watch = self.watch_at_end();
         watch.gather();
         watch.peaks.displacement(seen, position)
     }
@@ -1328,25 +1347,40 @@ const PLAN_LAG: usize = 32;
 
 /// Where the [`GridWatch`] is.
 enum Watch {
-    /// On the solver's thread (a sweep's run, whose threads are all busy; or no thread was
-    /// given): each whole-grid instant observed as it comes, its plan held back [`PLAN_LAG`]
-    /// instants as on a thread of its own. At the run's end, the watch is back here.
-    Here(Box<GridWatch>, std::collections::VecDeque<f64>, Box<Snapshot>),
+    /// On the solver's thread (a sweep's run, whose threads are all busy; a process with one
+    /// processor; or no thread was given): each whole-grid instant observed as it comes, its
+    /// plan held back [`PLAN_LAG`] instants as on a thread of its own (instant k gets instant
+    /// k - PLAN_LAG's plan either way). At the run's end, the watch is back here.
+    Here { watch: Box<GridWatch>, plans: std::collections::VecDeque<f64>, spare: Box<Snapshot> },
     /// On a thread of its own.
     Away(WatchThread),
-    /// Between the two (only while being moved).
+    /// Between the two (only while being moved; left so after a panic on the watch's thread,
+    /// which goes on on the solver's).
     Moving,
 }
 
 /// The [`GridWatch`] on its own thread: the whole-grid instants go to it, its plans (with the
-/// instants' buffers, for the next) come back.
+/// instants' buffers, for the next) come back. Dropped before its run ends (a run that
+/// failed or was stopped), it tells its thread to stop: the thread ends once the batch it is
+/// searching is done.
 struct WatchThread {
-    instants: std::sync::mpsc::Sender<Snapshot>,
+    instants: Option<std::sync::mpsc::Sender<Snapshot>>,
     plans: std::sync::mpsc::Receiver<(f64, Snapshot)>,
-    worker: std::thread::JoinHandle<Option<Box<GridWatch>>>,
+    worker: Option<std::thread::JoinHandle<Option<Box<GridWatch>>>>,
+    stop: Arc<std::sync::atomic::AtomicBool>,
     /// Instants sent whose plans have not come back.
     pending: usize,
     spare: Vec<Snapshot>,
+}
+
+impl Drop for WatchThread {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        self.instants = None;
+        if let Some(worker) = &self.worker {
+            worker.thread().unpark();
+        }
+    }
 }
 
 impl Watch {
@@ -1357,54 +1391,67 @@ impl Watch {
     fn start(watch: GridWatch) -> Self {
         let watch = Box::new(watch);
         if rayon::current_thread_index().is_some() || rayon::current_num_threads() < 2 {
-            return Self::here(watch);
+            Self::here(watch)
+        } else {
+            Self::spawn(watch)
         }
+    }
+
+    fn here(watch: Box<GridWatch>) -> Self {
+        Self::Here { watch, plans: std::collections::VecDeque::new(), spare: Box::default() }
+    }
+
+    /// On a thread of its own (here if the system gives none).
+    fn spawn(watch: Box<GridWatch>) -> Self {
         let (instants, received) = std::sync::mpsc::channel::<Snapshot>();
-        let (planned, plans) = std::sync::mpsc::channel();
+        let (planned, plans) = std::sync::mpsc::channel::<(f64, Snapshot)>();
+        let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let stopped = Arc::clone(&stop);
         // The watch goes to the thread once it runs: if none comes, it stays here.
         let (give, take) = std::sync::mpsc::channel::<Box<GridWatch>>();
         let spawned = std::thread::Builder::new().name("grid-watch".into()).spawn(move || {
             let mut watch = take.recv().ok()?;
+            let stopped = || stopped.load(std::sync::atomic::Ordering::Relaxed);
+            // Every instant waiting, each with its plan back: how many (`None` once the solver
+            // is gone).
+            let observe_waiting = |watch: &mut GridWatch| {
+                let mut observed = 0;
+                loop {
+                    match received.try_recv() {
+                        Ok(instant) => {
+                            let plan = watch.observe(&instant);
+                            planned.send((plan, instant)).ok()?;
+                            observed += 1;
+                        }
+                        Err(std::sync::mpsc::TryRecvError::Empty) => return Some(observed),
+                        Err(std::sync::mpsc::TryRecvError::Disconnected) => return None,
+                    }
+                }
+            };
             // The instants first (the solver waits for their plans), the search's batches
-            // between them; asleep once there is neither for a while.
+            // between them (the instants observed every few splits); a while spinning, a
+            // while yielding (the solver's thread may be waiting for this processor), then
+            // asleep until woken, or a millisecond.
             let mut idle = 0usize;
-            loop {
-                match received.try_recv() {
-                    Ok(instant) => {
-                        idle = 0;
-                        let plan = watch.observe(&instant);
-                        if planned.send((plan, instant)).is_err() {
-                            break;
+            while !stopped() {
+                let Some(observed) = observe_waiting(&mut watch) else { break };
+                if observed > 0 {
+                    idle = 0;
+                } else if !watch.peaks.batches.is_empty() {
+                    idle = 0;
+                    watch.search_batches(&mut |watch| {
+                        if !stopped() {
+                            observe_waiting(watch);
                         }
-                    }
-                    Err(std::sync::mpsc::TryRecvError::Disconnected) => break,
-                    Err(std::sync::mpsc::TryRecvError::Empty)
-                        if !watch.peaks.batches.is_empty() =>
-                    {
-                        idle = 0;
-                        watch.search_batches(&mut |watch| {
-                            while let Ok(instant) = received.try_recv() {
-                                let plan = watch.observe(&instant);
-                                let _ = planned.send((plan, instant));
-                            }
-                        });
-                    }
-                    // A while spinning, a while yielding (the solver's thread may be
-                    // waiting for this processor), then asleep.
-                    Err(std::sync::mpsc::TryRecvError::Empty) if idle < SPINS + YIELDS => {
-                        idle += 1;
-                        if idle < SPINS {
-                            std::hint::spin_loop();
-                        } else {
-                            std::thread::yield_now();
-                        }
-                    }
-                    // (Awake again within a millisecond in any case: a run that stopped
-                    // early drops its end of the channel without waking it.)
-                    Err(std::sync::mpsc::TryRecvError::Empty) => {
-                        idle = 0;
-                        std::thread::park_timeout(std::time::Duration::from_millis(1));
-                    }
+                    });
+                } else if idle < SPINS {
+                    idle += 1;
+                    std::hint::spin_loop();
+                } else if idle < SPINS + YIELDS {
+                    idle += 1;
+                    std::thread::yield_now();
+                } else {
+                    std::thread::park_timeout(std::time::Duration::from_millis(1));
                 }
             }
             Some(watch)
@@ -1412,9 +1459,10 @@ impl Watch {
         match spawned {
             Ok(worker) => match give.send(watch) {
                 Ok(()) => Self::Away(WatchThread {
-                    instants,
+                    instants: Some(instants),
                     plans,
-                    worker,
+                    worker: Some(worker),
+                    stop,
                     pending: 0,
                     spare: Vec::new(),
                 }),
@@ -1424,14 +1472,10 @@ impl Watch {
         }
     }
 
-    fn here(watch: Box<GridWatch>) -> Self {
-        Self::Here(watch, std::collections::VecDeque::new(), Box::default())
-    }
-
     /// A snapshot to fill (its buffers reused).
     fn spare(&mut self) -> Snapshot {
         match self {
-            Self::Here(_, _, spare) => std::mem::take(&mut **spare),
+            Self::Here { spare, .. } => std::mem::take(&mut **spare),
             Self::Away(away) => away.spare.pop().unwrap_or_default(),
             Self::Moving => Snapshot::default(),
         }
@@ -1441,7 +1485,7 @@ impl Watch {
     /// next recorded instant, before there is one).
     fn observe(&mut self, instant: Snapshot) -> f64 {
         match self {
-            Self::Here(watch, plans, spare) => {
+            Self::Here { watch, plans, spare } => {
                 plans.push_back(watch.observe(&instant));
                 watch.search_batches(&mut |_| {});
                 **spare = instant;
@@ -1452,15 +1496,17 @@ impl Watch {
                 }
             }
             Self::Away(away) => {
-                let received = if away.instants.send(instant).is_ok() {
+                let sent = away.instants.as_ref().is_some_and(|to| to.send(instant).is_ok());
+                let received = if sent {
                     away.pending += 1;
+                    let worker = away.worker.as_ref().map(|w| w.thread());
                     if away.pending % WAKE_EVERY == 0 {
-                        away.worker.thread().unpark();
+                        worker.inspect(|w| w.unpark());
                     }
                     if away.pending <= PLAN_LAG {
                         return 0.0;
                     }
-                    away.worker.thread().unpark();
+                    worker.inspect(|w| w.unpark());
                     spin_for(&away.plans)
                 } else {
                     None
@@ -1471,10 +1517,10 @@ impl Watch {
                         away.spare.push(spare);
                         plan
                     }
-                    // Its thread stopped: it panicked, which goes on here.
+                    // Its thread stopped, which only a panic there does: it goes on here.
                     None => {
                         self.back();
-                        0.0
+                        unreachable!("the stress recovery's watch stopped before its run ended")
                     }
                 }
             }
@@ -1486,21 +1532,22 @@ impl Watch {
     /// on its thread goes on here.
     fn back(&mut self) -> &mut GridWatch {
         if let Self::Away(_) = self {
-            let Self::Away(away) = std::mem::replace(self, Self::Moving) else { unreachable!() };
-            let WatchThread { instants, plans, worker, .. } = away;
+            let Self::Away(mut away) = std::mem::replace(self, Self::Moving) else {
+                unreachable!()
+            };
             // (Its plans are kept until it is done: it observes every instant sent.)
-            drop(instants);
-            worker.thread().unpark();
-            let joined = worker.join();
-            drop(plans);
-            match joined {
-                Ok(Some(watch)) => *self = Self::here(watch),
-                Ok(None) => unreachable!("the watch was given to its thread"),
-                Err(panic) => std::panic::resume_unwind(panic),
+            away.instants = None;
+            if let Some(worker) = away.worker.take() {
+                worker.thread().unpark();
+                match worker.join() {
+                    Ok(Some(watch)) => *self = Self::here(watch),
+                    Ok(None) => unreachable!("the watch was given to its thread"),
+                    Err(panic) => std::panic::resume_unwind(panic),
+                }
             }
         }
         match self {
-            Self::Here(watch, ..) => watch,
+            Self::Here { watch, .. } => watch,
             _ => unreachable!("the watch is back on this thread"),
         }
     }
@@ -1508,7 +1555,7 @@ impl Watch {
     /// The watch, once back.
     fn returned(&self) -> Option<&GridWatch> {
         match self {
-            Self::Here(watch, ..) => Some(watch),
+            Self::Here { watch, .. } => Some(watch),
             _ => None,
         }
     }
@@ -1776,10 +1823,15 @@ mod tests {
         let b = beam(Support::ClampedFree);
         let run = |watch: &str| {
             let mut s = recovery(&b, 16, 1.15, 2e-4);
-            // (With one processor the watch stays on the solver's thread: `Watch::start`.)
-            if rayon::current_num_threads() >= 2 {
-                assert!(matches!(s.watch, Watch::Away(_)), "the watch has no thread of its own");
+            // (With one processor `Watch::start` keeps the watch here: sent away all the same.)
+            if let Watch::Here { .. } = s.watch {
+                let Watch::Here { watch, .. } = std::mem::replace(&mut s.watch, Watch::Moving)
+                else {
+                    unreachable!()
+                };
+                s.watch = Watch::spawn(watch);
             }
+            assert!(matches!(s.watch, Watch::Away(_)), "the watch has no thread of its own");
             if watch != "away" {
                 s.watch.back();
             }
