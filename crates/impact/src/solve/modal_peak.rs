@@ -842,7 +842,7 @@ impl Block {
 }
 
 /// `state` set to `q`, `v` (in its own memory).
-fn copy_state(state: &mut ModalState, q: &[f64], v: &[f64]) {
+pub(crate) fn copy_state(state: &mut ModalState, q: &[f64], v: &[f64]) {
     for (to, from) in [(&mut state.q, q), (&mut state.v, v)] {
         to.clear();
         to.extend_from_slice(from);

@@ -129,8 +129,7 @@ struct Seen {
 struct Snapshot {
     t: f64,
     force: f64,
-    q: Vec<f64>,
-    v: Vec<f64>,
+    state: ModalState,
     /// The displacement at the impact point now (m).
     displacement: f64,
     /// The stress at the near points now, every mode (Pa).
@@ -525,10 +524,7 @@ impl ModalStress {
         let mut snapshot = self.watch.spare();
         snapshot.t = t;
         snapshot.force = force;
-        snapshot.q.clear();
-        snapshot.q.extend_from_slice(q);
-        snapshot.v.clear();
-        snapshot.v.extend_from_slice(v);
+        modal_peak::copy_state(&mut snapshot.state, q, v);
         snapshot.displacement = w;
         snapshot.near.resize(self.near_correction.len(), 0.0);
         modal::on_four_lanes(StressKernel {
@@ -553,10 +549,7 @@ impl ModalStress {
         self.ends.clear();
         self.start.0 = t;
         self.start.1 = force;
-        for (to, from) in [(&mut self.start.2.q, q), (&mut self.start.2.v, v)] {
-            to.clear();
-            to.extend_from_slice(from);
-        }
+        modal_peak::copy_state(&mut self.start.2, q, v);
         self.last_full = t;
         self.full_spacing = self.watch.observe(snapshot);
     }
@@ -571,8 +564,7 @@ impl GridWatch {
         let Snapshot {
             t,
             force,
-            ref q,
-            ref v,
+            state: ModalState { ref q, ref v },
             displacement: w,
             ref near,
             ref seen,
