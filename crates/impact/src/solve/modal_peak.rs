@@ -362,6 +362,8 @@ pub(crate) struct Weights {
     pub(crate) displacement: Row,
     /// Each support's stress row, then the one-point fields' rows (an off-centre strike's).
     pub(crate) supports: Vec<Row>,
+    /// How many of `supports` are supports.
+    pub(crate) support_count: usize,
 }
 
 impl Trajectory {

@@ -87,10 +87,8 @@ pub(crate) struct ModalStress {
     /// The modes' constants and what the bounds weigh them with (the watch's, copied and
     /// shared): the part of each stretch's bounds that the modes alone give is made here,
     /// while the watch observes the grid (`ModePart`).
-    data: ModeData,
+    data: Arc<ModeData>,
     weights: Arc<Weights>,
-    /// How many of the weights' `supports` are supports (the one-point fields follow).
-    support_count: usize,
     /// The open stretch: its start (t (s), F (N), the modes' state) and its force's pieces
     /// since ([`modal_peak::push_end`]).
     start: (f64, f64, ModalState),
@@ -113,7 +111,7 @@ pub(crate) struct ModalStress {
 }
 
 /// What the run has seen of the displacement at the impact point and of the one-point fields.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 struct Seen {
     /// The largest displacement (m) and when (s).
     displacement: (f64, f64),
@@ -121,6 +119,20 @@ struct Seen {
     points: Vec<(f64, f64)>,
     /// Their magnitudes at the last observed instant.
     values: Vec<f64>,
+}
+
+impl Clone for Seen {
+    fn clone(&self) -> Self {
+        let (points, values) = (self.points.clone(), self.values.clone());
+        Self { displacement: self.displacement, points, values }
+    }
+
+    /// Into the buffers already held: copied at every whole-grid instant, twice.
+    fn clone_from(&mut self, source: &Self) {
+        self.displacement = source.displacement;
+        self.points.clone_from(&source.points);
+        self.values.clone_from(&source.values);
+    }
 }
 
 /// A whole-grid instant as the watch takes it: the state, what the run has seen by then, the
@@ -167,13 +179,12 @@ struct GridWatch {
 
 /// What the search between instants keeps.
 struct Peaks {
-    data: ModeData,
+    /// The modes' constants (shared with the solver's thread and the early search).
+    data: Arc<ModeData>,
     trajectory: Trajectory,
     /// What the bounds weigh the modes with; its `supports` are the one-point fields searched
     /// in time: each support's stress, then (an off-centre strike) those of `points`.
     weights: Arc<Weights>,
-    /// How many of the weights' `supports` are supports.
-    support_count: usize,
     /// The one-point fields after the supports' stresses: what, where and the search's result
     /// (the largest seen is in `seen`).
     points: Vec<PointSearch>,
@@ -380,7 +391,6 @@ impl ModalStress {
             beam: static_beam,
             static_q,
         });
-        let count = peaks.support_count;
         let seen = peaks.seen.clone();
         let near_curvature = curvature[..near_count * n].to_vec();
         let near_correction = correction[..near_count].to_vec();
@@ -399,9 +409,8 @@ impl ModalStress {
             rows,
             shapes,
             ei: beam.flexural_rigidity(),
-            data: watch.peaks.data.clone(),
+            data: Arc::clone(&watch.peaks.data),
             weights: Arc::clone(&watch.peaks.weights),
-            support_count: count,
             start: (0.0, 0.0, ModalState::at_rest(n)),
             ends: Vec::new(),
             near_curvature,
@@ -508,7 +517,7 @@ impl ModalStress {
         if w > seen.displacement.0 {
             seen.displacement = (w, t);
         }
-        let point_rows = &self.weights.supports[self.support_count..];
+        let point_rows = &self.weights.supports[self.weights.support_count..];
         for ((p, value), row) in seen.points.iter_mut().zip(&mut seen.values).zip(point_rows) {
             *value = row.value(force, q).abs();
             if *value > p.0 {
@@ -586,7 +595,7 @@ impl GridWatch {
         self.envelope.observe(t, &self.stresses[..self.near_count]);
         // The stretch's field values at this end, all modes (the supports are among the near
         // points, evaluated above), before the grid's evaluation overwrites them.
-        let supports = self.peaks.support_count;
+        let supports = self.peaks.weights.support_count;
         let values: Vec<f64> = [w]
             .into_iter()
             .chain(self.stresses[..supports].iter().copied())
@@ -839,7 +848,7 @@ impl GridWatch {
         kept.sort_by(|a, b| a.start().total_cmp(&b.start()));
         let peak = self.polish(&kept, peak);
         let mut supports = Vec::new();
-        let count = self.peaks.support_count;
+        let count = self.peaks.weights.support_count;
         let weights = Arc::clone(&self.peaks.weights);
         for (k, row) in weights.supports[..count].iter().enumerate() {
             let (i, max, time) = self.envelope.supports()[k];
@@ -995,7 +1004,7 @@ enum Early {
 /// own copies of what it needs (the watch observes instants between its splits), one budget
 /// and one set of exact steps for all the batches, what it searched and the largest found.
 struct EarlySearch {
-    data: ModeData,
+    data: Arc<ModeData>,
     rows: Arc<StressRows>,
     grid: Vec<Row>,
     points: Vec<f64>,
@@ -1011,7 +1020,7 @@ struct EarlySearch {
 impl EarlySearch {
     fn new(watch: &GridWatch) -> Self {
         Self {
-            data: watch.peaks.data.clone(),
+            data: Arc::clone(&watch.peaks.data),
             rows: Arc::clone(&watch.rows),
             grid: grid_rows(&watch.curvature, &watch.correction, &watch.rows),
             points: watch.envelope.points.clone(),
@@ -1110,7 +1119,7 @@ impl Peaks {
             0.0
         };
         let n = modes.len();
-        let data = ModeData::new(modes);
+        let data = Arc::new(ModeData::new(modes));
         let displacement = Row { r: data.gain().to_vec(), p: residual };
         Self {
             trajectory: Trajectory::new(n),
@@ -1123,8 +1132,8 @@ impl Peaks {
                 correction,
                 displacement,
                 supports,
+                support_count,
             }),
-            support_count,
             seen: Seen {
                 displacement: (0.0, 0.0),
                 points: vec![(0.0, 0.0); points.len()],
