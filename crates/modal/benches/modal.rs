@@ -1,5 +1,5 @@
 //! Cost of building modes (Euler-Bernoulli and Timoshenko) and transitions and of one exact
-//! step, for 64 and 256 modes; Timoshenko modes also at 4096 (the paper tip's reference); the
+//! step (as the solver takes it in contact and in free flight), for 64 and 256 modes; Timoshenko modes also at 4096 (the paper tip's reference); the
 //! curvature of 256 modes at a point, shape by shape and all at once.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
 
@@ -24,6 +24,14 @@ fn propagation(c: &mut Criterion) {
         let mut s = ModalState::at_rest(n);
         group.bench_with_input(BenchmarkId::new("step", n), &n, |b, _| {
             b.iter(|| t.advance(&mut s, black_box(10.0), 11.0))
+        });
+        // The solver's contact step and free-flight step (the next step's free end
+        // displacement summed in the same pass).
+        group.bench_with_input(BenchmarkId::new("contact step", n), &n, |b, _| {
+            b.iter(|| t.advance_predicting(&mut s, black_box(10.0), 11.0))
+        });
+        group.bench_with_input(BenchmarkId::new("free step", n), &n, |b, _| {
+            b.iter(|| t.advance_predicting(&mut s, black_box(0.0), 0.0))
         });
     }
     // The paper's tip as a Timoshenko beam (steel, nu = 0.3, k = 5/6).

@@ -261,45 +261,61 @@ impl Timoshenko {
         let stiffness = self.segment_stiffness(omega, self.length / segments as f64);
         let (left, right) = ends(self.support);
         let dofs = 2 * (segments + 1);
-        // The assembled matrix as its lower band: band[i][d] = A(i, i - d), d = 0..=3. Every
-        // segment adds the same 4 x 4 block on the dofs of its two nodes.
-        let mut band = vec![[0.0; 4]; dofs];
-        for e in 0..segments {
-            for a in 0..4 {
-                for b in 0..=a {
-                    band[2 * e + a][a - b] += stiffness[(a, b)];
-                }
-            }
-        }
-        // Held dofs become decoupled unit rows: a positive pivot that changes no count.
-        let mut hold = |dof: usize| {
-            for d in 0..4 {
-                band[dof][d] = if d == 0 { 1.0 } else { 0.0 };
-                if dof + d < dofs && d > 0 {
-                    band[dof + d][d] = 0.0;
-                }
+        let held = |dof: usize| {
+            let (end, node) = match dof / 2 {
+                0 => (left, 0),
+                n if n == segments => (right, n),
+                _ => return false,
+            };
+            debug_assert!(node == 0 || node == segments);
+            match end {
+                End::Clamped => true,
+                End::Pinned => dof % 2 == 0,
+                End::Free => false,
             }
         };
-        for (end, node) in [(left, 0), (right, segments)] {
-            match end {
-                End::Clamped => {
-                    hold(2 * node);
-                    hold(2 * node + 1);
-                }
-                End::Pinned => hold(2 * node),
-                End::Free => {}
+        // Row i of the assembled matrix's lower band, band[d] = A(i, i - d), d = 0..=3: every
+        // segment adds the same 4 x 4 block on the dofs of its two nodes (the segment before
+        // node i/2 first, then the one after). A held dof is a decoupled unit row: a positive
+        // pivot that changes no count.
+        let band_row = |i: usize| -> [f64; 4] {
+            let mut row = [0.0; 4];
+            if held(i) {
+                row[0] = 1.0;
+                return row;
             }
-        }
+            let node = i / 2;
+            let before = (node > 0).then(|| i - 2 * (node - 1));
+            let after = (node < segments).then_some(i % 2);
+            for a in before.into_iter().chain(after) {
+                for (d, entry) in row.iter_mut().enumerate().take(a + 1) {
+                    *entry += stiffness[(a, a - d)];
+                }
+            }
+            for (d, entry) in row.iter_mut().enumerate().skip(1) {
+                if i >= d && held(i - d) {
+                    *entry = 0.0;
+                }
+            }
+            row
+        };
         // Banded LDL^T without interchanges; the count is the number of negative pivots
-        // (Sylvester's law of inertia).
-        let mut pivots = vec![0.0; dofs];
-        let mut lower = vec![[0.0; 4]; dofs]; // lower[i][d] = L(i, i - d)
+        // (Sylvester's law of inertia). Step j needs only the pivots of the three rows before
+        // and the factor's rows j..j+3, kept in rings of four (indexed mod 4): no storage that
+        // grows with the segments (a count in the thousands of segments had allocated and
+        // cleared three arrays of them, on whichever thread searched).
+        let mut pivots = [0.0; 4];
+        let mut lower = [[0.0; 4]; 4]; // lower[i % 4][d] = L(i, i - d)
+        let mut bands = [[0.0; 4]; 4]; // bands[i % 4] = band_row(i)
+        for (i, slot) in bands.iter_mut().enumerate().take(dofs.min(4)) {
+            *slot = band_row(i);
+        }
         let mut negative = 0;
         for j in 0..dofs {
-            let mut d = band[j][0];
+            let mut d = bands[j % 4][0];
             for k in 1..=3.min(j) {
-                let l = lower[j][k];
-                d -= l * l * pivots[j - k];
+                let l = lower[j % 4][k];
+                d -= l * l * pivots[(j - k) % 4];
             }
             if d == 0.0 {
                 d = f64::MIN_POSITIVE;
@@ -307,13 +323,18 @@ impl Timoshenko {
             if d < 0.0 {
                 negative += 1;
             }
-            pivots[j] = d;
+            pivots[j % 4] = d;
             for i in j + 1..(j + 4).min(dofs) {
-                let mut a = band[i][i - j];
+                let mut a = bands[i % 4][i - j];
                 for k in i.saturating_sub(3)..j {
-                    a -= lower[i][i - k] * lower[j][j - k] * pivots[k];
+                    a -= lower[i % 4][i - k] * lower[j % 4][j - k] * pivots[k % 4];
                 }
-                lower[i][i - j] = a / d;
+                lower[i % 4][i - j] = a / d;
+            }
+            // Row j is done: its slots take row j + 4.
+            lower[j % 4] = [0.0; 4];
+            if j + 4 < dofs {
+                bands[j % 4] = band_row(j + 4);
             }
         }
         negative
