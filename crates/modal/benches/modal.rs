@@ -1,6 +1,7 @@
 //! Cost of building modes (Euler-Bernoulli and Timoshenko) and transitions and of one exact
-//! step (as the solver takes it in contact and in free flight), for 64 and 256 modes; Timoshenko modes also at 4096 (the paper tip's reference); the
-//! curvature of 256 modes at a point, shape by shape and all at once.
+//! step (also as the solver takes it in contact and in free flight, with the next step's free
+//! end displacement), for 64 and 256 modes; Timoshenko modes also at 4096 (the paper tip's
+//! reference); the curvature of 256 modes at a point, shape by shape and all at once.
 #![allow(clippy::expect_used, missing_docs)] // benches stop on bad set-up data, as tests do
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};

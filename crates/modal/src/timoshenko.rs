@@ -238,8 +238,8 @@ impl Timoshenko {
         if omega <= 0.0 {
             return 0;
         }
-        // Past a million modes the segments would take gigabytes: the asymptotic count
-        // (beta + k) L / pi is within a few of the exact one there.
+        // Past a million modes the count would factor millions of segments at every call: the
+        // asymptotic count (beta + k) L / pi is within a few of the exact one there.
         let estimate = self.asymptotic_count(omega);
         if estimate > 1e6 {
             return estimate as usize;
@@ -252,8 +252,8 @@ impl Timoshenko {
             / (4.0 * self.rho_a);
         let longest = PI * shear.min(bending).sqrt();
         let ratio = self.length / longest;
-        // Segments past what memory holds, or not a number (a beam of a nanometre: its
-        // frequencies' squares overflow): the asymptotic count, as for a million modes.
+        // Segments past ten million, or not a number (a beam of a nanometre: its frequencies'
+        // squares overflow): the asymptotic count, as for a million modes.
         if !(ratio.is_finite() && ratio <= 1e7) {
             return if estimate.is_finite() { estimate.max(0.0) as usize } else { usize::MAX };
         }
