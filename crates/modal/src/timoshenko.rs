@@ -261,13 +261,14 @@ impl Timoshenko {
         let stiffness = self.segment_stiffness(omega, self.length / segments as f64);
         let (left, right) = ends(self.support);
         let dofs = 2 * (segments + 1);
+        // Whether a dof is held: clamped ends hold both of their node's, pinned ones its
+        // displacement.
         let held = |dof: usize| {
-            let (end, node) = match dof / 2 {
-                0 => (left, 0),
-                n if n == segments => (right, n),
+            let end = match dof / 2 {
+                0 => left,
+                node if node == segments => right,
                 _ => return false,
             };
-            debug_assert!(node == 0 || node == segments);
             match end {
                 End::Clamped => true,
                 End::Pinned => dof % 2 == 0,
@@ -460,17 +461,29 @@ impl Timoshenko {
             return self.halves((lo, hi), (j_lo, j_hi), found, wanted);
         };
         let det = |w: f64| self.conditions(w, basis).determinant();
-        let mut points: Vec<(f64, f64)> = grid.iter().map(|&w| (w, det(w))).collect();
+        // The scan and the polish side by side where the slice holds work worth a thread (the
+        // first slice holds every root: 2049 samples and 256 polishes at the paper's tip, all
+        // on one thread before); each sample and root is computed alone, so the same bits.
+        let wide = n >= SIDE_BY_SIDE;
+        let mut points: Vec<(f64, f64)> = if wide {
+            grid.par_iter().map(|&w| (w, det(w))).collect()
+        } else {
+            grid.iter().map(|&w| (w, det(w))).collect()
+        };
         // Two roots closer than the scan leave no sign change but a dip of |det| between
         // samples of one sign: sample the dips more finely, a few times, before counting.
         for _ in 0..6 {
             let changes = points.windows(2).filter(|p| p[0].1 * p[1].1 < 0.0).count();
             if changes == n {
-                return points
-                    .windows(2)
-                    .filter(|p| p[0].1 * p[1].1 < 0.0)
-                    .map(|p| (self.polish(p[0].0, p[1].0, p[0].1, p[1].1, basis), 1))
-                    .collect();
+                let brackets: Vec<&[(f64, f64)]> =
+                    points.windows(2).filter(|p| p[0].1 * p[1].1 < 0.0).collect();
+                let polish =
+                    |p: &&[(f64, f64)]| (self.polish(p[0].0, p[1].0, p[0].1, p[1].1, basis), 1);
+                return if wide {
+                    brackets.par_iter().map(polish).collect()
+                } else {
+                    brackets.iter().map(polish).collect()
+                };
             }
             if changes > n {
                 break;
