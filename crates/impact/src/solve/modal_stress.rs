@@ -1351,8 +1351,14 @@ enum Watch {
     /// On the solver's thread (a sweep's run, whose threads are all busy; a process with one
     /// processor; or no thread was given): each whole-grid instant observed as it comes, its
     /// plan held back [`PLAN_LAG`] instants as on a thread of its own (instant k gets instant
-    /// k - PLAN_LAG's plan either way). At the run's end, the watch is back here.
-    Here { watch: Box<GridWatch>, plans: std::collections::VecDeque<f64>, spare: Box<Snapshot> },
+    /// k - PLAN_LAG's plan either way). At the run's end, the watch is back here, with the way
+    /// back to its thread where it had one (`free`: see [`ModalStress`]'s `Drop`).
+    Here {
+        watch: Box<GridWatch>,
+        plans: std::collections::VecDeque<f64>,
+        spare: Box<Snapshot>,
+        free: Option<std::sync::mpsc::Sender<Box<GridWatch>>>,
+    },
     /// On a thread of its own.
     Away(WatchThread),
     /// Between the two (only while being moved; left so after a panic on the watch's thread,
@@ -1361,17 +1367,37 @@ enum Watch {
 }
 
 /// The [`GridWatch`] on its own thread: the whole-grid instants go to it, its plans (with the
-/// instants' buffers, for the next) come back. Dropped before its run ends (a run that
-/// failed or was stopped), it tells its thread to stop: the thread ends once the batch it is
-/// searching is done.
+/// instants' buffers, for the next) come back; at the run's end the watch comes back
+/// (`returned`) and, once the searches at the end are done with it, goes to its thread again
+/// to be freed (`free`). Dropped before its run ends (a run that failed or was stopped), it
+/// tells its thread to stop: the thread ends once the batch it is searching is done.
 struct WatchThread {
     instants: Option<std::sync::mpsc::Sender<Snapshot>>,
     plans: std::sync::mpsc::Receiver<(f64, Snapshot)>,
-    worker: Option<std::thread::JoinHandle<Option<Box<GridWatch>>>>,
+    returned: std::sync::mpsc::Receiver<Box<GridWatch>>,
+    free: Option<std::sync::mpsc::Sender<Box<GridWatch>>>,
+    worker: Option<std::thread::JoinHandle<()>>,
     stop: Arc<std::sync::atomic::AtomicBool>,
     /// Instants sent whose plans have not come back.
     pending: usize,
     spare: Vec<Snapshot>,
+}
+
+/// A watch that had a thread of its own is freed there: its kept stretches are thousands of
+/// blocks that its thread allocated, and freed on the solver's thread (each a free to another
+/// thread's heap) they took 0.25 ms of the paper's tip run (256 modes, 5 ms) between the
+/// searches at the end and the report.
+impl Drop for ModalStress {
+    fn drop(&mut self) {
+        if let Watch::Here { free: Some(_), .. } = self.watch {
+            if let Watch::Here { watch, free: Some(free), .. } =
+                std::mem::replace(&mut self.watch, Watch::Moving)
+            {
+                // (If its thread is gone, the watch comes back in the error and is freed here.)
+                let _ = free.send(watch);
+            }
+        }
+    }
 }
 
 impl Drop for WatchThread {
@@ -1399,7 +1425,12 @@ impl Watch {
     }
 
     fn here(watch: Box<GridWatch>) -> Self {
-        Self::Here { watch, plans: std::collections::VecDeque::new(), spare: Box::default() }
+        Self::Here {
+            watch,
+            plans: std::collections::VecDeque::new(),
+            spare: Box::default(),
+            free: None,
+        }
     }
 
     /// On a thread of its own (here if the system gives none).
@@ -1410,8 +1441,10 @@ impl Watch {
         let stopped = Arc::clone(&stop);
         // The watch goes to the thread once it runs: if none comes, it stays here.
         let (give, take) = std::sync::mpsc::channel::<Box<GridWatch>>();
+        let (give_back, returned) = std::sync::mpsc::channel::<Box<GridWatch>>();
+        let (free, to_free) = std::sync::mpsc::channel::<Box<GridWatch>>();
         let spawned = std::thread::Builder::new().name("grid-watch".into()).spawn(move || {
-            let mut watch = take.recv().ok()?;
+            let Ok(mut watch) = take.recv() else { return };
             let stopped = || stopped.load(std::sync::atomic::Ordering::Relaxed);
             // Every instant waiting, each with its plan back: how many (`None` once the solver
             // is gone).
@@ -1455,13 +1488,19 @@ impl Watch {
                     std::thread::park_timeout(std::time::Duration::from_millis(1));
                 }
             }
-            Some(watch)
+            // Back to the solver's thread for the searches at the end, then freed here, where
+            // its blocks were allocated, while the solver's thread writes the report.
+            if give_back.send(watch).is_ok() {
+                drop(to_free.recv());
+            }
         });
         match spawned {
             Ok(worker) => match give.send(watch) {
                 Ok(()) => Self::Away(WatchThread {
                     instants: Some(instants),
                     plans,
+                    returned,
+                    free: Some(free),
                     worker: Some(worker),
                     stop,
                     pending: 0,
@@ -1486,7 +1525,7 @@ impl Watch {
     /// next recorded instant, before there is one).
     fn observe(&mut self, instant: Snapshot) -> f64 {
         match self {
-            Self::Here { watch, plans, spare } => {
+            Self::Here { watch, plans, spare, .. } => {
                 plans.push_back(watch.observe(&instant));
                 watch.search_batches(&mut |_| {});
                 **spare = instant;
@@ -1540,10 +1579,18 @@ impl Watch {
             away.instants = None;
             if let Some(worker) = away.worker.take() {
                 worker.thread().unpark();
-                match worker.join() {
-                    Ok(Some(watch)) => *self = Self::here(watch),
-                    Ok(None) => unreachable!("the watch was given to its thread"),
-                    Err(panic) => std::panic::resume_unwind(panic),
+                match away.returned.recv() {
+                    Ok(watch) => {
+                        *self = Self::here(watch);
+                        if let Self::Here { free, .. } = self {
+                            *free = away.free.take();
+                        }
+                    }
+                    // Its thread ended without handing it back: only a panic there does.
+                    Err(_) => match worker.join() {
+                        Err(panic) => std::panic::resume_unwind(panic),
+                        Ok(()) => unreachable!("the watch was given to its thread"),
+                    },
                 }
             }
         }
