@@ -526,7 +526,20 @@ impl<const FORCED: bool> WithSimd for AdvanceKernel<'_, FORCED> {
         let n = t.e11.len();
         let (q, v) = (&mut state.q[..n], &mut state.v[..n]);
         let (e11, e12, e21, e22) = (&t.e11[..n], &t.e12[..n], &t.e21[..n], &t.e22[..n]);
-        let (g0q, g0v, g1q, g1v) = (&t.g0q[..n], &t.g0v[..n], &t.g1q[..n], &t.g1v[..n]);
+        if FORCED {
+            let (g0q, g0v, g1q, g1v) = (&t.g0q[..n], &t.g0v[..n], &t.g1q[..n], &t.g1v[..n]);
+            for i in 0..n {
+                let (qi, vi) = (q[i], v[i]);
+                q[i] = e11[i] * qi + e12[i] * vi + g0q[i] * f0 + g1q[i] * f1;
+                v[i] = e21[i] * qi + e22[i] * vi + g0v[i] * f0 + g1v[i] * f1;
+            }
+        } else {
+            for i in 0..n {
+                let (qi, vi) = (q[i], v[i]);
+                q[i] = e11[i] * qi + e12[i] * vi;
+                v[i] = e21[i] * qi + e22[i] * vi;
+            }
+        }
         let (gain, omega2, wq, wv) = (&t.gain[..n], &t.omega2[..n], &t.wq[..n], &t.wv[..n]);
         // Four running sums of each, in a fixed order: independent chains that vectorise (the
         // next step's two in the order of `dot`, so the sum is FreeKernel's to the last bit).
@@ -536,68 +549,27 @@ impl<const FORCED: bool> WithSimd for AdvanceKernel<'_, FORCED> {
         // scalars. Both add the same products in the same order, so the results are equal.
         let (mut w, mut e, mut nq, mut nv) = ([0.0; 4], [0.0; 4], [0.0; 4], [0.0; 4]);
         if S::F64_LANES == 4 {
-            // One pass: each vector of modes is stepped and summed while it is in registers
-            // (as two passes, the second had read back all of q and v: an eighth of the
-            // kernel's loads). Separate multiplies and adds in the scalar loop's order, so the
-            // state is the same to the bit.
-            let (q4, _) = S::as_mut_simd_f64s(&mut q[..]);
-            let (v4, _) = S::as_mut_simd_f64s(&mut v[..]);
-            fn vectors<S: Simd>(x: &[f64]) -> &[S::f64s] {
-                S::as_simd_f64s(x).0
-            }
-            let (e11_4, e12_4, e21_4, e22_4) =
-                (vectors::<S>(e11), vectors::<S>(e12), vectors::<S>(e21), vectors::<S>(e22));
-            let (g0q_4, g0v_4) = (vectors::<S>(g0q), vectors::<S>(g0v));
-            let (g1q_4, g1v_4) = (vectors::<S>(g1q), vectors::<S>(g1v));
-            let (g4, o4, a4, b4) =
-                (vectors::<S>(gain), vectors::<S>(omega2), vectors::<S>(wq), vectors::<S>(wv));
-            let (f0s, f1s) = (simd.splat_f64s(f0), simd.splat_f64s(f1));
+            let (g4, o4) = (S::as_simd_f64s(gain).0, S::as_simd_f64s(omega2).0);
+            let (a4, b4) = (S::as_simd_f64s(wq).0, S::as_simd_f64s(wv).0);
+            let (q4, v4) = (S::as_simd_f64s(q).0, S::as_simd_f64s(v).0);
             let zero = simd.splat_f64s(0.0);
             let (mut sw, mut se, mut sq, mut sv) = (zero, zero, zero, zero);
-            for i in 0..q4.len() {
-                let (qi, vi) = (q4[i], v4[i]);
-                let mut qq =
-                    simd.add_f64s(simd.mul_f64s(e11_4[i], qi), simd.mul_f64s(e12_4[i], vi));
-                let mut vv =
-                    simd.add_f64s(simd.mul_f64s(e21_4[i], qi), simd.mul_f64s(e22_4[i], vi));
-                if FORCED {
-                    qq = simd.add_f64s(qq, simd.mul_f64s(g0q_4[i], f0s));
-                    qq = simd.add_f64s(qq, simd.mul_f64s(g1q_4[i], f1s));
-                    vv = simd.add_f64s(vv, simd.mul_f64s(g0v_4[i], f0s));
-                    vv = simd.add_f64s(vv, simd.mul_f64s(g1v_4[i], f1s));
-                }
-                (q4[i], v4[i]) = (qq, vv);
-                sw = simd.add_f64s(sw, simd.mul_f64s(g4[i], qq));
-                let kinetic = simd.mul_f64s(vv, vv);
-                let strain = simd.mul_f64s(simd.mul_f64s(o4[i], qq), qq);
+            for (((g, o), (a, b)), (qq, vv)) in
+                g4.iter().zip(o4).zip(a4.iter().zip(b4)).zip(q4.iter().zip(v4))
+            {
+                sw = simd.add_f64s(sw, simd.mul_f64s(*g, *qq));
+                let kinetic = simd.mul_f64s(*vv, *vv);
+                let strain = simd.mul_f64s(simd.mul_f64s(*o, *qq), *qq);
                 se = simd.add_f64s(se, simd.add_f64s(kinetic, strain));
-                sq = simd.add_f64s(sq, simd.mul_f64s(a4[i], qq));
-                sv = simd.add_f64s(sv, simd.mul_f64s(b4[i], vv));
+                sq = simd.add_f64s(sq, simd.mul_f64s(*a, *qq));
+                sv = simd.add_f64s(sv, simd.mul_f64s(*b, *vv));
             }
             let lanes = |x: S::f64s| {
                 let l: &[f64] = pulp::bytemuck::cast_slice(std::slice::from_ref(&x));
                 [l[0], l[1], l[2], l[3]]
             };
             (w, e, nq, nv) = (lanes(sw), lanes(se), lanes(sq), lanes(sv));
-            for i in n - n % 4..n {
-                step_mode::<FORCED>(
-                    i,
-                    (q, v),
-                    (e11, e12, e21, e22),
-                    (g0q, g0v, g1q, g1v),
-                    (f0, f1),
-                );
-            }
         } else {
-            for i in 0..n {
-                step_mode::<FORCED>(
-                    i,
-                    (q, v),
-                    (e11, e12, e21, e22),
-                    (g0q, g0v, g1q, g1v),
-                    (f0, f1),
-                );
-            }
             let lanes = gain
                 .chunks_exact(4)
                 .zip(omega2.chunks_exact(4))
@@ -621,25 +593,6 @@ impl<const FORCED: bool> WithSimd for AdvanceKernel<'_, FORCED> {
         }
         let sum = |s: [f64; 4], tail: f64| (s[0] + s[1]) + (s[2] + s[3]) + tail;
         (sum(w, w_tail), 0.5 * sum(e, e_tail), t.w0 * f_next + sum(nq, nq_tail) + sum(nv, nv_tail))
-    }
-}
-
-/// Mode i's exact step: q, v <- E (q, v) + G0 f0 + G1 f1 (the force terms where `FORCED`).
-#[inline(always)]
-fn step_mode<const FORCED: bool>(
-    i: usize,
-    (q, v): (&mut [f64], &mut [f64]),
-    (e11, e12, e21, e22): (&[f64], &[f64], &[f64], &[f64]),
-    (g0q, g0v, g1q, g1v): (&[f64], &[f64], &[f64], &[f64]),
-    (f0, f1): (f64, f64),
-) {
-    let (qi, vi) = (q[i], v[i]);
-    if FORCED {
-        q[i] = e11[i] * qi + e12[i] * vi + g0q[i] * f0 + g1q[i] * f1;
-        v[i] = e21[i] * qi + e22[i] * vi + g0v[i] * f0 + g1v[i] * f1;
-    } else {
-        q[i] = e11[i] * qi + e12[i] * vi;
-        v[i] = e21[i] * qi + e22[i] * vi;
     }
 }
 
