@@ -462,8 +462,9 @@ impl Timoshenko {
         };
         let det = |w: f64| self.conditions(w, basis).determinant();
         // The scan and the polish side by side where the slice holds work worth a thread (the
-        // first slice holds every root: 2049 samples and 256 polishes at the paper's tip, all
-        // on one thread before); each sample and root is computed alone, so the same bits.
+        // paper's tip's 256 roots come in slices of 103, 56, 33, 20 and fewer, each of which had
+        // been scanned and polished on one thread); each sample and root is computed alone, so
+        // the same bits.
         let wide = n >= SIDE_BY_SIDE;
         let mut points: Vec<(f64, f64)> = if wide {
             grid.par_iter().map(|&w| (w, det(w))).collect()
