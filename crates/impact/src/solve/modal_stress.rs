@@ -1362,7 +1362,8 @@ enum Watch {
     /// On a thread of its own.
     Away(WatchThread),
     /// Between the two (only while being moved; left so after a panic on the watch's thread,
-    /// which goes on on the solver's).
+    /// which goes on on the solver's, and once the watch is sent back to its thread to be
+    /// freed, as the recovery is dropped).
     Moving,
 }
 
