@@ -175,6 +175,9 @@ struct GridWatch {
     /// weights (max |E h/2 c_n| and max |E h/2 c_n''| over the beam, E h/2 max |correction|),
     /// the displacement's and the supports' rows.
     peaks: Peaks,
+    /// The grid's stress rows and order, as the early search made them: kept when it is
+    /// gathered, for the search at the end (made again, they had cost the end some 0.1 ms).
+    grid_field: Option<(Vec<Row>, modal_peak::GridOrder)>,
 }
 
 /// What the search between instants keeps.
@@ -404,6 +407,7 @@ impl ModalStress {
             spacing,
             envelope: Envelope::new(points, supports),
             peaks,
+            grid_field: None,
         };
         Self {
             rows,
@@ -714,13 +718,21 @@ impl GridWatch {
         self.search_batches(&mut |_| {});
         let peaks = &mut self.peaks;
         if let Early::Ready(search) = std::mem::replace(&mut peaks.early, Early::Off) {
-            let EarlySearch { mut searched, found, .. } = *search;
+            let EarlySearch { mut searched, found, grid, order, .. } = *search;
+            self.grid_field = Some((grid, order));
             let count = searched.len();
             searched.append(&mut peaks.held);
             searched.append(&mut peaks.trajectory.kept);
             peaks.trajectory.kept = searched;
             peaks.early = Early::Gathered(count, found);
         }
+    }
+
+    /// The grid's stress rows (E h/2 c_n and the correction's share) and order along the beam:
+    /// what a search of the stress over the grid's points takes.
+    fn make_grid_field(&self) -> (Vec<Row>, modal_peak::GridOrder) {
+        let grid = grid_rows(&self.curvature, &self.correction, &self.rows);
+        (grid, modal_peak::GridOrder::new(&self.envelope.points))
     }
 
     /// The stress at the first `points` points with the first `modes` modes, into `stresses`.
@@ -825,10 +837,9 @@ impl GridWatch {
     pub(crate) fn envelope(&mut self, yield_stress: Option<f64>) -> BendingStress {
         self.gather();
         let mut kept = std::mem::take(&mut self.peaks.trajectory.kept);
-        let rows = grid_rows(&self.curvature, &self.correction, &self.rows);
+        let (rows, order) = self.grid_field.take().unwrap_or_else(|| self.make_grid_field());
         let row_at = |x: f64| self.rows.row_at(x);
         let points = &self.envelope.points;
-        let order = modal_peak::GridOrder::new(points);
         let field =
             StressField::new((points, &order), &rows, &row_at, self.peaks.weights.correction);
         // The stretches the early search left, from the largest seen or found so far.
@@ -1019,12 +1030,13 @@ struct EarlySearch {
 
 impl EarlySearch {
     fn new(watch: &GridWatch) -> Self {
+        let (grid, order) = watch.make_grid_field();
         Self {
             data: Arc::clone(&watch.peaks.data),
             rows: Arc::clone(&watch.rows),
-            grid: grid_rows(&watch.curvature, &watch.correction, &watch.rows),
+            grid,
             points: watch.envelope.points.clone(),
-            order: modal_peak::GridOrder::new(&watch.envelope.points),
+            order,
             peak_correction: watch.peaks.weights.correction,
             stepper: modal_peak::Stepper::default(),
             budget: modal_peak::Budget::default(),
