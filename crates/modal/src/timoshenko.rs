@@ -466,11 +466,7 @@ impl Timoshenko {
         // been scanned and polished on one thread); each sample and root is computed alone, so
         // the same bits.
         let wide = n >= SIDE_BY_SIDE;
-        let mut points: Vec<(f64, f64)> = if wide {
-            grid.par_iter().map(|&w| (w, det(w))).collect()
-        } else {
-            grid.iter().map(|&w| (w, det(w))).collect()
-        };
+        let mut points = map_side_by_side(wide, &grid, |&w| (w, det(w)));
         // Two roots closer than the scan leave no sign change but a dip of |det| between
         // samples of one sign: sample the dips more finely, a few times, before counting.
         for _ in 0..6 {
@@ -478,13 +474,9 @@ impl Timoshenko {
             if changes == n {
                 let brackets: Vec<&[(f64, f64)]> =
                     points.windows(2).filter(|p| p[0].1 * p[1].1 < 0.0).collect();
-                let polish =
-                    |p: &&[(f64, f64)]| (self.polish(p[0].0, p[1].0, p[0].1, p[1].1, basis), 1);
-                return if wide {
-                    brackets.par_iter().map(polish).collect()
-                } else {
-                    brackets.iter().map(polish).collect()
-                };
+                return map_side_by_side(wide, &brackets, |p| {
+                    (self.polish(p[0].0, p[1].0, p[0].1, p[1].1, basis), 1)
+                });
             }
             if changes > n {
                 break;
@@ -677,6 +669,20 @@ impl Timoshenko {
             }
         };
         ModeShape::from_waves(w.beta, self.length, &[bending, second[0], second[1]])
+    }
+}
+
+/// `f` of each item, in order: under rayon when `wide`, else on this thread (a small slice is
+/// not worth the pool's hand-over). Each value is computed alone, so the same bits either way.
+fn map_side_by_side<T: Sync, U: Send>(
+    wide: bool,
+    items: &[T],
+    f: impl Fn(&T) -> U + Sync + Send,
+) -> Vec<U> {
+    if wide {
+        items.par_iter().map(f).collect()
+    } else {
+        items.iter().map(f).collect()
     }
 }
 

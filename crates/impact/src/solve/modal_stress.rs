@@ -1431,19 +1431,15 @@ impl Watch {
     fn start(watch: GridWatch) -> Self {
         let watch = Box::new(watch);
         if rayon::current_thread_index().is_some() || rayon::current_num_threads() < 2 {
-            Self::here(watch)
+            Self::here(watch, None)
         } else {
             Self::spawn(watch)
         }
     }
 
-    fn here(watch: Box<GridWatch>) -> Self {
-        Self::Here {
-            watch,
-            plans: std::collections::VecDeque::new(),
-            spare: Box::default(),
-            free: None,
-        }
+    /// On the solver's thread, with the way back to its own thread where it had one.
+    fn here(watch: Box<GridWatch>, free: Option<std::sync::mpsc::Sender<Box<GridWatch>>>) -> Self {
+        Self::Here { watch, plans: std::collections::VecDeque::new(), spare: Box::default(), free }
     }
 
     /// On a thread of its own (here if the system gives none).
@@ -1519,9 +1515,9 @@ impl Watch {
                     pending: 0,
                     spare: Vec::new(),
                 }),
-                Err(returned) => Self::here(returned.0),
+                Err(returned) => Self::here(returned.0, None),
             },
-            Err(_) => Self::here(watch),
+            Err(_) => Self::here(watch, None),
         }
     }
 
@@ -1593,12 +1589,7 @@ impl Watch {
             if let Some(worker) = away.worker.take() {
                 worker.thread().unpark();
                 match away.returned.recv() {
-                    Ok(watch) => {
-                        *self = Self::here(watch);
-                        if let Self::Here { free, .. } = self {
-                            *free = away.free.take();
-                        }
-                    }
+                    Ok(watch) => *self = Self::here(watch, away.free.take()),
                     // Its thread ended without handing it back: only a panic there does.
                     Err(_) => match worker.join() {
                         Err(panic) => std::panic::resume_unwind(panic),
